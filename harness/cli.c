@@ -1,0 +1,159 @@
+/* pgt harness: shared command-line helpers. */
+#include "cli.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+int pgt_cli_fail(const char *verb, const char *fmt, ...) {
+    va_list ap;
+    fprintf(stderr, "pgt %s: ", verb);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return PGT_EXIT_USAGE;
+}
+
+int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t lo, uint32_t hi,
+                 uint32_t *out) {
+    char *end = NULL;
+    errno = 0;
+    if (!text || !*text || *text == '-' || *text == '+') goto bad;
+    unsigned long long v = strtoull(text, &end, 10);
+    if (errno || *end || v < lo || v > hi) goto bad;
+    *out = (uint32_t)v;
+    return 0;
+bad:
+    pgt_cli_fail(verb, "%s: expected a whole number from %u to %u, got '%s'", flag, lo, hi,
+                 text ? text : "");
+    return -1;
+}
+
+int pgt_cli_int(const char *verb, const char *flag, const char *text, int32_t *out) {
+    char *end = NULL;
+    errno = 0;
+    long long v = text && *text ? strtoll(text, &end, 10) : 0;
+    if (!text || !*text || errno || *end || v < INT32_MIN || v > INT32_MAX) {
+        pgt_cli_fail(verb, "%s: expected a 32-bit integer, got '%s'", flag, text ? text : "");
+        return -1;
+    }
+    *out = (int32_t)v;
+    return 0;
+}
+
+const char *pgt_cli_value(const char *verb, int argc, char **argv, int *i) {
+    if (*i + 1 >= argc) {
+        pgt_cli_fail(verb, "%s needs a value (see pgt %s --help)", argv[*i], verb);
+        return NULL;
+    }
+    return argv[++*i];
+}
+
+double pgt_cli_now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+uint32_t pgt_cli_cpu_count(void) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (uint32_t)n : 1u;
+}
+
+void pgt_cli_json_string(FILE *f, const char *s) {
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; ++p) {
+        if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p);
+        else if (*p < 0x20)
+            fprintf(f, "\\u%04x", *p);
+        else
+            fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+void pgt_cli_machine(char *buf, size_t size) {
+    char model[256] = "unknown CPU";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    if (f) {
+        char line[512];
+        while (fgets(line, sizeof line, f)) {
+            if (strncmp(line, "model name", 10) == 0) {
+                char *c = strchr(line, ':');
+                if (c) {
+                    c++;
+                    while (*c == ' ' || *c == '\t') c++;
+                    c[strcspn(c, "\n")] = 0;
+                    snprintf(model, sizeof model, "%s", c);
+                }
+                break;
+            }
+        }
+        fclose(f);
+    }
+    double gib = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE) / 1073741824.0;
+    snprintf(buf, size, "%s, %u cores, %.0f GiB", model, pgt_cli_cpu_count(), gib);
+}
+
+void pgt_cli_commit(char *buf, size_t size) {
+    snprintf(buf, size, "unknown");
+#ifdef PGT_SOURCE_DIR
+    FILE *p = popen("git -C '" PGT_SOURCE_DIR "' rev-parse --short=12 HEAD 2>/dev/null", "r");
+    if (!p) return;
+    char line[64] = "";
+    if (fgets(line, sizeof line, p)) {
+        line[strcspn(line, "\n")] = 0;
+        if (*line) snprintf(buf, size, "%s", line);
+    }
+    pclose(p);
+    p = popen("git -C '" PGT_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null", "r");
+    if (!p) return;
+    if (fgets(line, sizeof line, p) && strcmp(buf, "unknown") != 0) {
+        size_t n = strlen(buf);
+        if (n + 7 < size) memcpy(buf + n, "-dirty", 7);
+    }
+    pclose(p);
+#endif
+}
+
+void pgt_cli_date(char *buf, size_t size) {
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(buf, size, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+int pgt_cli_same_file(const char *a, const char *b) {
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double pgt_cli_median(const double *v, uint32_t n) {
+    if (n == 0) return 0.0;
+    double *c = malloc(n * sizeof(double));
+    if (!c) return v[0];
+    memcpy(c, v, n * sizeof(double));
+    qsort(c, n, sizeof(double), cmp_double);
+    double m = n % 2 ? c[n / 2] : 0.5 * (c[n / 2 - 1] + c[n / 2]);
+    free(c);
+    return m;
+}
+
+double pgt_cli_min(const double *v, uint32_t n) {
+    double m = n ? v[0] : 0.0;
+    for (uint32_t i = 1; i < n; ++i)
+        if (v[i] < m) m = v[i];
+    return m;
+}

@@ -1,0 +1,56 @@
+/* pgt harness: shared command-line helpers (flag values, timing, JSON, machine facts).
+ * Every verb reports bad flags the same way: one line on stderr, exit code 2. */
+#ifndef PGT_CLI_H
+#define PGT_CLI_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "pgt/mesh.h"
+
+#define PGT_EXIT_OK 0
+#define PGT_EXIT_FAIL 1  /* the work ran and found a problem (e.g. a diff outside tolerance) */
+#define PGT_EXIT_USAGE 2 /* bad flag, bad value, bad input file, or an error while working */
+
+/* Prints "pgt VERB: message" on stderr and returns PGT_EXIT_USAGE. */
+int pgt_cli_fail(const char *verb, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Parses a whole number in [lo, hi] from a flag value; on failure prints the flag and value. */
+int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t lo, uint32_t hi,
+                 uint32_t *out);
+int pgt_cli_int(const char *verb, const char *flag, const char *text, int32_t *out);
+
+/* Value of flag argv[*i] (advancing *i), or NULL after printing "FLAG needs a value". */
+const char *pgt_cli_value(const char *verb, int argc, char **argv, int *i);
+
+/* Monotonic milliseconds. */
+double pgt_cli_now_ms(void);
+
+/* Number of online CPUs (at least 1). */
+uint32_t pgt_cli_cpu_count(void);
+
+/* Writes s as a JSON string (quoted, escaped). */
+void pgt_cli_json_string(FILE *f, const char *s);
+
+/* "CPU model, N cores, M GiB" of this machine; "git short hash[-dirty]" of the source tree or
+ * "unknown"; UTC date-time in ISO 8601. Each writes into buf. */
+void pgt_cli_machine(char *buf, size_t size);
+void pgt_cli_commit(char *buf, size_t size);
+void pgt_cli_date(char *buf, size_t size);
+
+/* Nonzero when a and b name the same existing file (device and inode). */
+int pgt_cli_same_file(const char *a, const char *b);
+
+/* Median and minimum of n values (sorts a copy). */
+double pgt_cli_median(const double *v, uint32_t n);
+double pgt_cli_min(const double *v, uint32_t n);
+
+/* Verbs. */
+int pgt_cmd_subdiv(int argc, char **argv);
+int pgt_cmd_bench(int argc, char **argv);
+
+#endif

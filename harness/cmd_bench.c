@@ -1,0 +1,303 @@
+/* pgt bench: benchmarks that write CSV tables to results/.
+ *
+ * bench subdiv: our sqrt(3) (ref_cpu, 1 thread and all threads) against CGAL Surface_mesh and
+ * OpenMesh Sqrt3T measured in the same run on the same input, subdivision call only (no file
+ * I/O): warm-up, R timed runs, median and best. Peak extra memory of our call is measured in a
+ * forked child (its maximum resident set minus the parent's resident set at the fork). */
+/* wait4() (BSD) gives one child's peak memory; glibc declares it under _DEFAULT_SOURCE. */
+#define _DEFAULT_SOURCE
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "gen.h"
+#include "oracle.h"
+#include "pgt/mesh_io.h"
+#include "pgt/sqrt3.h"
+
+static const char *bench_usage =
+    "usage: pgt bench subdiv [--out FILE] [--repeat R] [--iters LIST] [--threads LIST]\n"
+    "                        [--meshes LIST] [--shared DIR] [--no-oracles] [--quick]\n"
+    "\n"
+    "Times sqrt(3) subdivision (ours, CGAL, OpenMesh; same input, same run, subdivision only)\n"
+    "and writes one CSV row per mesh x k x thread count, headed by machine, commit and date.\n"
+    "\n"
+    "  --out FILE      CSV to write (default results/subdiv.csv; temporary file + rename)\n"
+    "  --repeat R      timed runs per measurement after one warm-up, 1 to 1000 (default 5)\n"
+    "  --iters LIST    comma-separated k values (default 1,2,3)\n"
+    "  --threads LIST  comma-separated thread counts for ours (default 1,<CPUs>)\n"
+    "  --meshes LIST   comma-separated names: torus_100k (generated, 100k faces: the issue's\n"
+    "                  performance target), any generated default dataset (see pgt_datasets\n"
+    "                  --list), or a file name in the shared mesh folder (default: torus_100k and\n"
+    "                  every mesh of the shared folder)\n"
+    "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
+    "  --no-oracles    skip CGAL and OpenMesh (their columns stay empty)\n"
+    "  --quick         small and fast: torus_100k replaced by a 10k-face torus, k=1,2, R=1\n";
+
+#define BENCH_MAX_LIST 32
+
+typedef struct bench_cfg {
+    const char *out_path, *shared_dir;
+    uint32_t repeat, iters[BENCH_MAX_LIST], n_iters, threads[BENCH_MAX_LIST], n_threads;
+    const char *meshes[BENCH_MAX_LIST];
+    uint32_t n_meshes;
+    int oracles, quick;
+    char mesh_list_buf[4096];
+} bench_cfg;
+
+static int parse_uint_list(const char *flag, const char *text, uint32_t lo, uint32_t hi,
+                           uint32_t *out, uint32_t *n) {
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", text);
+    *n = 0;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        if (*n >= BENCH_MAX_LIST) return pgt_cli_fail("bench", "%s: at most %d values", flag, BENCH_MAX_LIST), -1;
+        if (pgt_cli_uint("bench", flag, tok, lo, hi, &out[*n])) return -1;
+        (*n)++;
+    }
+    if (*n == 0) return pgt_cli_fail("bench", "%s: empty list", flag), -1;
+    return 0;
+}
+
+/* Loads a named benchmark mesh: generated or from the shared folder. */
+static pgt_result bench_load(const bench_cfg *cfg, const char *name, pgt_mesh *m, pgt_error *err) {
+    if (!strcmp(name, "torus_100k")) return pgt_gen_bench_torus(m, cfg->quick ? 10000 : 100000, err);
+    uint32_t g = pgt_gen_default_find(name);
+    if (g != PGT_NONE) return pgt_gen_default(g, m, err);
+    char path[2048];
+    snprintf(path, sizeof path, "%s/%s", cfg->shared_dir, name);
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    return pgt_mesh_read(m, path, &ro, err);
+}
+
+static long rss_kib(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    long kib = 0;
+    if (!f) return 0;
+    char line[256];
+    while (fgets(line, sizeof line, f))
+        if (!strncmp(line, "VmRSS:", 6)) kib = strtol(line + 6, NULL, 10);
+    fclose(f);
+    return kib;
+}
+
+/* Peak extra resident memory (MiB) of one subdivision, in a forked child; -1 when unknown. */
+static double bench_peak_mib(const pgt_mesh *m, const pgt_sqrt3_options *opts) {
+    fflush(NULL);
+    long base = rss_kib();
+    pid_t pid = fork();
+    if (pid < 0) return -1.0;
+    if (pid == 0) {
+        pgt_mesh out;
+        int ok = pgt_sqrt3_subdivide(&out, m, opts, NULL) == PGT_OK;
+        _exit(ok ? 0 : 1);
+    }
+    int status = 0;
+    struct rusage ru;
+    if (wait4(pid, &status, 0, &ru) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return -1.0;
+    return (double)(ru.ru_maxrss - base) / 1024.0;
+}
+
+static int bench_subdiv(bench_cfg *cfg) {
+    char machine[512], commit[64], date[64], tmpdir[] = "/tmp/pgt-bench-XXXXXX";
+    pgt_cli_machine(machine, sizeof machine);
+    pgt_cli_commit(commit, sizeof commit);
+    pgt_cli_date(date, sizeof date);
+    if (!mkdtemp(tmpdir)) return pgt_cli_fail("bench", "cannot make a temporary folder: %s", strerror(errno));
+
+    /* results/ may not exist yet */
+    char dir[2048];
+    snprintf(dir, sizeof dir, "%s", cfg->out_path);
+    char *slash = strrchr(dir, '/');
+    if (slash) {
+        *slash = 0;
+        mkdir(dir, 0777);
+    }
+    char tmp_csv[2200];
+    snprintf(tmp_csv, sizeof tmp_csv, "%s.tmp.%ld", cfg->out_path, (long)getpid());
+    FILE *csv = fopen(tmp_csv, "w");
+    if (!csv) {
+        rmdir(tmpdir);
+        return pgt_cli_fail("bench", "cannot write %s: %s", tmp_csv, strerror(errno));
+    }
+    fprintf(csv, "# pgt bench subdiv: sqrt(3) subdivision, subdivision call only (no file I/O)\n");
+    fprintf(csv, "# machine: %s\n# commit: %s\n# date: %s\n", machine, commit, date);
+    fprintf(csv, "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside ours)\n", cfg->repeat);
+    fprintf(csv, "# cgal: CGAL 5.5 Surface_mesh<Simple_cartesian<double>> Sqrt3_subdivision, 1 thread\n");
+    fprintf(csv, "# openmesh: OpenMesh 9.0 Sqrt3T<TriMesh, double>, 1 thread\n");
+    fprintf(csv, "# ours_peak_mib: extra resident memory of one call at that thread count; output_mib: positions+indices of the result\n");
+    fprintf(csv, "mesh,faces_in,k,threads,faces_out,vertices_out,ours_median_ms,ours_best_ms,"
+                 "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,ours_peak_mib,output_mib\n");
+
+    uint32_t steps = cfg->n_meshes * cfg->n_iters, step = 0;
+    int failures = 0;
+    double *times = malloc(sizeof(double) * cfg->repeat);
+    for (uint32_t mi = 0; mi < cfg->n_meshes && times; ++mi) {
+        const char *name = cfg->meshes[mi];
+        pgt_mesh m = {0};
+        pgt_error err = {0};
+        if (bench_load(cfg, name, &m, &err) != PGT_OK) {
+            fprintf(stderr, "pgt bench: skipping %s: %s\n", name, err.message);
+            failures++;
+            step += cfg->n_iters;
+            continue;
+        }
+        char in_off[4096];
+        snprintf(in_off, sizeof in_off, "%s/in.off", tmpdir);
+        pgt_mesh_write_options wo = {PGT_FORMAT_OFF, 1};
+        int have_off = cfg->oracles && pgt_mesh_write(&m, in_off, &wo, &err) == PGT_OK;
+        for (uint32_t ki = 0; ki < cfg->n_iters; ++ki) {
+            const uint32_t k = cfg->iters[ki];
+            step++;
+            pgt_oracle_run cg = {0}, om = {0};
+            int have_cg = 0, have_om = 0;
+            if (have_off) {
+                char out_off[4200];
+                snprintf(out_off, sizeof out_off, "%s/oracle.off", tmpdir);
+                pgt_error e1 = {0}, e2 = {0};
+                have_cg = pgt_oracle_sqrt3("cgal_sqrt3", in_off, k, out_off, cfg->repeat, &cg, &e1) == PGT_OK;
+                if (!have_cg) fprintf(stderr, "pgt bench: %s\n", e1.message);
+                have_om = pgt_oracle_sqrt3("openmesh_sqrt3", in_off, k, out_off, cfg->repeat, &om, &e2) == PGT_OK;
+                if (!have_om) fprintf(stderr, "pgt bench: %s\n", e2.message);
+                remove(out_off);
+            }
+            fprintf(stderr, "[%u/%u] %s (%u faces) k=%u:", step, steps, name, m.face_count, k);
+            for (uint32_t ti = 0; ti < cfg->n_threads; ++ti) {
+                pgt_sqrt3_options o = {0};
+                o.iterations = k;
+                o.threads = cfg->threads[ti];
+                pgt_mesh out = {0};
+                pgt_error e = {0};
+                int ok = pgt_sqrt3_subdivide(&out, &m, &o, &e) == PGT_OK; /* warm-up */
+                uint32_t vout = out.vertex_count, fout = out.face_count;
+                pgt_mesh_destroy(&out);
+                if (!ok) {
+                    fprintf(stderr, " ours failed: %s", e.message);
+                    failures++;
+                    break;
+                }
+                for (uint32_t r = 0; r < cfg->repeat; ++r) {
+                    double t0 = pgt_cli_now_ms();
+                    pgt_sqrt3_subdivide(&out, &m, &o, NULL);
+                    times[r] = pgt_cli_now_ms() - t0;
+                    pgt_mesh_destroy(&out);
+                }
+                double med = pgt_cli_median(times, cfg->repeat), best = pgt_cli_min(times, cfg->repeat);
+                double peak = bench_peak_mib(&m, &o);
+                double out_mib = ((double)vout * 12.0 + (double)fout * 12.0) / 1048576.0;
+                fprintf(csv, "%s,%u,%u,%u,%u,%u,%.3f,%.3f,", name, m.face_count, k, o.threads, fout, vout, med, best);
+                if (have_cg) fprintf(csv, "%.3f", cg.median_ms);
+                fputc(',', csv);
+                if (have_om) fprintf(csv, "%.3f", om.median_ms);
+                fputc(',', csv);
+                if (have_cg) fprintf(csv, "%.2f", cg.median_ms / med);
+                fputc(',', csv);
+                if (have_om) fprintf(csv, "%.2f", om.median_ms / med);
+                fprintf(csv, ",%.1f,%.1f\n", peak, out_mib);
+                fprintf(stderr, " ours %.1f ms (%u thr)", med, o.threads);
+                if (have_cg && (cg.faces_out != fout || cg.vertices_out != vout)) {
+                    fprintf(stderr, " [CGAL counts differ: %u v %u f]", cg.vertices_out, cg.faces_out);
+                    failures++;
+                }
+            }
+            if (have_cg) fprintf(stderr, ", CGAL %.1f ms", cg.median_ms);
+            if (have_om) fprintf(stderr, ", OpenMesh %.1f ms", om.median_ms);
+            fputc('\n', stderr);
+        }
+        remove(in_off);
+        pgt_mesh_destroy(&m);
+    }
+    free(times);
+    rmdir(tmpdir);
+    if (fclose(csv) != 0 || rename(tmp_csv, cfg->out_path) != 0) {
+        remove(tmp_csv);
+        return pgt_cli_fail("bench", "cannot write %s: %s", cfg->out_path, strerror(errno));
+    }
+    fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)%s\n", cfg->out_path,
+            cfg->n_meshes, cfg->n_iters, cfg->n_threads, failures ? " with failures (see above)" : "");
+    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+}
+
+static const char *default_shared_meshes[] = {"spot.obj", "bob_tri.obj", "ogre_bs_rest.obj",
+                                              "human_neutral.obj", "pizza.obj",
+                                              "nefertiti-lowres.obj", "mountain.obj"};
+
+int pgt_cmd_bench(int argc, char **argv) {
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        fputs(bench_usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? PGT_EXIT_USAGE : PGT_EXIT_OK;
+    }
+    if (strcmp(argv[1], "subdiv") != 0)
+        return pgt_cli_fail("bench", "unknown benchmark '%s' (known: subdiv)", argv[1]);
+    bench_cfg cfg = {0};
+    cfg.out_path = "results/subdiv.csv";
+    cfg.shared_dir = PGT_SHARED_DIR "/datasets/meshes";
+    cfg.repeat = 5;
+    cfg.oracles = 1;
+    cfg.n_iters = 3;
+    cfg.iters[0] = 1, cfg.iters[1] = 2, cfg.iters[2] = 3;
+    cfg.n_threads = 0;
+    int have_repeat = 0, have_iters = 0, have_meshes = 0;
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(bench_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--out") || !strcmp(a, "-o")) {
+            if (!(cfg.out_path = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--shared")) {
+            if (!(cfg.shared_dir = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--repeat")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i)) || pgt_cli_uint("bench", a, v, 1, 1000, &cfg.repeat))
+                return PGT_EXIT_USAGE;
+            have_repeat = 1;
+        } else if (!strcmp(a, "--iters")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
+                parse_uint_list(a, v, 0, 6, cfg.iters, &cfg.n_iters))
+                return PGT_EXIT_USAGE;
+            have_iters = 1;
+        } else if (!strcmp(a, "--threads")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
+                parse_uint_list(a, v, 1, 256, cfg.threads, &cfg.n_threads))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--meshes")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
+            snprintf(cfg.mesh_list_buf, sizeof cfg.mesh_list_buf, "%s", v);
+            cfg.n_meshes = 0;
+            for (char *save = NULL, *tok = strtok_r(cfg.mesh_list_buf, ",", &save); tok;
+                 tok = strtok_r(NULL, ",", &save)) {
+                if (cfg.n_meshes >= BENCH_MAX_LIST)
+                    return pgt_cli_fail("bench", "--meshes: at most %d meshes", BENCH_MAX_LIST);
+                cfg.meshes[cfg.n_meshes++] = tok;
+            }
+            if (!cfg.n_meshes) return pgt_cli_fail("bench", "--meshes: empty list");
+            have_meshes = 1;
+        } else if (!strcmp(a, "--no-oracles")) {
+            cfg.oracles = 0;
+        } else if (!strcmp(a, "--quick")) {
+            cfg.quick = 1;
+        } else {
+            return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench --help)", a);
+        }
+    }
+    if (!cfg.n_threads) {
+        cfg.threads[cfg.n_threads++] = 1;
+        if (pgt_cli_cpu_count() > 1) cfg.threads[cfg.n_threads++] = pgt_cli_cpu_count();
+    }
+    if (cfg.quick) {
+        if (!have_repeat) cfg.repeat = 1;
+        if (!have_iters) cfg.n_iters = 2;
+    }
+    if (!have_meshes) {
+        cfg.meshes[cfg.n_meshes++] = "torus_100k";
+        if (!cfg.quick)
+            for (size_t i = 0; i < sizeof default_shared_meshes / sizeof *default_shared_meshes; ++i)
+                cfg.meshes[cfg.n_meshes++] = default_shared_meshes[i];
+    }
+    return bench_subdiv(&cfg);
+}

@@ -1,0 +1,168 @@
+/* pgt subdiv: sqrt(3) subdivision of a mesh file (ref_cpu/src/sqrt3.c). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "pgt/mesh_io.h"
+#include "pgt/selection.h"
+#include "pgt/sqrt3.h"
+
+static const char *subdiv_usage =
+    "usage: pgt subdiv IN --iters K -o OUT [--protect FILE | --group G] [--threads N]\n"
+    "                  [--backend cpu] [--device N] [--precise] [--json]\n"
+    "\n"
+    "sqrt(3) subdivision (Kobbelt 2000; paper 004 Algorithm 2): K iterations in one call, with\n"
+    "Kobbelt's border rule on every second iteration of the call (as CGAL and OpenMesh).\n"
+    "\n"
+    "  IN             input mesh: .obj .off .ply (a consistently oriented 2-manifold, border allowed)\n"
+    "  --iters K      iterations, 0 to 12 (default 1)\n"
+    "  -o OUT         output mesh: .off .obj .ply (written to a temporary file, then renamed);\n"
+    "                 must not be IN. PLY keeps per-face 'group' labels and per-corner UVs, OBJ\n"
+    "                 keeps UVs, OFF keeps positions and triangles only.\n"
+    "  --protect FILE protected faces (paper 004, 4.2.2): a file of 0-based face indices\n"
+    "                 (white space or commas, # comments). They get no face point, their vertices\n"
+    "                 do not move and edges next to them are not flipped.\n"
+    "  --group G      smoothing group: subdivide only the faces whose PLY face property 'group'\n"
+    "                 is G; every other face is protected.\n"
+    "  --threads N    worker threads, 1 to 256 (default: the number of CPUs)\n"
+    "  --backend B    cpu (cl and vk arrive with the GPU backends)\n"
+    "  --device N     device index for a GPU backend (default 0; ignored by cpu)\n"
+    "  --precise      OFF/OBJ output with 17 significant digits instead of 9\n"
+    "  --json         print the summary as one JSON object instead of one line\n"
+    "\n"
+    "Prints one summary line: input and output vertex/face counts and milliseconds (read,\n"
+    "subdivide, write). Exit 0 on success, 2 on a bad flag or input.\n";
+
+int pgt_cmd_subdiv(int argc, char **argv) {
+    const char *verb = "subdiv", *in_path = NULL, *out_path = NULL, *protect_path = NULL;
+    const char *backend = "cpu";
+    uint32_t iters = 1, threads = pgt_cli_cpu_count(), device = 0;
+    int32_t group = 0;
+    int have_group = 0, json = 0, precise = 0, have_iters = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(subdiv_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--iters") || !strcmp(a, "-k")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, PGT_SQRT3_MAX_ITERATIONS, &iters))
+                return PGT_EXIT_USAGE;
+            have_iters = 1;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--protect")) {
+            if (!(protect_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--group")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_int(verb, a, v, &group))
+                return PGT_EXIT_USAGE;
+            have_group = 1;
+        } else if (!strcmp(a, "--threads")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_uint(verb, a, v, 1, 256, &threads))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--backend")) {
+            if (!(backend = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--device")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_uint(verb, a, v, 0, 1024, &device))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--json")) {
+            json = 1;
+        } else if (!strcmp(a, "--precise")) {
+            precise = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return pgt_cli_fail(verb, "unknown flag '%s' (see pgt subdiv --help)", a);
+        } else if (!in_path) {
+            in_path = a;
+        } else {
+            return pgt_cli_fail(verb, "unexpected argument '%s' (one input mesh only)", a);
+        }
+    }
+    (void)have_iters;
+    if (!in_path) return pgt_cli_fail(verb, "no input mesh (see pgt subdiv --help)");
+    if (!out_path) return pgt_cli_fail(verb, "no output: give -o OUT");
+    if (strcmp(backend, "cpu") != 0) {
+        if (!strcmp(backend, "cl") || !strcmp(backend, "vk"))
+            return pgt_cli_fail(verb, "--backend %s: this build has no %s backend yet (cpu only)",
+                                backend, !strcmp(backend, "cl") ? "OpenCL" : "Vulkan");
+        return pgt_cli_fail(verb, "--backend: expected cpu, cl or vk, got '%s'", backend);
+    }
+    if (protect_path && have_group)
+        return pgt_cli_fail(verb, "--protect and --group exclude each other");
+    if (pgt_mesh_format_from_path(out_path) == PGT_FORMAT_AUTO)
+        return pgt_cli_fail(verb, "-o %s: unknown extension (use .off, .obj or .ply)", out_path);
+    if (pgt_cli_same_file(in_path, out_path))
+        return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input", out_path);
+
+    pgt_error err = {0};
+    pgt_mesh in = {0}, out = {0};
+    uint8_t *prot = NULL;
+    int rc = PGT_EXIT_USAGE;
+    double t0 = pgt_cli_now_ms();
+    if (pgt_mesh_read(&in, in_path, NULL, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    double t1 = pgt_cli_now_ms();
+    uint32_t selected = 0;
+    if (protect_path || have_group) {
+        prot = malloc((size_t)in.face_count + 1);
+        if (!prot) {
+            pgt_cli_fail(verb, "out of memory");
+            goto done;
+        }
+        if (protect_path) {
+            if (pgt_selection_read(prot, in.face_count, protect_path, &selected, &err) != PGT_OK) {
+                pgt_cli_fail(verb, "--protect %s", err.message);
+                goto done;
+            }
+        } else {
+            if (pgt_selection_from_label(prot, &in, group, &selected, &err) != PGT_OK) {
+                pgt_cli_fail(verb, "--group %d: %s: %s", group, in_path, err.message);
+                goto done;
+            }
+            if (selected == 0) {
+                pgt_cli_fail(verb, "--group %d: no face of %s has that group", group, in_path);
+                goto done;
+            }
+            for (uint32_t f = 0; f < in.face_count; ++f) prot[f] = !prot[f]; /* the rest is protected */
+        }
+    }
+    pgt_sqrt3_options opts = {0};
+    opts.iterations = iters;
+    opts.threads = threads;
+    opts.protected_faces = prot;
+    if (pgt_sqrt3_subdivide(&out, &in, &opts, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s: %s", in_path, err.message);
+        goto done;
+    }
+    double t2 = pgt_cli_now_ms();
+    pgt_mesh_write_options wo = {PGT_FORMAT_AUTO, precise};
+    if (pgt_mesh_write(&out, out_path, &wo, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    double t3 = pgt_cli_now_ms();
+    if (json) {
+        printf("{\"verb\":\"subdiv\",\"input\":");
+        pgt_cli_json_string(stdout, in_path);
+        printf(",\"output\":");
+        pgt_cli_json_string(stdout, out_path);
+        printf(",\"backend\":\"cpu\",\"iterations\":%u,\"threads\":%u,\"vertices_in\":%u,"
+               "\"faces_in\":%u,\"vertices_out\":%u,\"faces_out\":%u,\"protected_faces\":%u,"
+               "\"read_ms\":%.3f,\"subdivide_ms\":%.3f,\"write_ms\":%.3f}\n",
+               iters, threads, in.vertex_count, in.face_count, out.vertex_count, out.face_count,
+               protect_path ? selected : have_group ? in.face_count - selected : 0, t1 - t0, t2 - t1,
+               t3 - t2);
+    } else {
+        printf("subdiv: %s (%u vertices, %u faces) -> %s (%u vertices, %u faces), k=%u, %u "
+               "threads, cpu: %.2f ms subdivide (read %.2f ms, write %.2f ms)\n",
+               in_path, in.vertex_count, in.face_count, out_path, out.vertex_count, out.face_count,
+               iters, threads, t2 - t1, t1 - t0, t3 - t2);
+    }
+    rc = PGT_EXIT_OK;
+done:
+    free(prot);
+    pgt_mesh_destroy(&in);
+    pgt_mesh_destroy(&out);
+    return rc;
+}

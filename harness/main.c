@@ -1,0 +1,40 @@
+/* pgt: the procedural-geometry testbed's command-line program. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char *usage =
+    "usage: pgt <verb> [flags]   (pgt <verb> --help for the verb's flags)\n"
+    "\n"
+    "verbs:\n"
+    "  subdiv     sqrt(3) subdivision of a mesh (Kobbelt 2000; paper 004), k iterations,\n"
+    "             with protected faces or a smoothing group\n"
+    "  bench      benchmarks that write CSV tables to results/ (pgt bench subdiv)\n"
+    "\n"
+    "global flags:\n"
+    "  --help, -h     this text\n"
+    "  --version      the version\n"
+    "\n"
+    "Exit codes: 0 success, 1 the work ran and found a problem, 2 bad flag, value or input.\n"
+    "Meshes: OBJ, OFF, PLY (ascii or binary little-endian) in; OFF, OBJ, binary PLY out.\n";
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return PGT_EXIT_USAGE;
+    }
+    const char *verb = argv[1];
+    if (!strcmp(verb, "--help") || !strcmp(verb, "-h") || !strcmp(verb, "help")) {
+        fputs(usage, stdout);
+        return PGT_EXIT_OK;
+    }
+    if (!strcmp(verb, "--version")) {
+        printf("pgt 0.1.0\n");
+        return PGT_EXIT_OK;
+    }
+    if (!strcmp(verb, "subdiv")) return pgt_cmd_subdiv(argc - 1, argv + 1);
+    if (!strcmp(verb, "bench")) return pgt_cmd_bench(argc - 1, argv + 1);
+    fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
+    return PGT_EXIT_USAGE;
+}

@@ -1,0 +1,261 @@
+#!/usr/bin/python3
+"""sqrt(3) subdivision timing figure from results/subdiv.csv (written by `pgt bench subdiv`).
+
+usage: subdiv_time.py RESULTS_CSV OUT_PREFIX
+
+Plots median time (ms, log) against output faces (log) for ours at 1 thread, ours at the
+largest thread count in the file, CGAL and OpenMesh; colour = implementation, marker = mesh.
+Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf, and prints the speedups at each mesh's
+largest output to stdout. Missing optional columns and empty cells are skipped with a warning
+on stderr; an empty or malformed file is an error (exit 2).
+"""
+
+import csv
+import math
+import os
+import sys
+import tempfile
+import textwrap
+
+os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+REQUIRED = ("mesh", "faces_out", "threads", "ours_median_ms")
+ORACLES = (("cgal_median_ms", "CGAL"), ("openmesh_median_ms", "OpenMesh"))
+# colour-blind-safe (Okabe-Ito); one per implementation, so the same colour means the same
+# code in every panel of the paper
+COLOURS = {"ours1": "#56B4E9", "oursN": "#0072B2", "CGAL": "#D55E00", "OpenMesh": "#009E73"}
+MARKERS = "osD^v<>pPX*h"
+
+
+def die(msg):
+    print(f"subdiv_time: error: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def warn(msg):
+    print(f"subdiv_time: warning: {msg}", file=sys.stderr)
+
+
+def read_results(path):
+    """Returns (meta dict from '# key: value' lines, header list, list of (line, row dict))."""
+    try:
+        with open(path, newline="", encoding="utf-8", errors="replace") as fh:
+            lines = fh.read().splitlines()
+    except OSError as e:
+        die(f"{path}: {e.strerror}")
+    meta, body = {}, []
+    for ln, line in enumerate(lines, 1):
+        s = line.strip()
+        if s.startswith("#"):
+            key, sep, val = s[1:].partition(":")
+            if sep:
+                meta.setdefault(key.strip().lower(), val.strip())
+        elif s:
+            body.append((ln, line))
+    if not body:
+        die(f"{path}: no CSV header or rows (empty file, or only '#' comments)")
+    hdr_ln, hdr_line = body[0]
+    header = [h.strip() for h in next(csv.reader([hdr_line]))]
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        die(f"{path}: line {hdr_ln}: CSV header lacks required column(s) {', '.join(missing)}")
+    rows = []
+    for ln, line in body[1:]:
+        cells = next(csv.reader([line]))
+        if len(cells) != len(header):
+            warn(f"{path}: line {ln}: {len(cells)} fields, header has {len(header)}; skipped")
+            continue
+        rows.append((ln, {h: c.strip() for h, c in zip(header, cells)}))
+    if not rows:
+        die(f"{path}: CSV header but no data rows")
+    return meta, header, rows
+
+
+def num(row, col, ln, path, empty, positive=True):
+    """Float value of a cell, or None (empty, missing, bad, or <= 0 on a log axis)."""
+    s = row.get(col, "")
+    if s == "" or s.lower() in ("nan", "na", "n/a", "-"):
+        empty.setdefault(col, set()).add(family(row.get("mesh", "")) or f"line {ln}")
+        return None
+    try:
+        v = float(s)
+    except ValueError:
+        warn(f"{path}: line {ln}: column {col}: not a number {s!r}; skipped")
+        return None
+    if not math.isfinite(v) or (positive and v <= 0):
+        warn(f"{path}: line {ln}: column {col}: {s} cannot go on a log axis; skipped")
+        return None
+    return v
+
+
+def family(name):
+    """Legend name of a mesh: a path or file name loses its directory and extension."""
+    base = os.path.basename(name.replace("\\", "/"))
+    root, ext = os.path.splitext(base)
+    return root if ext.lower() in (".off", ".ply", ".obj") else base
+
+
+def collect(path, header, rows):
+    """series[key][mesh] = {faces_out: ms}; key in ours1, oursN, CGAL, OpenMesh."""
+    empty = {}
+    recs = []
+    for ln, r in rows:
+        mesh = r["mesh"]
+        if not mesh:
+            warn(f"{path}: line {ln}: empty mesh name; skipped")
+            continue
+        fo = num(r, "faces_out", ln, path, empty)
+        th = num(r, "threads", ln, path, empty)
+        if fo is None or th is None:
+            continue
+        recs.append((ln, r, family(mesh), fo, int(th)))
+    if not recs:
+        die(f"{path}: no row has usable mesh, faces_out and threads")
+
+    tmax = max(t for *_, t in recs)
+    series = {"ours1": {}, "oursN": {}, "CGAL": {}, "OpenMesh": {}}
+    for ln, r, fam, fo, th in recs:
+        if th in (1, tmax):
+            ms = num(r, "ours_median_ms", ln, path, empty)
+            if ms is not None:
+                if th == 1:
+                    series["ours1"].setdefault(fam, {})[fo] = ms
+                if th == tmax and tmax != 1:
+                    series["oursN"].setdefault(fam, {})[fo] = ms
+        for col, key in ORACLES:
+            if col not in header:
+                continue
+            # the oracle time is repeated on every thread count's row: keep the first
+            ms = num(r, col, ln, path, empty)
+            if ms is not None:
+                series[key].setdefault(fam, {}).setdefault(fo, ms)
+    for col, key in ORACLES:
+        if col not in header:
+            warn(f"{path}: no column {col}; {key} not plotted")
+    for col, where in sorted(empty.items()):
+        warn(f"{path}: empty cells in column {col} (mesh {', '.join(sorted(where))}); "
+             f"those points skipped")
+    if not series["ours1"]:
+        warn(f"{path}: no rows with threads = 1; the single-thread series is not plotted")
+    if tmax == 1:
+        warn(f"{path}: only 1-thread rows; no multi-thread series")
+    return series, tmax
+
+
+def plot(series, tmax, meta, out_prefix):
+    fams = sorted({f for s in series.values() for f in s},
+                  key=lambda f: max(max(s.get(f, {0: 0})) for s in series.values()))
+    labels = {"ours1": "ours, 1 thread", "oursN": f"ours, {tmax} threads",
+              "CGAL": "CGAL", "OpenMesh": "OpenMesh"}
+    styles = {"ours1": "-", "oursN": "-", "CGAL": "--", "OpenMesh": ":"}
+
+    plt.rcParams.update({"font.size": 10, "axes.titlesize": 11, "legend.fontsize": 8.5,
+                         "pdf.fonttype": 42, "ps.fonttype": 42})
+    fig, ax = plt.subplots(figsize=(6.4, 4.3))
+    for key, per_mesh in series.items():
+        for i, fam in enumerate(fams):
+            pts = sorted(per_mesh.get(fam, {}).items())
+            if not pts:
+                continue
+            x, y = zip(*pts)
+            ax.plot(x, y, linestyle=styles[key], color=COLOURS[key],
+                    marker=MARKERS[i % len(MARKERS)], markersize=5, linewidth=1.4,
+                    markeredgecolor="white", markeredgewidth=0.5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("Output faces")
+    ax.set_ylabel("Median time (ms)")
+    ax.set_title(r"$\sqrt{3}$ subdivision: time vs output faces")
+    ax.grid(True, which="major", color="0.85", linewidth=0.6)
+    ax.grid(True, which="minor", color="0.93", linewidth=0.4)
+    ax.set_axisbelow(True)
+
+    impl = [Line2D([], [], color=COLOURS[k], linestyle=styles[k], linewidth=1.4,
+                   label=labels[k]) for k in series if series[k]]
+    meshes = [Line2D([], [], color="0.35", linestyle="none", marker=MARKERS[i % len(MARKERS)],
+                     markersize=5, label=f) for i, f in enumerate(fams)]
+    leg1 = ax.legend(handles=impl, loc="upper left", title="Implementation",
+                     title_fontsize=8.5, frameon=True, framealpha=0.9)
+    ax.add_artist(leg1)
+    ax.legend(handles=meshes, loc="lower right", title="Mesh", title_fontsize=8.5,
+              frameon=True, framealpha=0.9)
+
+    fig.tight_layout()
+    foot = [f"{k.capitalize()}: {meta[k]}" for k in ("machine", "commit", "date") if k in meta]
+    if foot:
+        # one line per field, placed just under the x label (bbox_inches="tight" keeps it)
+        lines = [textwrap.fill(foot[0], 100)] + (["    ".join(foot[1:])] if foot[1:] else [])
+        fig.canvas.draw()
+        bb = ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted())
+        fig.text(bb.x0, bb.y0 - 0.015, "\n".join(lines), fontsize=7, color="0.3", ha="left",
+                 va="top", linespacing=1.4)
+    else:
+        warn("no '# machine:' or '# commit:' header lines; figure has no footnote")
+    for ext, kw in (("png", {"dpi": 200}), ("pdf", {})):
+        fig.savefig(f"{out_prefix}.{ext}", bbox_inches="tight", pad_inches=0.03, **kw)
+    plt.close(fig)
+
+
+def speedup_table(series, tmax):
+    def fmt(v, spec):
+        return "-" if v is None else format(v, spec)
+
+    def ratio(other, ours):
+        return "-" if other is None or ours is None else f"{other / ours:.2f}x"
+
+    fams = sorted({f for s in series.values() for f in s})
+    cols = ["mesh", "faces_out", "ours_1t_ms"]
+    if tmax != 1:
+        cols.append(f"ours_{tmax}t_ms")
+    cols += ["cgal_ms", "openmesh_ms", "cgal/ours_1t", "openmesh/ours_1t"]
+    if tmax != 1:
+        cols += [f"cgal/ours_{tmax}t", f"openmesh/ours_{tmax}t"]
+    out = []
+    for fam in fams:
+        fo = max(f for s in series.values() for f in s.get(fam, {}))
+        o1 = series["ours1"].get(fam, {}).get(fo)
+        oN = series["oursN"].get(fam, {}).get(fo)
+        cg = series["CGAL"].get(fam, {}).get(fo)
+        om = series["OpenMesh"].get(fam, {}).get(fo)
+
+        row = [fam, f"{int(fo)}", fmt(o1, ".3g")]
+        if tmax != 1:
+            row.append(fmt(oN, ".3g"))
+        row += [fmt(cg, ".3g"), fmt(om, ".3g"), ratio(cg, o1), ratio(om, o1)]
+        if tmax != 1:
+            row += [ratio(cg, oN), ratio(om, oN)]
+        out.append(row)
+    widths = [max(len(c), *(len(r[i]) for r in out)) for i, c in enumerate(cols)]
+    print("Speedup at each mesh's largest output (other time / our time; >1 means ours is "
+          "faster):")
+    print("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(cols, widths))))
+    for r in out:
+        print("  ".join(v.rjust(w) if i else v.ljust(w)
+                        for i, (v, w) in enumerate(zip(r, widths))))
+
+
+def main(argv):
+    if len(argv) != 3 or argv[1] in ("-h", "--help"):
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2
+    path, out_prefix = argv[1], argv[2]
+    meta, header, rows = read_results(path)
+    series, tmax = collect(path, header, rows)
+    if not any(series.values()):
+        die(f"{path}: no plottable values")
+    out_dir = os.path.dirname(out_prefix)
+    if out_dir:
+        os.makedirs(out_dir, exist_ok=True)
+    plot(series, tmax, meta, out_prefix)
+    speedup_table(series, tmax)
+    print(f"wrote {out_prefix}.png and {out_prefix}.pdf", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

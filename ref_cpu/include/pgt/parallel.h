@@ -1,0 +1,28 @@
+/* pgt: a minimal fork-join parallel loop on pthreads for the reference.
+ *
+ * The range [0, count) is cut into `threads` contiguous chunks of equal size (the last one
+ * shorter), so which thread computes an element never changes what it computes: results are the
+ * same bytes for any thread count. */
+#ifndef PGT_PARALLEL_H
+#define PGT_PARALLEL_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Most worker threads a call may use. */
+#define PGT_MAX_THREADS 256u
+
+typedef void (*pgt_range_fn)(void *ctx, uint32_t begin, uint32_t end, uint32_t worker);
+
+/* Calls fn(ctx, begin, end, worker) on disjoint chunks covering [0, count), on up to `threads`
+ * threads (the caller's among them). Falls back to running inline when a thread cannot start. */
+void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *ctx);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

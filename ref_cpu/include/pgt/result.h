@@ -1,0 +1,59 @@
+/* pgt: result codes and error messages shared by every reference module.
+ *
+ * Every function that can fail on user input returns a pgt_result and, when given a pgt_error,
+ * fills it with a one-line message that names the file and line (or byte offset, flag, element).
+ * Broken contracts between our own functions are asserts instead (see ../shared/STYLE.md). */
+#ifndef PGT_RESULT_H
+#define PGT_RESULT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum pgt_result {
+    PGT_OK = 0,
+    PGT_ERROR_INVALID_ARGUMENT = 1, /* a caller or flag passed a value outside the contract */
+    PGT_ERROR_OUT_OF_MEMORY = 2,
+    PGT_ERROR_IO = 3,               /* a file could not be opened, read, written or renamed */
+    PGT_ERROR_PARSE = 4,            /* a token is not what the format allows at that place */
+    PGT_ERROR_TRUNCATED = 5,        /* the input ends before what its header promised */
+    PGT_ERROR_COUNT_MISMATCH = 6,   /* a declared count disagrees with the data */
+    PGT_ERROR_INDEX_RANGE = 7,      /* an index is zero (OBJ), negative past the start, or too big */
+    PGT_ERROR_NOT_FINITE = 8,       /* a coordinate is NaN or infinite */
+    PGT_ERROR_LIMIT = 9,            /* a declared or produced size exceeds what pgt supports */
+    PGT_ERROR_UNSUPPORTED = 10,     /* valid input that uses a feature pgt does not read */
+    PGT_ERROR_EMPTY = 11,           /* the input holds no faces */
+    PGT_ERROR_NON_MANIFOLD = 12,    /* an operation that needs a 2-manifold met a bad edge/vertex */
+    PGT_ERROR_DEGENERATE = 13,      /* a face repeats a vertex */
+    PGT_ERROR_BACKEND = 14          /* a GPU API call failed */
+} pgt_result;
+
+#define PGT_ERROR_MESSAGE_SIZE 512
+
+typedef struct pgt_error {
+    pgt_result code;
+    char message[PGT_ERROR_MESSAGE_SIZE];
+} pgt_error;
+
+/* Stable lower-case name of a code ("ok", "parse", ...), for messages and JSON. */
+const char *pgt_result_name(pgt_result code);
+
+/* Records the first error only: a later call on an error that already holds one keeps the first
+ * (embree's rtcGetDeviceError model). err may be NULL. Returns code, so callers can write
+ * `return pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: ...", path, line);`. */
+pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* Clears err to PGT_OK and an empty message. err may be NULL. */
+void pgt_error_clear(pgt_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,61 @@
+/* pgt: sqrt(3) subdivision (Kobbelt 2000; paper 004, Algorithm 2 and 4.2.2 / Algorithm 3).
+ *
+ * One call runs k iterations. Iteration i (1-based) of a call is "odd" or "even" exactly as in
+ * CGAL's Sqrt3_1step and OpenMesh's Sqrt3T: on odd iterations border vertices stay and border
+ * edges are not flipped; on even iterations every border edge is trisected, border vertices move
+ * by the (4, 19, 4)/27 mask and border triangles split into three without a centroid. The parity
+ * restarts at every call.
+ *
+ * Protected faces (4.2.2) get no face point, their vertices never move and edges next to them are
+ * never flipped; they come out bit-identical. Faces made from a protected face stay protected in
+ * every later iteration of the call.
+ *
+ * Per-corner UVs, when present, are subdivided with the same weights inside a chart; see
+ * docs in README ("UVs and chart seams").
+ *
+ * Output order (deterministic, independent of the thread count): input vertices keep their
+ * index; then, face by face, the centroid of each subdivided face (or the two trisection points of
+ * a border face on even iterations). Each subdivided face f emits three triangles at consecutive
+ * indices, triangle c belonging to half-edge 3f+c; a protected face emits itself. Labels are
+ * inherited from the parent face. */
+#ifndef PGT_SQRT3_H
+#define PGT_SQRT3_H
+
+#include <stdint.h>
+
+#include "mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Most iterations one call accepts (3^12 x faces overflows 32-bit indices for any real input). */
+#define PGT_SQRT3_MAX_ITERATIONS 12u
+
+typedef struct pgt_sqrt3_options {
+    uint32_t iterations;             /* k >= 0 (0 copies the input) */
+    uint32_t threads;                /* 0 or 1: single-threaded */
+    const uint8_t *protected_faces;  /* face_count flags (nonzero = protected), or NULL */
+    uint8_t *out_protected;          /* optional, caller-owned, >= bound faces: output flags */
+    uint32_t *out_face_parent;       /* optional, caller-owned, >= bound faces: input face per output face */
+    uint32_t *out_opposite;          /* optional, caller-owned, >= 3 x bound faces: output adjacency,
+                                        derived from the input's (see pgt_adjacency_build) */
+} pgt_sqrt3_options;
+
+/* Upper bound of the output sizes for k iterations (exact when no face is protected and the mesh
+ * has no border). Returns PGT_ERROR_LIMIT when they would exceed PGT_MESH_MAX_ELEMENTS. */
+pgt_result pgt_sqrt3_bound(uint32_t vertex_count, uint32_t face_count, uint32_t border_edges,
+                           uint32_t iterations, uint32_t *out_vertex_bound,
+                           uint32_t *out_face_bound, pgt_error *err);
+
+/* Subdivides `in` into *out (allocated here; destroy with pgt_mesh_destroy). The input must be a
+ * consistently oriented 2-manifold, with or without border (PGT_ERROR_NON_MANIFOLD otherwise,
+ * naming one offending edge or vertex). opts may be NULL (k = 1). */
+pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in, const pgt_sqrt3_options *opts,
+                               pgt_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,168 @@
+/* pgt: opposite half-edge array and 2-manifold checks.
+ *
+ * Half-edges are bucketed by source vertex (a counting sort, CSR), then each half-edge a->b looks
+ * for b->a among b's outgoing half-edges: O(half-edges x valence), no hashing, deterministic. */
+#include "pgt/adjacency.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "pgt/parallel.h"
+
+/* Outgoing half-edge of a vertex with its destination, packed so a scan reads one cache line. */
+typedef struct adj_out {
+    uint32_t dst, h;
+} adj_out;
+
+typedef struct adj_ctx {
+    const uint32_t *idx;
+    const uint32_t *start; /* V + 1 */
+    const adj_out *list;   /* half-edges bucketed by source, ascending h within a bucket */
+    const uint8_t *degenerate;
+    uint32_t *opposite;
+    uint8_t *bad; /* per half-edge: part of a non-manifold edge; per vertex: more than one fan */
+} adj_ctx;
+
+static uint32_t dst_of(const uint32_t *idx, uint32_t h) { return idx[pgt_half_edge_next(h)]; }
+
+static void adj_pair_range(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    adj_ctx *c = p;
+    (void)worker;
+    for (uint32_t h = begin; h < end; ++h) {
+        c->opposite[h] = PGT_NONE;
+        c->bad[h] = 0;
+        if (c->degenerate[h / 3]) continue;
+        uint32_t a = c->idx[h], b = dst_of(c->idx, h);
+        uint32_t same = 0, opp = 0, found = PGT_NONE;
+        for (uint32_t i = c->start[a]; i < c->start[a + 1]; ++i) same += c->list[i].dst == b;
+        for (uint32_t i = c->start[b]; i < c->start[b + 1]; ++i)
+            if (c->list[i].dst == a) {
+                opp++;
+                found = c->list[i].h;
+            }
+        if (same == 1 && opp <= 1)
+            c->opposite[h] = found;
+        else
+            c->bad[h] = 1;
+    }
+}
+
+/* A vertex is manifold when one walk around its fan meets all its outgoing half-edges. */
+static void adj_vertex_range(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    adj_ctx *c = p;
+    uint8_t *bad_vertex = c->bad;
+    (void)worker;
+    for (uint32_t v = begin; v < end; ++v) {
+        uint32_t n = c->start[v + 1] - c->start[v];
+        bad_vertex[v] = 0;
+        if (n == 0) continue;
+        uint32_t h0 = c->list[c->start[v]].h, h = h0, steps = 0;
+        for (;;) { /* backward to the fan start (a border half-edge) or all the way round */
+            uint32_t o = c->opposite[h];
+            if (o == PGT_NONE) break;
+            uint32_t hp = pgt_half_edge_next(o);
+            if (hp == h0 || ++steps > n) break;
+            h = hp;
+        }
+        uint32_t first = h, count = 0;
+        for (;;) {
+            count++;
+            uint32_t o = c->opposite[pgt_half_edge_prev(h)];
+            if (o == PGT_NONE || o == first || count > n) break;
+            h = o;
+        }
+        bad_vertex[v] = count != n;
+    }
+}
+
+pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_t threads,
+                               pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    out->bad_edge[0] = out->bad_edge[1] = out->bad_vertex = out->bad_face = PGT_NONE;
+    if (!mesh || (mesh->face_count && (!mesh->indices || !mesh->positions)))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "adjacency: no mesh");
+    const uint32_t V = mesh->vertex_count, F = mesh->face_count, H = 3 * F;
+    const uint32_t *idx = mesh->indices;
+    for (uint32_t i = 0; i < H; ++i)
+        if (idx[i] >= V)
+            return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                 "adjacency: face %u uses vertex %u of %u", i / 3, idx[i], V);
+
+    uint32_t *start = calloc((size_t)V + 2, sizeof(uint32_t));
+    adj_out *list = malloc(((size_t)H + 1) * sizeof(adj_out));
+    uint8_t *degenerate = calloc((size_t)F + 1, 1);
+    uint8_t *bad = malloc((size_t)(H > V ? H : V) + 1);
+    uint32_t *fill = malloc(((size_t)V + 1) * sizeof(uint32_t));
+    out->opposite = malloc(((size_t)H + 1) * sizeof(uint32_t));
+    if (!start || !list || !degenerate || !bad || !fill || !out->opposite) {
+        free(start), free(list), free(degenerate), free(bad), free(fill);
+        pgt_adjacency_destroy(out);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "adjacency: out of memory (%u faces)", F);
+    }
+    out->half_edge_count = H;
+
+    for (uint32_t f = 0; f < F; ++f) {
+        const uint32_t *t = idx + 3 * (size_t)f;
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+            degenerate[f] = 1;
+            if (out->degenerate_faces++ == 0) out->bad_face = f;
+        }
+    }
+    for (uint32_t h = 0; h < H; ++h) start[idx[h] + 1]++;
+    for (uint32_t v = 0; v < V; ++v) start[v + 1] += start[v];
+    memcpy(fill, start, (size_t)V * sizeof(uint32_t));
+    for (uint32_t h = 0; h < H; ++h) list[fill[idx[h]]++] = (adj_out){dst_of(idx, h), h};
+
+    adj_ctx ctx = {idx, start, list, degenerate, out->opposite, bad};
+    pgt_parallel_for(H, threads, adj_pair_range, &ctx);
+
+    for (uint32_t h = 0; h < H; ++h) {
+        if (bad[h]) {
+            /* count each bad undirected edge once: at its smallest half-edge */
+            uint32_t a = idx[h], b = dst_of(idx, h), lo = h;
+            for (uint32_t i = start[a]; i < start[a + 1]; ++i)
+                if (list[i].dst == b && list[i].h < lo) lo = list[i].h;
+            for (uint32_t i = start[b]; i < start[b + 1]; ++i)
+                if (list[i].dst == a && list[i].h < lo) lo = list[i].h;
+            if (lo == h && out->non_manifold_edges++ == 0) {
+                out->bad_edge[0] = a < b ? a : b;
+                out->bad_edge[1] = a < b ? b : a;
+            }
+        } else if (out->opposite[h] == PGT_NONE && !degenerate[h / 3]) {
+            out->border_half_edges++;
+        }
+    }
+
+    pgt_parallel_for(V, threads, adj_vertex_range, &ctx); /* reuses bad[] per vertex */
+    for (uint32_t v = 0; v < V; ++v)
+        if (bad[v] && out->non_manifold_vertices++ == 0) out->bad_vertex = v;
+
+    free(start), free(list), free(degenerate), free(bad), free(fill);
+    return PGT_OK;
+}
+
+void pgt_adjacency_destroy(pgt_adjacency *adj) {
+    if (!adj) return;
+    free(adj->opposite);
+    memset(adj, 0, sizeof(*adj));
+}
+
+pgt_result pgt_adjacency_require_manifold(const pgt_adjacency *adj, const char *what,
+                                          pgt_error *err) {
+    if (!what) what = "input";
+    if (adj->degenerate_faces)
+        return pgt_error_set(err, PGT_ERROR_DEGENERATE,
+                             "%s: face %u repeats a vertex (%u degenerate faces)", what,
+                             adj->bad_face, adj->degenerate_faces);
+    if (adj->non_manifold_edges)
+        return pgt_error_set(err, PGT_ERROR_NON_MANIFOLD,
+                             "%s: non-manifold edge (%u, %u): more than two faces or inconsistent "
+                             "orientation (%u such edges)",
+                             what, adj->bad_edge[0], adj->bad_edge[1], adj->non_manifold_edges);
+    if (adj->non_manifold_vertices)
+        return pgt_error_set(err, PGT_ERROR_NON_MANIFOLD,
+                             "%s: non-manifold vertex %u: its faces form more than one fan (%u "
+                             "such vertices)",
+                             what, adj->bad_vertex, adj->non_manifold_vertices);
+    return PGT_OK;
+}

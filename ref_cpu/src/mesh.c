@@ -1,0 +1,65 @@
+/* pgt: mesh allocation. */
+#include "pgt/mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+pgt_result pgt_mesh_create(pgt_mesh *out, uint32_t vertex_count, uint32_t face_count, int with_uvs,
+                           int with_labels, pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    if (vertex_count > PGT_MESH_MAX_ELEMENTS || face_count > PGT_MESH_MAX_ELEMENTS)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "mesh of %u vertices and %u faces exceeds the limit of %u elements",
+                             vertex_count, face_count, PGT_MESH_MAX_ELEMENTS);
+    /* malloc(0) may return NULL: always ask for at least one element. */
+    out->positions = malloc(((size_t)vertex_count * 3 + 1) * sizeof(float));
+    out->indices = malloc(((size_t)face_count * 3 + 1) * sizeof(uint32_t));
+    if (with_uvs) out->uvs = malloc(((size_t)face_count * 6 + 1) * sizeof(float));
+    if (with_labels) out->labels = malloc(((size_t)face_count + 1) * sizeof(int32_t));
+    if (!out->positions || !out->indices || (with_uvs && !out->uvs) ||
+        (with_labels && !out->labels)) {
+        pgt_mesh_destroy(out);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
+                             "out of memory for a mesh of %u vertices and %u faces", vertex_count,
+                             face_count);
+    }
+    out->vertex_count = vertex_count;
+    out->face_count = face_count;
+    return PGT_OK;
+}
+
+void pgt_mesh_destroy(pgt_mesh *mesh) {
+    if (!mesh) return;
+    free(mesh->positions);
+    free(mesh->indices);
+    free(mesh->uvs);
+    free(mesh->labels);
+    memset(mesh, 0, sizeof(*mesh));
+}
+
+pgt_result pgt_mesh_copy(pgt_mesh *out, const pgt_mesh *src, pgt_error *err) {
+    pgt_result r = pgt_mesh_create(out, src->vertex_count, src->face_count, src->uvs != NULL,
+                                   src->labels != NULL, err);
+    if (r != PGT_OK) return r;
+    memcpy(out->positions, src->positions, (size_t)src->vertex_count * 3 * sizeof(float));
+    memcpy(out->indices, src->indices, (size_t)src->face_count * 3 * sizeof(uint32_t));
+    if (src->uvs) memcpy(out->uvs, src->uvs, (size_t)src->face_count * 6 * sizeof(float));
+    if (src->labels) memcpy(out->labels, src->labels, (size_t)src->face_count * sizeof(int32_t));
+    return PGT_OK;
+}
+
+double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh) {
+    if (!mesh || mesh->vertex_count == 0) return 0.0;
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = mesh->positions[k];
+    for (uint32_t v = 1; v < mesh->vertex_count; ++v)
+        for (int k = 0; k < 3; ++k) {
+            double x = mesh->positions[3 * (size_t)v + k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    return sqrt(d2);
+}

@@ -1,0 +1,43 @@
+/* pgt: result codes and first-error-wins messages. */
+#include "pgt/result.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+const char *pgt_result_name(pgt_result code) {
+    switch (code) {
+    case PGT_OK: return "ok";
+    case PGT_ERROR_INVALID_ARGUMENT: return "invalid_argument";
+    case PGT_ERROR_OUT_OF_MEMORY: return "out_of_memory";
+    case PGT_ERROR_IO: return "io";
+    case PGT_ERROR_PARSE: return "parse";
+    case PGT_ERROR_TRUNCATED: return "truncated";
+    case PGT_ERROR_COUNT_MISMATCH: return "count_mismatch";
+    case PGT_ERROR_INDEX_RANGE: return "index_range";
+    case PGT_ERROR_NOT_FINITE: return "not_finite";
+    case PGT_ERROR_LIMIT: return "limit";
+    case PGT_ERROR_UNSUPPORTED: return "unsupported";
+    case PGT_ERROR_EMPTY: return "empty";
+    case PGT_ERROR_NON_MANIFOLD: return "non_manifold";
+    case PGT_ERROR_DEGENERATE: return "degenerate";
+    case PGT_ERROR_BACKEND: return "backend";
+    }
+    return "unknown";
+}
+
+pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...) {
+    if (err && err->code == PGT_OK && code != PGT_OK) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof(err->message), fmt, ap);
+        va_end(ap);
+        err->code = code;
+    }
+    return code;
+}
+
+void pgt_error_clear(pgt_error *err) {
+    if (!err) return;
+    err->code = PGT_OK;
+    err->message[0] = '\0';
+}

@@ -1,0 +1,80 @@
+/* pgt: face selections from files and labels. */
+#include "pgt/selection.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *path,
+                              uint32_t *out_count, pgt_error *err) {
+    if (out_count) *out_count = 0;
+    memset(flags, 0, face_count);
+    FILE *f = fopen(path, "rb");
+    if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    uint32_t line = 1, count = 0;
+    char tok[32];
+    size_t n = 0;
+    int in_comment = 0, c;
+    pgt_result r = PGT_OK;
+    do {
+        c = fgetc(f);
+        int sep = c == EOF || c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == ',';
+        if (!in_comment && c == '#') {
+            in_comment = 1;
+            sep = 1;
+        }
+        if (sep || in_comment) {
+            if (n > 0) {
+                tok[n] = 0;
+                char *end = NULL;
+                errno = 0;
+                unsigned long long v = strtoull(tok, &end, 10);
+                if (tok[0] == '-' || tok[0] == '+' || errno || *end) {
+                    r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: '%s' is not a face index", path, line, tok);
+                    break;
+                }
+                if (v >= face_count) {
+                    r = pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                      "%s:%u: face index %s out of range (the mesh has %u faces)",
+                                      path, line, tok, face_count);
+                    break;
+                }
+                count += !flags[v];
+                flags[v] = 1;
+                n = 0;
+            }
+            if (c == '\n') {
+                line++;
+                in_comment = 0;
+            }
+            continue;
+        }
+        if (n + 1 >= sizeof tok) {
+            tok[n] = 0;
+            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: token '%s...' is too long for a face index", path, line, tok);
+            break;
+        }
+        tok[n++] = (char)c;
+    } while (c != EOF);
+    if (r == PGT_OK && ferror(f)) r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error", path);
+    fclose(f);
+    if (r != PGT_OK) memset(flags, 0, face_count);
+    if (r == PGT_OK && out_count) *out_count = count;
+    return r;
+}
+
+pgt_result pgt_selection_from_label(uint8_t *flags, const pgt_mesh *mesh, int32_t label,
+                                    uint32_t *out_count, pgt_error *err) {
+    if (out_count) *out_count = 0;
+    if (!mesh->labels)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "the mesh has no per-face labels (a PLY face property 'group')");
+    uint32_t count = 0;
+    for (uint32_t f = 0; f < mesh->face_count; ++f) {
+        flags[f] = mesh->labels[f] == label;
+        count += flags[f];
+    }
+    if (out_count) *out_count = count;
+    return PGT_OK;
+}

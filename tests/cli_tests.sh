@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Tests of the pgt program itself: documented flags, exit codes (0 ok, 2 bad flag/value/input),
+# one-line errors naming the file and line, outputs written atomically, inputs never overwritten.
+#   cli_tests.sh PGT PGT_DATASETS SOURCE_DIR WORK_DIR
+set -u
+pgt=$1 gen=$2 src=$3 work=$4
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+pass=0 fail=0
+ok() { pass=$((pass + 1)); echo "PASS $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1: $2"; }
+# expect NAME CODE CMD...: exit code is CODE; stderr kept in err.txt, stdout in out.txt
+expect() {
+  local name=$1 code=$2; shift 2
+  "$@" >out.txt 2>err.txt
+  local got=$?
+  if [ "$got" -eq "$code" ]; then ok "$name"; else bad "$name" "exit $got, want $code; stderr: $(head -c 300 err.txt)"; fi
+}
+# one_line NAME PATTERN: stderr is exactly one line and matches PATTERN
+one_line() {
+  local n; n=$(wc -l <err.txt)
+  if [ "$n" -eq 1 ] && grep -q -- "$2" err.txt; then ok "$1"; else bad "$1" "stderr: $(cat err.txt)"; fi
+}
+
+"$gen" "$work/data" >/dev/null || { echo "cannot generate datasets"; exit 1; }
+"$gen" "$work/data" --only cube_sphere_8 --format ply >/dev/null
+ico="$work/data/icosphere_l1.off"
+
+expect help 0 "$pgt" --help
+grep -q "subdiv" out.txt && ok help_lists_subdiv || bad help_lists_subdiv "no subdiv in --help"
+expect subdiv_help 0 "$pgt" subdiv --help
+for flag in --iters -o --protect --group --threads --backend --device --json --precise; do
+  grep -q -- "$flag" out.txt && ok "subdiv_help_documents_$flag" || bad "subdiv_help_documents_$flag" "missing"
+done
+expect bench_help 0 "$pgt" bench --help
+expect no_verb 2 "$pgt"
+expect unknown_verb 2 "$pgt" frobnicate
+one_line unknown_verb_one_line "unknown verb"
+expect unknown_flag 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --bogus
+one_line unknown_flag_one_line "unknown flag '--bogus'"
+expect bad_iters 2 "$pgt" subdiv "$ico" --iters two -o x.off
+one_line bad_iters_one_line "\-\-iters: expected a whole number"
+expect negative_iters 2 "$pgt" subdiv "$ico" --iters -1 -o x.off
+expect too_many_iters 2 "$pgt" subdiv "$ico" --iters 13 -o x.off
+expect bad_threads 2 "$pgt" subdiv "$ico" --threads 0 -o x.off
+expect missing_value 2 "$pgt" subdiv "$ico" --iters
+one_line missing_value_one_line "needs a value"
+expect no_output 2 "$pgt" subdiv "$ico" --iters 1
+expect bad_extension 2 "$pgt" subdiv "$ico" --iters 1 -o x.xyz
+expect gpu_backend_not_built 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --backend cl
+expect unknown_backend 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --backend cuda
+expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
+one_line missing_input_names_file "nothere.off"
+
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1\n3 0 1 2\n' >trunc.off
+expect malformed_input 2 "$pgt" subdiv trunc.off --iters 1 -o x.off
+one_line malformed_input_names_file_and_line "trunc.off:5"
+[ ! -e x.off ] && ok no_output_on_failure || bad no_output_on_failure "x.off exists"
+
+cp "$ico" same.off
+sum0=$(md5sum <same.off)
+expect never_overwrites_input 2 "$pgt" subdiv same.off --iters 1 -o same.off
+[ "$(md5sum <same.off)" = "$sum0" ] && ok input_unchanged || bad input_unchanged "input modified"
+echo "keep me" >existing.off
+expect failed_run_keeps_existing_output 2 "$pgt" subdiv trunc.off --iters 1 -o existing.off
+grep -q "keep me" existing.off && ok existing_output_kept || bad existing_output_kept "overwritten"
+
+expect subdiv_ok 0 "$pgt" subdiv "$ico" --iters 2 -o out.off --threads 2
+grep -q "80 faces) -> out.off (.* 720 faces)" out.txt && ok summary_counts || bad summary_counts "$(cat out.txt)"
+head -2 out.off | tail -1 | grep -q "^362 720 0" && ok output_counts || bad output_counts "$(head -2 out.off)"
+expect subdiv_json 0 "$pgt" subdiv "$ico" --iters 1 -o out.ply --json
+/usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); sys.exit(0 if d["faces_out"]==240 and d["vertices_out"]==122 else 1)' \
+  && ok json_summary || bad json_summary "$(cat out.txt)"
+
+printf '0 1\n# a comment\n2, 3\n' >prot.txt
+expect protect_file 0 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot.txt --json
+/usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); sys.exit(0 if d["faces_out"]==76*3+4 and d["protected_faces"]==4 else 1)' \
+  && ok protect_counts || bad protect_counts "$(cat out.txt)"
+printf '0 1\n2 99\n' >prot_bad.txt
+expect protect_out_of_range 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_bad.txt
+one_line protect_out_of_range_names_line "prot_bad.txt:2"
+printf '0 x1\n' >prot_tok.txt
+expect protect_bad_token 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_tok.txt
+one_line protect_bad_token_names_line "prot_tok.txt:1"
+expect group_needs_labels 2 "$pgt" subdiv "$ico" --iters 1 -o g.off --group 1
+expect group_ok 0 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 1 -o g.ply --group 4 --json
+/usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); f=128; sys.exit(0 if d["faces_out"]==f*3+5*f and d["protected_faces"]==5*f else 1)' \
+  && ok group_counts || bad group_counts "$(cat out.txt)"
+expect group_absent 2 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 1 -o g.ply --group 9
+expect protect_and_group 2 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 1 -o g.ply --group 4 --protect prot.txt
+
+expect bench_unknown 2 "$pgt" bench nothing
+expect bench_bad_flag 2 "$pgt" bench subdiv --repeat zero
+expect bench_quick 0 "$pgt" bench subdiv --quick --no-oracles --meshes icosphere_l2,grid_16x16 --threads 1,2 --out res/subdiv.csv
+grep -q "^# machine: " res/subdiv.csv && grep -q "^# commit: " res/subdiv.csv && grep -q "^# date: " res/subdiv.csv \
+  && ok bench_header || bad bench_header "$(head -5 res/subdiv.csv)"
+rows=$(grep -vc '^#' res/subdiv.csv)
+[ "$rows" -eq $((1 + 2 * 2 * 2)) ] && ok bench_rows || bad bench_rows "$rows lines"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,502 @@
+/* Tests of sqrt(3) subdivision (ref_cpu/src/sqrt3.c) with known answers: counts per step,
+ * Euler characteristic, border counts per Kobbelt's rule, the derived adjacency against one
+ * rebuilt from scratch, determinism across thread counts, the per-call parity, protected faces,
+ * UVs, and refusal of non-manifold input. Agreement with CGAL/OpenMesh is test_sqrt3_oracles.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gen.h"
+#include "pgt/adjacency.h"
+#include "pgt/rng.h"
+#include "pgt/sqrt3.h"
+#include "test_util.h"
+
+/* Counts of a mesh: vertices referenced, edges, border edges, Euler characteristic. */
+typedef struct topo {
+    uint32_t border_edges;
+    int64_t euler;
+    int manifold;
+} topo;
+
+static topo topo_of(const pgt_mesh *m) {
+    topo t = {0, 0, 0};
+    pgt_adjacency a;
+    if (pgt_adjacency_build(&a, m, 1, NULL) != PGT_OK) return t;
+    t.manifold = pgt_adjacency_require_manifold(&a, "test", NULL) == PGT_OK;
+    t.border_edges = a.border_half_edges;
+    uint64_t he = a.half_edge_count, edges = (he + a.border_half_edges) / 2;
+    t.euler = (int64_t)m->vertex_count - (int64_t)edges + (int64_t)m->face_count;
+    pgt_adjacency_destroy(&a);
+    return t;
+}
+
+typedef struct run {
+    pgt_mesh out;
+    uint32_t *opp;
+    uint8_t *prot;
+    uint32_t *parent;
+} run;
+
+static int run_sqrt3(run *r, const pgt_mesh *in, uint32_t k, uint32_t threads, const uint8_t *prot) {
+    memset(r, 0, sizeof(*r));
+    uint32_t vb, fb;
+    if (pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, k, &vb, &fb, NULL) != PGT_OK) return 0;
+    r->opp = malloc(((size_t)fb * 3 + 1) * sizeof(uint32_t));
+    r->prot = malloc((size_t)fb + 1);
+    r->parent = malloc(((size_t)fb + 1) * sizeof(uint32_t));
+    pgt_sqrt3_options o = {k, threads, prot, r->prot, r->parent, r->opp};
+    pgt_error err = {0};
+    if (pgt_sqrt3_subdivide(&r->out, in, &o, &err) != PGT_OK) {
+        fprintf(stderr, "  sqrt3 failed: %s\n", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+static void run_free(run *r) {
+    pgt_mesh_destroy(&r->out);
+    free(r->opp), free(r->prot), free(r->parent);
+}
+
+static int same_mesh_bytes(const pgt_mesh *a, const pgt_mesh *b) {
+    if (a->vertex_count != b->vertex_count || a->face_count != b->face_count) return 0;
+    if (memcmp(a->positions, b->positions, (size_t)a->vertex_count * 3 * sizeof(float))) return 0;
+    if (memcmp(a->indices, b->indices, (size_t)a->face_count * 3 * sizeof(uint32_t))) return 0;
+    if ((a->uvs == NULL) != (b->uvs == NULL)) return 0;
+    if (a->uvs && memcmp(a->uvs, b->uvs, (size_t)a->face_count * 6 * sizeof(float))) return 0;
+    return 1;
+}
+
+static pgt_mesh gen(const char *name) {
+    pgt_mesh m = {0};
+    uint32_t i = pgt_gen_default_find(name);
+    if (i == PGT_NONE || pgt_gen_default(i, &m, NULL) != PGT_OK) fprintf(stderr, "  no dataset %s\n", name);
+    return m;
+}
+
+/* Closed meshes: F x 3 and V + F per step, Euler characteristic kept, manifold, and the
+ * adjacency derived step by step equals the one rebuilt from the output. */
+static void closed_counts_and_adjacency(void) {
+    const char *names[] = {"icosphere_l0", "icosphere_l2", "torus_32x16", "noisy_torus_48x24", "cube_sphere_8"};
+    for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        topo t0 = topo_of(&m);
+        CHECK(t0.manifold && t0.border_edges == 0);
+        uint64_t V = m.vertex_count, F = m.face_count;
+        for (uint32_t k = 1; k <= 3; ++k) {
+            V += F; /* one face point per face */
+            F *= 3;
+            run r;
+            REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
+            CHECK_MSG(r.out.face_count == F && r.out.vertex_count == V, "%s k=%u: %u v %u f, want %llu v %llu f",
+                      names[n], k, r.out.vertex_count, r.out.face_count, (unsigned long long)V, (unsigned long long)F);
+            topo t = topo_of(&r.out);
+            CHECK_MSG(t.manifold && t.border_edges == 0 && t.euler == t0.euler, "%s k=%u: euler %lld (was %lld)",
+                      names[n], k, (long long)t.euler, (long long)t0.euler);
+            pgt_adjacency a;
+            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
+            uint32_t diff = 0;
+            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
+            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency", names[n], k, diff);
+            pgt_adjacency_destroy(&a);
+            run_free(&r);
+        }
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* Meshes with a border: odd iterations keep the border (B edges, V + F new vertices), even ones
+ * trisect it (3B edges, V + F + B vertices: F - B centroids and 2B trisection points). */
+static void border_counts_per_rule(void) {
+    const char *names[] = {"grid_16x16", "hemisphere_jagged_12x32"};
+    for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        topo t0 = topo_of(&m);
+        CHECK(t0.manifold && t0.border_edges > 0);
+        uint64_t V = m.vertex_count, F = m.face_count, B = t0.border_edges;
+        for (uint32_t k = 1; k <= 4; ++k) {
+            if (k % 2 == 1) {
+                V += F;
+            } else {
+                V += F + B;
+                B *= 3;
+            }
+            F *= 3;
+            run r;
+            REQUIRE(run_sqrt3(&r, &m, k, 1, NULL));
+            topo t = topo_of(&r.out);
+            CHECK_MSG(r.out.vertex_count == V && r.out.face_count == F && t.border_edges == B,
+                      "%s k=%u: %u v %u f %u border, want %llu %llu %llu", names[n], k, r.out.vertex_count,
+                      r.out.face_count, t.border_edges, (unsigned long long)V, (unsigned long long)F,
+                      (unsigned long long)B);
+            CHECK(t.manifold && t.euler == t0.euler);
+            pgt_adjacency a;
+            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
+            uint32_t diff = 0;
+            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
+            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency", names[n], k, diff);
+            pgt_adjacency_destroy(&a);
+            run_free(&r);
+        }
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* Border vertices stay on odd iterations and move by the (4, 19, 4)/27 mask on even ones; a
+ * trisection point of a straight border is at 1/3 or 2/3 of its edge plus the mask's pull. On a
+ * flat grid the border stays on the square's sides (every mask is a convex combination of
+ * collinear points except at the corners). */
+static void border_stays_on_its_line(void) {
+    pgt_mesh m = gen("grid_16x16");
+    REQUIRE(m.face_count > 0);
+    run r;
+    REQUIRE(run_sqrt3(&r, &m, 2, 1, NULL));
+    pgt_adjacency a;
+    REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
+    uint32_t off_plane = 0;
+    for (uint32_t v = 0; v < r.out.vertex_count; ++v)
+        off_plane += r.out.positions[3 * (size_t)v + 2] != 0.0f;
+    CHECK(off_plane == 0);
+    /* odd iteration: k = 1 leaves every original vertex where it was */
+    run r1;
+    REQUIRE(run_sqrt3(&r1, &m, 1, 1, NULL));
+    uint32_t moved_border = 0;
+    pgt_adjacency a0;
+    REQUIRE(pgt_adjacency_build(&a0, &m, 1, NULL) == PGT_OK);
+    for (uint32_t h = 0; h < a0.half_edge_count; ++h)
+        if (a0.opposite[h] == PGT_NONE) {
+            uint32_t v = m.indices[h];
+            moved_border += memcmp(m.positions + 3 * (size_t)v, r1.out.positions + 3 * (size_t)v, 12) != 0;
+        }
+    CHECK(moved_border == 0);
+    /* even iteration, a border vertex in the middle of the bottom side (y = 0): x moves by the
+     * (4, 19, 4)/27 mask of equally spaced neighbours, i.e. not at all; y stays 0 */
+    uint32_t mid = 8; /* vertex (8, 0) */
+    const float *p = r.out.positions + 3 * mid;
+    CHECK(fabsf(p[0] - 0.5f) < 1e-7f && p[1] == 0.0f);
+    pgt_adjacency_destroy(&a);
+    pgt_adjacency_destroy(&a0);
+    run_free(&r);
+    run_free(&r1);
+    pgt_mesh_destroy(&m);
+}
+
+/* Same input, same bytes, whatever the thread count. */
+static void deterministic_across_threads(void) {
+    const char *names[] = {"noisy_torus_48x24", "hemisphere_jagged_12x32", "cube_sphere_8"};
+    for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        run r1;
+        REQUIRE(run_sqrt3(&r1, &m, 3, 1, NULL));
+        for (uint32_t t = 2; t <= 7; t += 5) {
+            run rt;
+            REQUIRE(run_sqrt3(&rt, &m, 3, t, NULL));
+            CHECK_MSG(same_mesh_bytes(&r1.out, &rt.out), "%s: %u threads differ from 1", names[n], t);
+            run_free(&rt);
+        }
+        run_free(&r1);
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* The parity restarts at every call: three calls of k = 1 never trisect a border (so differ from
+ * one call of k = 3 on a mesh with border), while on a closed mesh they give the same triangles
+ * and the same points up to float rounding (each call starts a vertex's neighbour sum at its
+ * smallest half-edge, one call at the half-edge derived from the previous level: same terms,
+ * another order). */
+static void parity_restarts_per_call(void) {
+    const char *names[] = {"icosphere_l1", "grid_16x16"};
+    for (int n = 0; n < 2; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        run once;
+        REQUIRE(run_sqrt3(&once, &m, 3, 1, NULL));
+        pgt_mesh cur;
+        REQUIRE(pgt_mesh_copy(&cur, &m, NULL) == PGT_OK);
+        for (int i = 0; i < 3; ++i) {
+            pgt_mesh next;
+            pgt_sqrt3_options o = {1, 1, NULL, NULL, NULL, NULL};
+            REQUIRE(pgt_sqrt3_subdivide(&next, &cur, &o, NULL) == PGT_OK);
+            pgt_mesh_destroy(&cur);
+            cur = next;
+        }
+        if (n == 0) {
+            REQUIRE(once.out.vertex_count == cur.vertex_count && once.out.face_count == cur.face_count);
+            CHECK(!memcmp(once.out.indices, cur.indices, (size_t)cur.face_count * 3 * sizeof(uint32_t)));
+            float worst = 0.0f;
+            for (uint32_t i = 0; i < 3 * cur.vertex_count; ++i)
+                worst = fmaxf(worst, fabsf(once.out.positions[i] - cur.positions[i]));
+            /* unit sphere: a few float ulps of 1 from reordered sums of 6 terms, over 3 levels */
+            CHECK_MSG(worst < 1e-6f, "max difference %g", worst);
+        } else {
+            CHECK(topo_of(&cur).border_edges == topo_of(&m).border_edges); /* never trisected */
+            CHECK(topo_of(&once.out).border_edges == 3 * topo_of(&m).border_edges);
+        }
+        pgt_mesh_destroy(&cur);
+        run_free(&once);
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* k = 0 copies; k = 1 with nothing protected equals no protection at all. */
+static void zero_iterations_and_empty_protection(void) {
+    pgt_mesh m = gen("cube_sphere_8");
+    REQUIRE(m.face_count > 0);
+    run r0;
+    REQUIRE(run_sqrt3(&r0, &m, 0, 1, NULL));
+    CHECK(same_mesh_bytes(&r0.out, &m));
+    uint8_t *none = calloc(m.face_count, 1);
+    for (uint32_t k = 1; k <= 3; ++k) {
+        run a, b;
+        REQUIRE(run_sqrt3(&a, &m, k, 2, NULL));
+        REQUIRE(run_sqrt3(&b, &m, k, 2, none));
+        CHECK(same_mesh_bytes(&a.out, &b.out));
+        run_free(&a);
+        run_free(&b);
+    }
+    free(none);
+    run_free(&r0);
+    pgt_mesh_destroy(&m);
+}
+
+/* Protected faces (paper 004, 4.2.2): they come out bit-identical (same vertex indices, same
+ * position bytes), their vertices do not move, the result is a watertight conforming manifold
+ * (no border appears on a closed mesh) and the counts follow: a protected face emits 1 face and
+ * no point. Checked with a seeded random selection and with one smoothing group. */
+static void protected_faces_bit_identical(void) {
+    const char *names[] = {"noisy_torus_48x24", "hemisphere_jagged_12x32", "cube_sphere_8"};
+    for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        uint8_t *prot = calloc(m.face_count, 1);
+        uint32_t np = 0;
+        for (uint32_t f = 0; f < m.face_count; ++f) {
+            /* a third of the faces at random, or (cube-sphere) every face outside group 4 */
+            prot[f] = m.labels ? m.labels[f] != 4 : pgt_rng_float(5, 1, f) < 0.33f;
+            np += prot[f];
+        }
+        topo t0 = topo_of(&m);
+        for (uint32_t k = 1; k <= 3; ++k) {
+            run r;
+            REQUIRE(run_sqrt3(&r, &m, k, 2, prot));
+            uint32_t seen = 0, bad = 0;
+            for (uint32_t t = 0; t < r.out.face_count; ++t) {
+                if (!r.prot[t]) continue;
+                seen++;
+                uint32_t f = r.parent[t];
+                for (int c = 0; c < 3; ++c) {
+                    uint32_t vi = m.indices[3 * (size_t)f + c], vo = r.out.indices[3 * (size_t)t + c];
+                    bad += vi != vo || memcmp(m.positions + 3 * (size_t)vi, r.out.positions + 3 * (size_t)vo, 12);
+                }
+                if (m.uvs) bad += memcmp(m.uvs + 6 * (size_t)f, r.out.uvs + 6 * (size_t)t, 24) != 0;
+            }
+            CHECK_MSG(seen == np && bad == 0, "%s k=%u: %u of %u protected faces, %u differ", names[n], k, seen, np, bad);
+            topo t = topo_of(&r.out);
+            CHECK_MSG(t.manifold && t.euler == t0.euler, "%s k=%u: not a manifold or euler changed", names[n], k);
+            if (t0.border_edges == 0) CHECK_MSG(t.border_edges == 0, "%s k=%u: holes appeared", names[n], k);
+            pgt_adjacency a;
+            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
+            uint32_t diff = 0;
+            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
+            CHECK(diff == 0);
+            pgt_adjacency_destroy(&a);
+            run_free(&r);
+        }
+        free(prot);
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* UVs inside one chart get the same weights as positions: on the flat grid with uv = (x, y),
+ * every output corner's UV equals its vertex's (x, y), to the last bit (the same float operations
+ * in the same order), through the border rule too. */
+static void uvs_follow_positions_in_one_chart(void) {
+    pgt_mesh m = gen("grid_16x16");
+    REQUIRE(m.face_count > 0 && m.uvs);
+    for (uint32_t k = 1; k <= 3; ++k) {
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
+        REQUIRE(r.out.uvs != NULL);
+        uint32_t bad = 0;
+        for (uint32_t c = 0; c < 3 * r.out.face_count; ++c) {
+            const float *p = r.out.positions + 3 * (size_t)r.out.indices[c];
+            bad += r.out.uvs[2 * (size_t)c] != p[0] || r.out.uvs[2 * (size_t)c + 1] != p[1];
+        }
+        CHECK_MSG(bad == 0, "k=%u: %u corners whose uv is not their (x, y)", k, bad);
+        run_free(&r);
+    }
+    pgt_mesh_destroy(&m);
+}
+
+/* Charts of a mesh: faces joined across edges whose two corner UVs match on both faces. */
+static uint32_t count_charts(const pgt_mesh *m) {
+    pgt_adjacency a;
+    if (pgt_adjacency_build(&a, m, 1, NULL) != PGT_OK) return 0;
+    uint32_t *chart = malloc(m->face_count * sizeof(uint32_t)), *stack = malloc(m->face_count * sizeof(uint32_t));
+    for (uint32_t f = 0; f < m->face_count; ++f) chart[f] = PGT_NONE;
+    uint32_t charts = 0;
+    for (uint32_t s = 0; s < m->face_count; ++s) {
+        if (chart[s] != PGT_NONE) continue;
+        uint32_t top = 0;
+        stack[top++] = s;
+        chart[s] = charts;
+        while (top) {
+            uint32_t f = stack[--top];
+            for (uint32_t c = 0; c < 3; ++c) {
+                uint32_t h = 3 * f + c, o = a.opposite[h];
+                if (o == PGT_NONE || chart[o / 3] != PGT_NONE) continue;
+                const float *u = m->uvs;
+                uint32_t hn = pgt_half_edge_next(h), on = pgt_half_edge_next(o);
+                if (u[2 * h] == u[2 * on] && u[2 * h + 1] == u[2 * on + 1] && u[2 * hn] == u[2 * o] &&
+                    u[2 * hn + 1] == u[2 * o + 1]) {
+                    chart[o / 3] = charts;
+                    stack[top++] = o / 3;
+                }
+            }
+        }
+        charts++;
+    }
+    free(chart), free(stack);
+    pgt_adjacency_destroy(&a);
+    return charts;
+}
+
+/* Faces of m with two consecutive seam half-edges (h and prev(h)): the triangle of h after the
+ * flip touches its own chart only at vertex a, so it becomes a one-triangle chart (README, "UVs
+ * and chart seams"). */
+static uint32_t count_corner_islands(const pgt_mesh *m) {
+    pgt_adjacency a;
+    if (pgt_adjacency_build(&a, m, 1, NULL) != PGT_OK) return 0;
+    const float *u = m->uvs;
+    uint32_t n = 0;
+    for (uint32_t f = 0; f < m->face_count; ++f) {
+        int seam[3];
+        for (uint32_t c = 0; c < 3; ++c) {
+            uint32_t h = 3 * f + c, o = a.opposite[h], hn = pgt_half_edge_next(h);
+            uint32_t on = o == PGT_NONE ? 0 : pgt_half_edge_next(o);
+            seam[c] = o != PGT_NONE && !(u[2 * h] == u[2 * on] && u[2 * h + 1] == u[2 * on + 1] &&
+                                         u[2 * hn] == u[2 * o] && u[2 * hn + 1] == u[2 * o + 1]);
+        }
+        for (uint32_t c = 0; c < 3; ++c) n += seam[c] && seam[(c + 2) % 3];
+    }
+    pgt_adjacency_destroy(&a);
+    return n;
+}
+
+/* Across chart seams (the cube-sphere's 6 charts): the atlas stays an atlas. No UV triangle folds
+ * over (all keep a positive signed area) at any k; after one iteration the charts are the 6 plus
+ * one single-triangle island per chart corner (see count_corner_islands). */
+static void uvs_across_seams_stay_an_atlas(void) {
+    pgt_mesh m = gen("cube_sphere_8");
+    REQUIRE(m.face_count > 0 && m.uvs);
+    CHECK(count_charts(&m) == 6);
+    for (uint32_t k = 1; k <= 3; ++k) {
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
+        uint32_t folded = 0;
+        for (uint32_t f = 0; f < r.out.face_count; ++f) {
+            const float *u = r.out.uvs + 6 * (size_t)f;
+            double area = ((double)u[2] - u[0]) * ((double)u[5] - u[1]) - ((double)u[4] - u[0]) * ((double)u[3] - u[1]);
+            folded += !(area > 0.0);
+        }
+        uint32_t charts = count_charts(&r.out), want = 6 + count_corner_islands(&m);
+        CHECK_MSG(folded == 0, "k=%u: %u folded UV triangles", k, folded);
+        if (k == 1) CHECK_MSG(charts == want, "k=1: %u charts, want %u", charts, want);
+        run_free(&r);
+    }
+    pgt_mesh_destroy(&m);
+}
+
+/* Non-manifold input is refused with an error naming the offending edge or vertex. */
+static void refuses_non_manifold(void) {
+    /* three triangles on edge (0, 1) */
+    float p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 5, 5, 5, 6, 5, 5, 5, 6, 5};
+    uint32_t fan3[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    pgt_mesh m = {8, 3, p, fan3, NULL, NULL};
+    pgt_mesh out;
+    pgt_error err = {0};
+    CHECK(pgt_sqrt3_subdivide(&out, &m, NULL, &err) == PGT_ERROR_NON_MANIFOLD);
+    CHECK_MSG(strstr(err.message, "edge (0, 1)") != NULL, "message: %s", err.message);
+    /* bowtie: two triangles meeting only at vertex 0 */
+    uint32_t bowtie[] = {0, 1, 2, 0, 5, 6};
+    pgt_mesh b = {8, 2, p, bowtie, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &b, NULL, &err) == PGT_ERROR_NON_MANIFOLD);
+    CHECK_MSG(strstr(err.message, "vertex 0") != NULL, "message: %s", err.message);
+    /* inconsistent orientation: edge 0 -> 1 used twice in the same direction */
+    uint32_t flipped[] = {0, 1, 2, 0, 1, 3};
+    pgt_mesh c = {8, 2, p, flipped, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &c, NULL, &err) == PGT_ERROR_NON_MANIFOLD);
+    /* degenerate face */
+    uint32_t degen[] = {0, 1, 1};
+    pgt_mesh d = {8, 1, p, degen, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &d, NULL, &err) == PGT_ERROR_DEGENERATE);
+    /* out-of-range index and too many iterations */
+    uint32_t oob[] = {0, 1, 9};
+    pgt_mesh e = {8, 1, p, oob, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &e, NULL, &err) == PGT_ERROR_INDEX_RANGE);
+    pgt_sqrt3_options o = {PGT_SQRT3_MAX_ITERATIONS + 1, 1, NULL, NULL, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &m, &o, &err) == PGT_ERROR_LIMIT);
+    /* an output that would overflow 32-bit indices is refused before any allocation */
+    pgt_mesh big;
+    REQUIRE(pgt_gen_bench_torus(&big, 10000, NULL) == PGT_OK); /* 10^4 x 3^12 faces > 2^30 */
+    pgt_sqrt3_options o12 = {12, 1, NULL, NULL, NULL, NULL};
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &big, &o12, &err) == PGT_ERROR_LIMIT);
+    pgt_mesh_destroy(&big);
+}
+
+/* eq. 4.1-4.2 on one interior vertex, re-derived in double: the regular valence-6 vertex of a
+ * flat grid does not move; a valence-5 icosahedron vertex moves towards its neighbours' mean by
+ * alpha_5. */
+static void relaxation_weights(void) {
+    pgt_mesh ico = gen("icosphere_l0");
+    REQUIRE(ico.face_count == 20);
+    run r;
+    REQUIRE(run_sqrt3(&r, &ico, 1, 1, NULL));
+    const double pi = 3.14159265358979323846;
+    double a5 = (4.0 - 2.0 * cos(2.0 * pi / 5.0)) / 9.0;
+    /* neighbours of vertex 0 */
+    pgt_adjacency a;
+    REQUIRE(pgt_adjacency_build(&a, &ico, 1, NULL) == PGT_OK);
+    double mean[3] = {0, 0, 0};
+    uint32_t n = 0;
+    for (uint32_t h = 0; h < a.half_edge_count; ++h)
+        if (ico.indices[h] == 0) {
+            uint32_t w = ico.indices[pgt_half_edge_next(h)];
+            for (int k = 0; k < 3; ++k) mean[k] += ico.positions[3 * w + k];
+            n++;
+        }
+    CHECK(n == 5);
+    for (int k = 0; k < 3; ++k) {
+        double want = (1.0 - a5) * ico.positions[k] + a5 * mean[k] / 5.0;
+        CHECK_MSG(fabs(want - r.out.positions[k]) < 1e-6, "axis %d: %g vs %g", k, want, r.out.positions[k]);
+    }
+    pgt_adjacency_destroy(&a);
+    run_free(&r);
+    pgt_mesh_destroy(&ico);
+}
+
+static const pgt_test_case cases[] = {
+    {"closed_counts_and_adjacency", closed_counts_and_adjacency},
+    {"border_counts_per_rule", border_counts_per_rule},
+    {"border_stays_on_its_line", border_stays_on_its_line},
+    {"deterministic_across_threads", deterministic_across_threads},
+    {"parity_restarts_per_call", parity_restarts_per_call},
+    {"zero_iterations_and_empty_protection", zero_iterations_and_empty_protection},
+    {"protected_faces_bit_identical", protected_faces_bit_identical},
+    {"uvs_follow_positions_in_one_chart", uvs_follow_positions_in_one_chart},
+    {"uvs_across_seams_stay_an_atlas", uvs_across_seams_stay_an_atlas},
+    {"refuses_non_manifold", refuses_non_manifold},
+    {"relaxation_weights", relaxation_weights},
+};
+
+PGT_TEST_MAIN(cases)
