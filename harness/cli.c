@@ -112,7 +112,8 @@ void pgt_cli_commit(char *buf, size_t size) {
         if (*line) snprintf(buf, size, "%s", line);
     }
     pclose(p);
-    p = popen("git -C '" PGT_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null", "r");
+    p = popen("git -C '" PGT_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null",
+              "r");
     if (!p) return;
     if (fgets(line, sizeof line, p) && strcmp(buf, "unknown") != 0) {
         size_t n = strlen(buf);

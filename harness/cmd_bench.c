@@ -55,8 +55,10 @@ static int parse_uint_list(const char *flag, const char *text, uint32_t lo, uint
     char buf[512];
     snprintf(buf, sizeof buf, "%s", text);
     *n = 0;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        if (*n >= BENCH_MAX_LIST) return pgt_cli_fail("bench", "%s: at most %d values", flag, BENCH_MAX_LIST), -1;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        if (*n >= BENCH_MAX_LIST)
+            return pgt_cli_fail("bench", "%s: at most %d values", flag, BENCH_MAX_LIST), -1;
         if (pgt_cli_uint("bench", flag, tok, lo, hi, &out[*n])) return -1;
         (*n)++;
     }
@@ -66,7 +68,8 @@ static int parse_uint_list(const char *flag, const char *text, uint32_t lo, uint
 
 /* Loads a named benchmark mesh: generated or from the shared folder. */
 static pgt_result bench_load(const bench_cfg *cfg, const char *name, pgt_mesh *m, pgt_error *err) {
-    if (!strcmp(name, "torus_100k")) return pgt_gen_bench_torus(m, cfg->quick ? 10000 : 100000, err);
+    if (!strcmp(name, "torus_100k"))
+        return pgt_gen_bench_torus(m, cfg->quick ? 10000 : 100000, err);
     uint32_t g = pgt_gen_default_find(name);
     if (g != PGT_NONE) return pgt_gen_default(g, m, err);
     char path[2048];
@@ -99,7 +102,8 @@ static double bench_peak_mib(const pgt_mesh *m, const pgt_sqrt3_options *opts) {
     }
     int status = 0;
     struct rusage ru;
-    if (wait4(pid, &status, 0, &ru) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return -1.0;
+    if (wait4(pid, &status, 0, &ru) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return -1.0;
     return (double)(ru.ru_maxrss - base) / 1024.0;
 }
 
@@ -108,7 +112,8 @@ static int bench_subdiv(bench_cfg *cfg) {
     pgt_cli_machine(machine, sizeof machine);
     pgt_cli_commit(commit, sizeof commit);
     pgt_cli_date(date, sizeof date);
-    if (!mkdtemp(tmpdir)) return pgt_cli_fail("bench", "cannot make a temporary folder: %s", strerror(errno));
+    if (!mkdtemp(tmpdir))
+        return pgt_cli_fail("bench", "cannot make a temporary folder: %s", strerror(errno));
 
     /* results/ may not exist yet */
     char dir[2048];
@@ -127,12 +132,18 @@ static int bench_subdiv(bench_cfg *cfg) {
     }
     fprintf(csv, "# pgt bench subdiv: sqrt(3) subdivision, subdivision call only (no file I/O)\n");
     fprintf(csv, "# machine: %s\n# commit: %s\n# date: %s\n", machine, commit, date);
-    fprintf(csv, "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside ours)\n", cfg->repeat);
-    fprintf(csv, "# cgal: CGAL 5.5 Surface_mesh<Simple_cartesian<double>> Sqrt3_subdivision, 1 thread\n");
+    fprintf(csv,
+            "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside ours)\n",
+            cfg->repeat);
+    fprintf(
+        csv,
+        "# cgal: CGAL 5.5 Surface_mesh<Simple_cartesian<double>> Sqrt3_subdivision, 1 thread\n");
     fprintf(csv, "# openmesh: OpenMesh 9.0 Sqrt3T<TriMesh, double>, 1 thread\n");
-    fprintf(csv, "# ours_peak_mib: extra resident memory of one call at that thread count; output_mib: positions+indices of the result\n");
+    fprintf(csv, "# ours_peak_mib: extra resident memory of one call at that thread count; "
+                 "output_mib: positions+indices of the result\n");
     fprintf(csv, "mesh,faces_in,k,threads,faces_out,vertices_out,ours_median_ms,ours_best_ms,"
-                 "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,ours_peak_mib,output_mib\n");
+                 "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,ours_peak_"
+                 "mib,output_mib\n");
 
     uint32_t steps = cfg->n_meshes * cfg->n_iters, step = 0;
     int failures = 0;
@@ -160,9 +171,11 @@ static int bench_subdiv(bench_cfg *cfg) {
                 char out_off[4200];
                 snprintf(out_off, sizeof out_off, "%s/oracle.off", tmpdir);
                 pgt_error e1 = {0}, e2 = {0};
-                have_cg = pgt_oracle_sqrt3("cgal_sqrt3", in_off, k, out_off, cfg->repeat, &cg, &e1) == PGT_OK;
+                have_cg = pgt_oracle_sqrt3("cgal_sqrt3", in_off, k, out_off, cfg->repeat, &cg,
+                                           &e1) == PGT_OK;
                 if (!have_cg) fprintf(stderr, "pgt bench: %s\n", e1.message);
-                have_om = pgt_oracle_sqrt3("openmesh_sqrt3", in_off, k, out_off, cfg->repeat, &om, &e2) == PGT_OK;
+                have_om = pgt_oracle_sqrt3("openmesh_sqrt3", in_off, k, out_off, cfg->repeat, &om,
+                                           &e2) == PGT_OK;
                 if (!have_om) fprintf(stderr, "pgt bench: %s\n", e2.message);
                 remove(out_off);
             }
@@ -187,10 +200,12 @@ static int bench_subdiv(bench_cfg *cfg) {
                     times[r] = pgt_cli_now_ms() - t0;
                     pgt_mesh_destroy(&out);
                 }
-                double med = pgt_cli_median(times, cfg->repeat), best = pgt_cli_min(times, cfg->repeat);
+                double med = pgt_cli_median(times, cfg->repeat),
+                       best = pgt_cli_min(times, cfg->repeat);
                 double peak = bench_peak_mib(&m, &o);
                 double out_mib = ((double)vout * 12.0 + (double)fout * 12.0) / 1048576.0;
-                fprintf(csv, "%s,%u,%u,%u,%u,%u,%.3f,%.3f,", name, m.face_count, k, o.threads, fout, vout, med, best);
+                fprintf(csv, "%s,%u,%u,%u,%u,%u,%.3f,%.3f,", name, m.face_count, k, o.threads, fout,
+                        vout, med, best);
                 if (have_cg) fprintf(csv, "%.3f", cg.median_ms);
                 fputc(',', csv);
                 if (have_om) fprintf(csv, "%.3f", om.median_ms);
@@ -201,7 +216,8 @@ static int bench_subdiv(bench_cfg *cfg) {
                 fprintf(csv, ",%.1f,%.1f\n", peak, out_mib);
                 fprintf(stderr, " ours %.1f ms (%u thr)", med, o.threads);
                 if (have_cg && (cg.faces_out != fout || cg.vertices_out != vout)) {
-                    fprintf(stderr, " [CGAL counts differ: %u v %u f]", cg.vertices_out, cg.faces_out);
+                    fprintf(stderr, " [CGAL counts differ: %u v %u f]", cg.vertices_out,
+                            cg.faces_out);
                     failures++;
                 }
             }
@@ -218,14 +234,15 @@ static int bench_subdiv(bench_cfg *cfg) {
         remove(tmp_csv);
         return pgt_cli_fail("bench", "cannot write %s: %s", cfg->out_path, strerror(errno));
     }
-    fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)%s\n", cfg->out_path,
-            cfg->n_meshes, cfg->n_iters, cfg->n_threads, failures ? " with failures (see above)" : "");
+    fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)%s\n",
+            cfg->out_path, cfg->n_meshes, cfg->n_iters, cfg->n_threads,
+            failures ? " with failures (see above)" : "");
     return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
 }
 
-static const char *default_shared_meshes[] = {"spot.obj", "bob_tri.obj", "ogre_bs_rest.obj",
-                                              "human_neutral.obj", "pizza.obj",
-                                              "nefertiti-lowres.obj", "mountain.obj"};
+static const char *default_shared_meshes[] = {
+    "spot.obj",  "bob_tri.obj",          "ogre_bs_rest.obj", "human_neutral.obj",
+    "pizza.obj", "nefertiti-lowres.obj", "mountain.obj"};
 
 int pgt_cmd_bench(int argc, char **argv) {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
@@ -253,7 +270,8 @@ int pgt_cmd_bench(int argc, char **argv) {
         } else if (!strcmp(a, "--shared")) {
             if (!(cfg.shared_dir = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--repeat")) {
-            if (!(v = pgt_cli_value("bench", argc, argv, &i)) || pgt_cli_uint("bench", a, v, 1, 1000, &cfg.repeat))
+            if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
+                pgt_cli_uint("bench", a, v, 1, 1000, &cfg.repeat))
                 return PGT_EXIT_USAGE;
             have_repeat = 1;
         } else if (!strcmp(a, "--iters")) {
@@ -296,7 +314,8 @@ int pgt_cmd_bench(int argc, char **argv) {
     if (!have_meshes) {
         cfg.meshes[cfg.n_meshes++] = "torus_100k";
         if (!cfg.quick)
-            for (size_t i = 0; i < sizeof default_shared_meshes / sizeof *default_shared_meshes; ++i)
+            for (size_t i = 0; i < sizeof default_shared_meshes / sizeof *default_shared_meshes;
+                 ++i)
                 cfg.meshes[cfg.n_meshes++] = default_shared_meshes[i];
     }
     return bench_subdiv(&cfg);

@@ -14,7 +14,8 @@ static const char *subdiv_usage =
     "sqrt(3) subdivision (Kobbelt 2000; paper 004 Algorithm 2): K iterations in one call, with\n"
     "Kobbelt's border rule on every second iteration of the call (as CGAL and OpenMesh).\n"
     "\n"
-    "  IN             input mesh: .obj .off .ply (a consistently oriented 2-manifold, border allowed)\n"
+    "  IN             input mesh: .obj .off .ply (a consistently oriented 2-manifold, border "
+    "allowed)\n"
     "  --iters K      iterations, 0 to 12 (default 1)\n"
     "  -o OUT         output mesh: .off .obj .ply (written to a temporary file, then renamed);\n"
     "                 must not be IN. PLY keeps per-face 'group' labels and per-corner UVs, OBJ\n"
@@ -58,12 +59,14 @@ int pgt_cmd_subdiv(int argc, char **argv) {
                 return PGT_EXIT_USAGE;
             have_group = 1;
         } else if (!strcmp(a, "--threads")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_uint(verb, a, v, 1, 256, &threads))
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 256, &threads))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--backend")) {
             if (!(backend = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--device")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_uint(verb, a, v, 0, 1024, &device))
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, 1024, &device))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--json")) {
             json = 1;
@@ -91,7 +94,8 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     if (pgt_mesh_format_from_path(out_path) == PGT_FORMAT_AUTO)
         return pgt_cli_fail(verb, "-o %s: unknown extension (use .off, .obj or .ply)", out_path);
     if (pgt_cli_same_file(in_path, out_path))
-        return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input", out_path);
+        return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input",
+                            out_path);
 
     pgt_error err = {0};
     pgt_mesh in = {0}, out = {0};
@@ -124,7 +128,8 @@ int pgt_cmd_subdiv(int argc, char **argv) {
                 pgt_cli_fail(verb, "--group %d: no face of %s has that group", group, in_path);
                 goto done;
             }
-            for (uint32_t f = 0; f < in.face_count; ++f) prot[f] = !prot[f]; /* the rest is protected */
+            for (uint32_t f = 0; f < in.face_count; ++f)
+                prot[f] = !prot[f]; /* the rest is protected */
         }
     }
     pgt_sqrt3_options opts = {0};
@@ -151,8 +156,10 @@ int pgt_cmd_subdiv(int argc, char **argv) {
                "\"faces_in\":%u,\"vertices_out\":%u,\"faces_out\":%u,\"protected_faces\":%u,"
                "\"read_ms\":%.3f,\"subdivide_ms\":%.3f,\"write_ms\":%.3f}\n",
                iters, threads, in.vertex_count, in.face_count, out.vertex_count, out.face_count,
-               protect_path ? selected : have_group ? in.face_count - selected : 0, t1 - t0, t2 - t1,
-               t3 - t2);
+               protect_path ? selected
+               : have_group ? in.face_count - selected
+                            : 0,
+               t1 - t0, t2 - t1, t3 - t2);
     } else {
         printf("subdiv: %s (%u vertices, %u faces) -> %s (%u vertices, %u faces), k=%u, %u "
                "threads, cpu: %.2f ms subdivide (read %.2f ms, write %.2f ms)\n",

@@ -40,11 +40,14 @@ pgt_result pgt_oracle_sqrt3(const char *tool, const char *in_off, uint32_t k, co
                             uint32_t repeat, pgt_oracle_run *out, pgt_error *err) {
     char exe[1024], cmd[4096], line[1024];
     if (pgt_oracle_path(tool, exe, sizeof exe) != 0)
-        return pgt_error_set(err, PGT_ERROR_IO, "oracle %s not found (build it, or set PGT_ORACLE_DIR)", exe);
-    snprintf(cmd, sizeof cmd, "'%s' '%s' %u '%s' --repeat %u", exe, in_off, k, out_off, repeat ? repeat : 1);
+        return pgt_error_set(err, PGT_ERROR_IO,
+                             "oracle %s not found (build it, or set PGT_ORACLE_DIR)", exe);
+    snprintf(cmd, sizeof cmd, "'%s' '%s' %u '%s' --repeat %u", exe, in_off, k, out_off,
+             repeat ? repeat : 1);
     int status = run_capture(cmd, line, sizeof line);
     if (status != 0)
-        return pgt_error_set(err, PGT_ERROR_IO, "oracle %s failed (exit %d) on %s", tool, status, in_off);
+        return pgt_error_set(err, PGT_ERROR_IO, "oracle %s failed (exit %d) on %s", tool, status,
+                             in_off);
     out->vertices_out = (uint32_t)json_number(line, "vertices_out");
     out->faces_out = (uint32_t)json_number(line, "faces_out");
     out->median_ms = json_number(line, "median_ms");
@@ -61,7 +64,8 @@ pgt_result pgt_oracle_hausdorff(const char *a, const char *b, double *out_max, p
     snprintf(cmd, sizeof cmd, "bash '%s' '%s' '%s'", exe, a, b);
     int status = run_capture(cmd, line, sizeof line);
     if (status != 0)
-        return pgt_error_set(err, PGT_ERROR_IO, "MeshLab Hausdorff failed (exit %d) on %s, %s", status, a, b);
+        return pgt_error_set(err, PGT_ERROR_IO, "MeshLab Hausdorff failed (exit %d) on %s, %s",
+                             status, a, b);
     const char *p = strstr(line, "max=");
     if (!p) return pgt_error_set(err, PGT_ERROR_PARSE, "MeshLab Hausdorff printed '%s'", line);
     *out_max = strtod(p + 4, NULL);
@@ -70,15 +74,21 @@ pgt_result pgt_oracle_hausdorff(const char *a, const char *b, double *out_max, p
 
 /* ---- order-independent comparison ---------------------------------------------------------- */
 
-typedef struct { double x; uint32_t i; } xkey;
+typedef struct {
+    double x;
+    uint32_t i;
+} xkey;
 
 static int cmp_xkey(const void *a, const void *b) {
     double x = ((const xkey *)a)->x, y = ((const xkey *)b)->x;
     if (x != y) return (x > y) - (x < y);
-    return (((const xkey *)a)->i > ((const xkey *)b)->i) - (((const xkey *)a)->i < ((const xkey *)b)->i);
+    return (((const xkey *)a)->i > ((const xkey *)b)->i) -
+           (((const xkey *)a)->i < ((const xkey *)b)->i);
 }
 
-typedef struct { uint32_t v[3]; } tri;
+typedef struct {
+    uint32_t v[3];
+} tri;
 
 static int cmp_tri(const void *a, const void *b) { return memcmp(a, b, sizeof(tri)); }
 
@@ -86,9 +96,12 @@ static int cmp_tri(const void *a, const void *b) { return memcmp(a, b, sizeof(tr
  * memcmp keys is fine: we only need a total order consistent between both lists. */
 static tri canon(uint32_t a, uint32_t b, uint32_t c) {
     tri t;
-    if (a <= b && a <= c) t = (tri){{a, b, c}};
-    else if (b <= a && b <= c) t = (tri){{b, c, a}};
-    else t = (tri){{c, a, b}};
+    if (a <= b && a <= c)
+        t = (tri){{a, b, c}};
+    else if (b <= a && b <= c)
+        t = (tri){{b, c, a}};
+    else
+        t = (tri){{c, a, b}};
     return t;
 }
 
@@ -113,7 +126,10 @@ pgt_result pgt_mesh_match_compute(const pgt_mesh *a, const pgt_mesh *b, double t
         size_t lo = 0, hi = VB;
         while (lo < hi) {
             size_t mid = (lo + hi) / 2;
-            if (kb[mid].x < (double)p[0] - tol) lo = mid + 1; else hi = mid;
+            if (kb[mid].x < (double)p[0] - tol)
+                lo = mid + 1;
+            else
+                hi = mid;
         }
         double best = INFINITY;
         uint32_t bi = PGT_NONE;
@@ -146,9 +162,12 @@ pgt_result pgt_mesh_match_compute(const pgt_mesh *a, const pgt_mesh *b, double t
     uint32_t i = 0, j = 0, common = 0;
     while (i < a->face_count && j < b->face_count) {
         int c = cmp_tri(&ta[i], &tb[j]);
-        if (c == 0) common++, i++, j++;
-        else if (c < 0) i++;
-        else j++;
+        if (c == 0)
+            common++, i++, j++;
+        else if (c < 0)
+            i++;
+        else
+            j++;
     }
     uint32_t nmax = a->face_count > b->face_count ? a->face_count : b->face_count;
     out->face_mismatches = nmax - common;

@@ -27,9 +27,10 @@ pgt_result pgt_oracle_sqrt3(const char *tool, const char *in_off, uint32_t k, co
 pgt_result pgt_oracle_hausdorff(const char *a, const char *b, double *out_max, pgt_error *err);
 
 typedef struct pgt_mesh_match {
-    uint32_t unmatched_vertices; /* vertices of A with no partner in B within tol (or a partner taken) */
-    double max_vertex_distance;  /* over matched vertices */
-    uint32_t face_mismatches;    /* faces of A (after mapping) not found in B, plus count difference */
+    uint32_t
+        unmatched_vertices; /* vertices of A with no partner in B within tol (or a partner taken) */
+    double max_vertex_distance; /* over matched vertices */
+    uint32_t face_mismatches; /* faces of A (after mapping) not found in B, plus count difference */
 } pgt_mesh_match;
 
 /* Matches the vertices of a to those of b (nearest within tol, one to one) and compares the face

@@ -38,7 +38,8 @@ typedef struct run {
     uint32_t *parent;
 } run;
 
-static int run_sqrt3(run *r, const pgt_mesh *in, uint32_t k, uint32_t threads, const uint8_t *prot) {
+static int run_sqrt3(run *r, const pgt_mesh *in, uint32_t k, uint32_t threads,
+                     const uint8_t *prot) {
     memset(r, 0, sizeof(*r));
     uint32_t vb, fb;
     if (pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, k, &vb, &fb, NULL) != PGT_OK) return 0;
@@ -71,14 +72,16 @@ static int same_mesh_bytes(const pgt_mesh *a, const pgt_mesh *b) {
 static pgt_mesh gen(const char *name) {
     pgt_mesh m = {0};
     uint32_t i = pgt_gen_default_find(name);
-    if (i == PGT_NONE || pgt_gen_default(i, &m, NULL) != PGT_OK) fprintf(stderr, "  no dataset %s\n", name);
+    if (i == PGT_NONE || pgt_gen_default(i, &m, NULL) != PGT_OK)
+        fprintf(stderr, "  no dataset %s\n", name);
     return m;
 }
 
 /* Closed meshes: F x 3 and V + F per step, Euler characteristic kept, manifold, and the
  * adjacency derived step by step equals the one rebuilt from the output. */
 static void closed_counts_and_adjacency(void) {
-    const char *names[] = {"icosphere_l0", "icosphere_l2", "torus_32x16", "noisy_torus_48x24", "cube_sphere_8"};
+    const char *names[] = {"icosphere_l0", "icosphere_l2", "torus_32x16", "noisy_torus_48x24",
+                           "cube_sphere_8"};
     for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
         pgt_mesh m = gen(names[n]);
         REQUIRE(m.face_count > 0);
@@ -90,21 +93,47 @@ static void closed_counts_and_adjacency(void) {
             F *= 3;
             run r;
             REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
-            CHECK_MSG(r.out.face_count == F && r.out.vertex_count == V, "%s k=%u: %u v %u f, want %llu v %llu f",
-                      names[n], k, r.out.vertex_count, r.out.face_count, (unsigned long long)V, (unsigned long long)F);
+            CHECK_MSG(r.out.face_count == F && r.out.vertex_count == V,
+                      "%s k=%u: %u v %u f, want %llu v %llu f", names[n], k, r.out.vertex_count,
+                      r.out.face_count, (unsigned long long)V, (unsigned long long)F);
             topo t = topo_of(&r.out);
-            CHECK_MSG(t.manifold && t.border_edges == 0 && t.euler == t0.euler, "%s k=%u: euler %lld (was %lld)",
-                      names[n], k, (long long)t.euler, (long long)t0.euler);
+            CHECK_MSG(t.manifold && t.border_edges == 0 && t.euler == t0.euler,
+                      "%s k=%u: euler %lld (was %lld)", names[n], k, (long long)t.euler,
+                      (long long)t0.euler);
             pgt_adjacency a;
             REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
             uint32_t diff = 0;
             for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
-            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency", names[n], k, diff);
+            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency",
+                      names[n], k, diff);
             pgt_adjacency_destroy(&a);
             run_free(&r);
         }
         pgt_mesh_destroy(&m);
     }
+}
+
+/* The closed-mesh fast path (no border, no protection, no UVs) gives the same bytes as the
+ * general pass, which a mesh with UVs takes: the cube-sphere with and without its UVs. */
+static void closed_fast_path_equals_general(void) {
+    pgt_mesh with = gen("cube_sphere_8"), without;
+    REQUIRE(with.uvs != NULL && pgt_mesh_copy(&without, &with, NULL) == PGT_OK);
+    free(without.uvs);
+    without.uvs = NULL;
+    for (uint32_t k = 1; k <= 3; ++k) {
+        run a, b;
+        REQUIRE(run_sqrt3(&a, &with, k, 2, NULL));
+        REQUIRE(run_sqrt3(&b, &without, k, 2, NULL));
+        CHECK(a.out.vertex_count == b.out.vertex_count && a.out.face_count == b.out.face_count);
+        CHECK(!memcmp(a.out.positions, b.out.positions, (size_t)a.out.vertex_count * 12));
+        CHECK(!memcmp(a.out.indices, b.out.indices, (size_t)a.out.face_count * 12));
+        CHECK(!memcmp(a.opp, b.opp, (size_t)a.out.face_count * 12));
+        CHECK(!memcmp(a.parent, b.parent, (size_t)a.out.face_count * 4));
+        run_free(&a);
+        run_free(&b);
+    }
+    pgt_mesh_destroy(&with);
+    pgt_mesh_destroy(&without);
 }
 
 /* Meshes with a border: odd iterations keep the border (B edges, V + F new vertices), even ones
@@ -129,15 +158,16 @@ static void border_counts_per_rule(void) {
             REQUIRE(run_sqrt3(&r, &m, k, 1, NULL));
             topo t = topo_of(&r.out);
             CHECK_MSG(r.out.vertex_count == V && r.out.face_count == F && t.border_edges == B,
-                      "%s k=%u: %u v %u f %u border, want %llu %llu %llu", names[n], k, r.out.vertex_count,
-                      r.out.face_count, t.border_edges, (unsigned long long)V, (unsigned long long)F,
-                      (unsigned long long)B);
+                      "%s k=%u: %u v %u f %u border, want %llu %llu %llu", names[n], k,
+                      r.out.vertex_count, r.out.face_count, t.border_edges, (unsigned long long)V,
+                      (unsigned long long)F, (unsigned long long)B);
             CHECK(t.manifold && t.euler == t0.euler);
             pgt_adjacency a;
             REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
             uint32_t diff = 0;
             for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
-            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency", names[n], k, diff);
+            CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency",
+                      names[n], k, diff);
             pgt_adjacency_destroy(&a);
             run_free(&r);
         }
@@ -169,7 +199,8 @@ static void border_stays_on_its_line(void) {
     for (uint32_t h = 0; h < a0.half_edge_count; ++h)
         if (a0.opposite[h] == PGT_NONE) {
             uint32_t v = m.indices[h];
-            moved_border += memcmp(m.positions + 3 * (size_t)v, r1.out.positions + 3 * (size_t)v, 12) != 0;
+            moved_border +=
+                memcmp(m.positions + 3 * (size_t)v, r1.out.positions + 3 * (size_t)v, 12) != 0;
         }
     CHECK(moved_border == 0);
     /* even iteration, a border vertex in the middle of the bottom side (y = 0): x moves by the
@@ -195,7 +226,8 @@ static void deterministic_across_threads(void) {
         for (uint32_t t = 2; t <= 7; t += 5) {
             run rt;
             REQUIRE(run_sqrt3(&rt, &m, 3, t, NULL));
-            CHECK_MSG(same_mesh_bytes(&r1.out, &rt.out), "%s: %u threads differ from 1", names[n], t);
+            CHECK_MSG(same_mesh_bytes(&r1.out, &rt.out), "%s: %u threads differ from 1", names[n],
+                      t);
             run_free(&rt);
         }
         run_free(&r1);
@@ -225,8 +257,10 @@ static void parity_restarts_per_call(void) {
             cur = next;
         }
         if (n == 0) {
-            REQUIRE(once.out.vertex_count == cur.vertex_count && once.out.face_count == cur.face_count);
-            CHECK(!memcmp(once.out.indices, cur.indices, (size_t)cur.face_count * 3 * sizeof(uint32_t)));
+            REQUIRE(once.out.vertex_count == cur.vertex_count &&
+                    once.out.face_count == cur.face_count);
+            CHECK(!memcmp(once.out.indices, cur.indices,
+                          (size_t)cur.face_count * 3 * sizeof(uint32_t)));
             float worst = 0.0f;
             for (uint32_t i = 0; i < 3 * cur.vertex_count; ++i)
                 worst = fmaxf(worst, fabsf(once.out.positions[i] - cur.positions[i]));
@@ -289,15 +323,20 @@ static void protected_faces_bit_identical(void) {
                 seen++;
                 uint32_t f = r.parent[t];
                 for (int c = 0; c < 3; ++c) {
-                    uint32_t vi = m.indices[3 * (size_t)f + c], vo = r.out.indices[3 * (size_t)t + c];
-                    bad += vi != vo || memcmp(m.positions + 3 * (size_t)vi, r.out.positions + 3 * (size_t)vo, 12);
+                    uint32_t vi = m.indices[3 * (size_t)f + c],
+                             vo = r.out.indices[3 * (size_t)t + c];
+                    bad += vi != vo || memcmp(m.positions + 3 * (size_t)vi,
+                                              r.out.positions + 3 * (size_t)vo, 12);
                 }
                 if (m.uvs) bad += memcmp(m.uvs + 6 * (size_t)f, r.out.uvs + 6 * (size_t)t, 24) != 0;
             }
-            CHECK_MSG(seen == np && bad == 0, "%s k=%u: %u of %u protected faces, %u differ", names[n], k, seen, np, bad);
+            CHECK_MSG(seen == np && bad == 0, "%s k=%u: %u of %u protected faces, %u differ",
+                      names[n], k, seen, np, bad);
             topo t = topo_of(&r.out);
-            CHECK_MSG(t.manifold && t.euler == t0.euler, "%s k=%u: not a manifold or euler changed", names[n], k);
-            if (t0.border_edges == 0) CHECK_MSG(t.border_edges == 0, "%s k=%u: holes appeared", names[n], k);
+            CHECK_MSG(t.manifold && t.euler == t0.euler, "%s k=%u: not a manifold or euler changed",
+                      names[n], k);
+            if (t0.border_edges == 0)
+                CHECK_MSG(t.border_edges == 0, "%s k=%u: holes appeared", names[n], k);
             pgt_adjacency a;
             REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
             uint32_t diff = 0;
@@ -336,7 +375,8 @@ static void uvs_follow_positions_in_one_chart(void) {
 static uint32_t count_charts(const pgt_mesh *m) {
     pgt_adjacency a;
     if (pgt_adjacency_build(&a, m, 1, NULL) != PGT_OK) return 0;
-    uint32_t *chart = malloc(m->face_count * sizeof(uint32_t)), *stack = malloc(m->face_count * sizeof(uint32_t));
+    uint32_t *chart = malloc(m->face_count * sizeof(uint32_t)),
+             *stack = malloc(m->face_count * sizeof(uint32_t));
     for (uint32_t f = 0; f < m->face_count; ++f) chart[f] = PGT_NONE;
     uint32_t charts = 0;
     for (uint32_t s = 0; s < m->face_count; ++s) {
@@ -351,8 +391,8 @@ static uint32_t count_charts(const pgt_mesh *m) {
                 if (o == PGT_NONE || chart[o / 3] != PGT_NONE) continue;
                 const float *u = m->uvs;
                 uint32_t hn = pgt_half_edge_next(h), on = pgt_half_edge_next(o);
-                if (u[2 * h] == u[2 * on] && u[2 * h + 1] == u[2 * on + 1] && u[2 * hn] == u[2 * o] &&
-                    u[2 * hn + 1] == u[2 * o + 1]) {
+                if (u[2 * h] == u[2 * on] && u[2 * h + 1] == u[2 * on + 1] &&
+                    u[2 * hn] == u[2 * o] && u[2 * hn + 1] == u[2 * o + 1]) {
                     chart[o / 3] = charts;
                     stack[top++] = o / 3;
                 }
@@ -400,7 +440,8 @@ static void uvs_across_seams_stay_an_atlas(void) {
         uint32_t folded = 0;
         for (uint32_t f = 0; f < r.out.face_count; ++f) {
             const float *u = r.out.uvs + 6 * (size_t)f;
-            double area = ((double)u[2] - u[0]) * ((double)u[5] - u[1]) - ((double)u[4] - u[0]) * ((double)u[3] - u[1]);
+            double area = ((double)u[2] - u[0]) * ((double)u[5] - u[1]) -
+                          ((double)u[4] - u[0]) * ((double)u[3] - u[1]);
             folded += !(area > 0.0);
         }
         uint32_t charts = count_charts(&r.out), want = 6 + count_corner_islands(&m);
@@ -478,7 +519,8 @@ static void relaxation_weights(void) {
     CHECK(n == 5);
     for (int k = 0; k < 3; ++k) {
         double want = (1.0 - a5) * ico.positions[k] + a5 * mean[k] / 5.0;
-        CHECK_MSG(fabs(want - r.out.positions[k]) < 1e-6, "axis %d: %g vs %g", k, want, r.out.positions[k]);
+        CHECK_MSG(fabs(want - r.out.positions[k]) < 1e-6, "axis %d: %g vs %g", k, want,
+                  r.out.positions[k]);
     }
     pgt_adjacency_destroy(&a);
     run_free(&r);
@@ -487,6 +529,7 @@ static void relaxation_weights(void) {
 
 static const pgt_test_case cases[] = {
     {"closed_counts_and_adjacency", closed_counts_and_adjacency},
+    {"closed_fast_path_equals_general", closed_fast_path_equals_general},
     {"border_counts_per_rule", border_counts_per_rule},
     {"border_stays_on_its_line", border_stays_on_its_line},
     {"deterministic_across_threads", deterministic_across_threads},

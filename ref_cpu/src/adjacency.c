@@ -97,7 +97,8 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
     if (!start || !list || !degenerate || !bad || !fill || !out->opposite) {
         free(start), free(list), free(degenerate), free(bad), free(fill);
         pgt_adjacency_destroy(out);
-        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "adjacency: out of memory (%u faces)", F);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "adjacency: out of memory (%u faces)",
+                             F);
     }
     out->half_edge_count = H;
 

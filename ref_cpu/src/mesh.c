@@ -12,7 +12,7 @@ pgt_result pgt_mesh_create(pgt_mesh *out, uint32_t vertex_count, uint32_t face_c
         return pgt_error_set(err, PGT_ERROR_LIMIT,
                              "mesh of %u vertices and %u faces exceeds the limit of %u elements",
                              vertex_count, face_count, PGT_MESH_MAX_ELEMENTS);
-    /* malloc(0) may return NULL: always ask for at least one element. */
+    /* Always at least one element, so an empty mesh still has non-NULL arrays. */
     out->positions = malloc(((size_t)vertex_count * 3 + 1) * sizeof(float));
     out->indices = malloc(((size_t)face_count * 3 + 1) * sizeof(uint32_t));
     if (with_uvs) out->uvs = malloc(((size_t)face_count * 6 + 1) * sizeof(float));

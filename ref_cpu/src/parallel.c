@@ -20,7 +20,8 @@ void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *c
     if (threads > PGT_MAX_THREADS) threads = PGT_MAX_THREADS;
     /* Below this many elements a thread costs more than it saves (pthread_create is ~20 us). */
     const uint32_t min_per_thread = 4096;
-    if (count / min_per_thread < threads) threads = count / min_per_thread > 0 ? count / min_per_thread : 1;
+    if (count / min_per_thread < threads)
+        threads = count / min_per_thread > 0 ? count / min_per_thread : 1;
     if (threads <= 1) {
         if (count) fn(ctx, 0, count, 0);
         return;

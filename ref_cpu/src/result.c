@@ -6,21 +6,36 @@
 
 const char *pgt_result_name(pgt_result code) {
     switch (code) {
-    case PGT_OK: return "ok";
-    case PGT_ERROR_INVALID_ARGUMENT: return "invalid_argument";
-    case PGT_ERROR_OUT_OF_MEMORY: return "out_of_memory";
-    case PGT_ERROR_IO: return "io";
-    case PGT_ERROR_PARSE: return "parse";
-    case PGT_ERROR_TRUNCATED: return "truncated";
-    case PGT_ERROR_COUNT_MISMATCH: return "count_mismatch";
-    case PGT_ERROR_INDEX_RANGE: return "index_range";
-    case PGT_ERROR_NOT_FINITE: return "not_finite";
-    case PGT_ERROR_LIMIT: return "limit";
-    case PGT_ERROR_UNSUPPORTED: return "unsupported";
-    case PGT_ERROR_EMPTY: return "empty";
-    case PGT_ERROR_NON_MANIFOLD: return "non_manifold";
-    case PGT_ERROR_DEGENERATE: return "degenerate";
-    case PGT_ERROR_BACKEND: return "backend";
+    case PGT_OK:
+        return "ok";
+    case PGT_ERROR_INVALID_ARGUMENT:
+        return "invalid_argument";
+    case PGT_ERROR_OUT_OF_MEMORY:
+        return "out_of_memory";
+    case PGT_ERROR_IO:
+        return "io";
+    case PGT_ERROR_PARSE:
+        return "parse";
+    case PGT_ERROR_TRUNCATED:
+        return "truncated";
+    case PGT_ERROR_COUNT_MISMATCH:
+        return "count_mismatch";
+    case PGT_ERROR_INDEX_RANGE:
+        return "index_range";
+    case PGT_ERROR_NOT_FINITE:
+        return "not_finite";
+    case PGT_ERROR_LIMIT:
+        return "limit";
+    case PGT_ERROR_UNSUPPORTED:
+        return "unsupported";
+    case PGT_ERROR_EMPTY:
+        return "empty";
+    case PGT_ERROR_NON_MANIFOLD:
+        return "non_manifold";
+    case PGT_ERROR_DEGENERATE:
+        return "degenerate";
+    case PGT_ERROR_BACKEND:
+        return "backend";
     }
     return "unknown";
 }

@@ -31,7 +31,8 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
                 errno = 0;
                 unsigned long long v = strtoull(tok, &end, 10);
                 if (tok[0] == '-' || tok[0] == '+' || errno || *end) {
-                    r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: '%s' is not a face index", path, line, tok);
+                    r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: '%s' is not a face index", path,
+                                      line, tok);
                     break;
                 }
                 if (v >= face_count) {
@@ -52,7 +53,8 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
         }
         if (n + 1 >= sizeof tok) {
             tok[n] = 0;
-            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: token '%s...' is too long for a face index", path, line, tok);
+            r = pgt_error_set(err, PGT_ERROR_PARSE,
+                              "%s:%u: token '%s...' is too long for a face index", path, line, tok);
             break;
         }
         tok[n++] = (char)c;

@@ -29,6 +29,13 @@
 
 enum { KIND_PROTECTED = 0, KIND_CENTROID = 1, KIND_BORDER = 2 };
 
+/* The per-triangle helpers run millions of times a pass; GCC leaves them as calls otherwise. */
+#if defined(__GNUC__)
+#define S3_HOT inline __attribute__((always_inline))
+#else
+#define S3_HOT inline
+#endif
+
 /* One level of the subdivision: the mesh plus what the next step needs. */
 typedef struct s3_level {
     uint32_t V, F;
@@ -48,21 +55,28 @@ typedef struct s3_step {
     int even;     /* the iteration trisects border edges */
     int with_adj; /* fill out->opp and out->vh (another iteration follows, or asked for) */
     int uniform;  /* see s3_kind() */
+    int closed;   /* uniform, no border half-edge, no UVs: s3_faces_closed() */
     uint8_t *kind;
     uint8_t *bslot; /* border corner of KIND_BORDER faces */
     uint32_t *pt_off;
     uint32_t *face_off;
     const float *alpha; /* S3_ALPHA_TABLE entries */
-    float *uv_relaxed; /* 2V */
-    uint8_t *uv_mode;  /* V: 1 = all corners of the vertex take uv_relaxed */
+    float *uv_relaxed;  /* 2V */
+    uint8_t *uv_mode;   /* V: 1 = all corners of the vertex take uv_relaxed */
 } s3_step;
 
 /* Per-face facts of a step. A "uniform" step (no protected face, and no border face to trisect)
  * has every face a centroid face emitting one point and three triangles, so its offsets are
  * f and 3f and the arrays are not read. */
-static inline uint32_t s3_kind(const s3_step *s, uint32_t f) { return s->uniform ? KIND_CENTROID : s->kind[f]; }
-static inline uint32_t s3_tri_base(const s3_step *s, uint32_t f) { return s->uniform ? 3 * f : s->face_off[f]; }
-static inline uint32_t s3_point(const s3_step *s, uint32_t f) { return s->in->V + (s->uniform ? f : s->pt_off[f]); }
+static inline uint32_t s3_kind(const s3_step *s, uint32_t f) {
+    return s->uniform ? KIND_CENTROID : s->kind[f];
+}
+static inline uint32_t s3_tri_base(const s3_step *s, uint32_t f) {
+    return s->uniform ? 3 * f : s->face_off[f];
+}
+static inline uint32_t s3_point(const s3_step *s, uint32_t f) {
+    return s->in->V + (s->uniform ? f : s->pt_off[f]);
+}
 
 /* alpha_n of eq. 4.2, computed in double and rounded to float (the value every backend uses). */
 static float s3_alpha(uint32_t n) {
@@ -77,7 +91,8 @@ static inline uint32_t s3_next(uint32_t h) { return pgt_half_edge_next(h); }
 static inline uint32_t s3_prev(uint32_t h) { return pgt_half_edge_prev(h); }
 
 static int s3_uv_equal(const float *uv, uint32_t c0, uint32_t c1) {
-    return uv[2 * (size_t)c0] == uv[2 * (size_t)c1] && uv[2 * (size_t)c0 + 1] == uv[2 * (size_t)c1 + 1];
+    return uv[2 * (size_t)c0] == uv[2 * (size_t)c1] &&
+           uv[2 * (size_t)c0 + 1] == uv[2 * (size_t)c1 + 1];
 }
 
 /* ---- pass 1: classify faces ---------------------------------------------------------------- */
@@ -172,7 +187,7 @@ static void s3_uv_trisect(const s3_step *s, uint32_t f, float ea[2], float eb[2]
     float ua[2], ub[2], uao[2], ubo[2];
     s3_uv_get(in, hb, ua);
     s3_uv_get(in, s3_next(hb), ub);
-    uint32_t hin = s3_border_incoming(in->opp, hb);     /* x -> a0 */
+    uint32_t hin = s3_border_incoming(in->opp, hb);        /* x -> a0 */
     uint32_t hout = s3_border_outgoing_after(in->opp, hb); /* b0 -> y */
     if (s3_uv_equal(in->uv, s3_next(hin), hb))
         s3_uv_get(in, hin, uao);
@@ -304,11 +319,14 @@ static void s3_vertices(void *p, uint32_t begin, uint32_t end, uint32_t worker) 
                 /* Kobbelt's border vertex mask (4 P_prev + 19 P + 4 P_next) / 27 */
                 const float *pp = in->pos + 3 * (size_t)in->idx[hin];
                 const float *pn = in->pos + 3 * (size_t)in->idx[s3_next(first)];
-                for (int k = 0; k < 3; ++k) po[k] = (4.0f * pp[k] + 19.0f * pv[k] + 4.0f * pn[k]) / 27.0f;
+                for (int k = 0; k < 3; ++k)
+                    po[k] = (4.0f * pp[k] + 19.0f * pv[k] + 4.0f * pn[k]) / 27.0f;
                 if (one_chart) {
-                    const float *up = in->uv + 2 * (size_t)hin, *un = in->uv + 2 * (size_t)s3_next(first);
+                    const float *up = in->uv + 2 * (size_t)hin,
+                                *un = in->uv + 2 * (size_t)s3_next(first);
                     for (int k = 0; k < 2; ++k)
-                        s->uv_relaxed[2 * (size_t)v + k] = (4.0f * up[k] + 19.0f * uv0[k] + 4.0f * un[k]) / 27.0f;
+                        s->uv_relaxed[2 * (size_t)v + k] =
+                            (4.0f * up[k] + 19.0f * uv0[k] + 4.0f * un[k]) / 27.0f;
                     s->uv_mode[v] = 1;
                 }
             }
@@ -317,7 +335,8 @@ static void s3_vertices(void *p, uint32_t begin, uint32_t end, uint32_t worker) 
             /* An output half-edge leaving v: from the triangle of a half-edge leaving v that is
              * not a trisected border half-edge (the fan's last one on a border). */
             uint32_t hc = border ? last : h0, f = hc / 3;
-            out->vh[v] = s3_kind(s, f) == KIND_PROTECTED ? s3_out_he(s, f, 0, hc % 3) : s3_out_he(s, f, hc % 3, 0);
+            out->vh[v] = s3_kind(s, f) == KIND_PROTECTED ? s3_out_he(s, f, 0, hc % 3)
+                                                         : s3_out_he(s, f, hc % 3, 0);
         }
     }
 }
@@ -329,7 +348,8 @@ static void s3_emit(const s3_step *s, uint32_t t, uint32_t a, uint32_t b, uint32
     o[0] = a, o[1] = b, o[2] = c;
 }
 
-static void s3_emit_uv(const s3_step *s, uint32_t t, const float a[2], const float b[2], const float c[2]) {
+static void s3_emit_uv(const s3_step *s, uint32_t t, const float a[2], const float b[2],
+                       const float c[2]) {
     float *o = s->out->uv + 6 * (size_t)t;
     o[0] = a[0], o[1] = a[1], o[2] = b[0], o[3] = b[1], o[4] = c[0], o[5] = c[1];
 }
@@ -345,7 +365,7 @@ typedef struct s3_nb {
     uint32_t e2_next; /* output partner of the next half-edge's triangle's edge Q -> b */
 } s3_nb;
 
-static inline s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
+static S3_HOT s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
     s3_nb nb;
     const uint32_t f = h / 3, c = h % 3, o = s->in->opp[h];
     nb.o = o;
@@ -379,8 +399,8 @@ static inline s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
 
 /* The triangle of half-edge h (a -> b) of subdivided face f, in slot h % 3; nb describes h's
  * neighbour, pnb that of prev(h). */
-static inline void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, const s3_nb *nb,
-                             const s3_nb *pnb) {
+static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, const s3_nb *nb,
+                                    const s3_nb *pnb) {
     const s3_level *in = s->in;
     s3_level *out = s->out;
     const uint32_t f = h / 3, c = h % 3, t = s3_tri_base(s, f) + c;
@@ -429,6 +449,49 @@ static inline void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, co
         oo[2] = s3_out_he(s, f, s->bslot[f], 2);
 }
 
+/* step (1): the face point at the centroid */
+static S3_HOT void s3_centroid(const s3_level *in, const uint32_t *tri, float *q) {
+    const float *p0 = in->pos + 3 * (size_t)tri[0], *p1 = in->pos + 3 * (size_t)tri[1],
+                *p2 = in->pos + 3 * (size_t)tri[2];
+    for (int k = 0; k < 3; ++k) q[k] = (p0[k] + p1[k] + p2[k]) / 3.0f;
+}
+
+/* Pass 4 of a closed uniform step without UVs (no border, no protected face: the common case
+ * and the benchmark's): every neighbour is a centroid face and face f's point and triangles sit
+ * at V + f and 3f, so the general pass below reduces to index arithmetic. Same output (tested:
+ * closed_fast_path_equals_general). */
+static void s3_faces_closed(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    s3_step *s = p;
+    const s3_level *in = s->in;
+    s3_level *out = s->out;
+    const uint32_t V = in->V;
+    (void)worker;
+    for (uint32_t f = begin; f < end; ++f) {
+        const uint32_t *tri = in->idx + 3 * (size_t)f, *opp = in->opp + 3 * (size_t)f;
+        const uint32_t np = V + f, t0 = 3 * f;
+        s3_centroid(in, tri, out->pos + 3 * (size_t)np);
+        uint32_t g[3], gc[3];
+        for (int c = 0; c < 3; ++c) g[c] = opp[c] / 3, gc[c] = opp[c] % 3;
+        uint32_t *o = out->idx + 3 * (size_t)t0;
+        for (int c = 0; c < 3; ++c) /* T(h) = (a, Q(opp h), Q(h)) */
+            o[3 * c] = tri[c], o[3 * c + 1] = V + g[c], o[3 * c + 2] = np;
+        for (int c = 0; c < 3; ++c) {
+            if (out->prot) out->prot[t0 + c] = 0;
+            if (out->parent) out->parent[t0 + c] = in->parent[f];
+            if (out->lab) out->lab[t0 + c] = in->lab[f];
+        }
+        if (!s->with_adj) continue;
+        out->vh[np] = 3 * t0 + 2;
+        uint32_t *oo = out->opp + 9 * (size_t)f;
+        for (int c = 0; c < 3; ++c) {
+            const int pc = (c + 2) % 3;
+            oo[3 * c] = 3 * (3 * g[c] + (gc[c] == 2 ? 0 : gc[c] + 1)) + 2; /* T(next(o)).e2 */
+            oo[3 * c + 1] = 3 * (3 * g[c] + gc[c]) + 1;                    /* T(o).e1 */
+            oo[3 * c + 2] = 3 * (3 * g[pc] + gc[pc]);                      /* T(opp(prev h)).e0 */
+        }
+    }
+}
+
 static void s3_faces(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
     s3_step *s = p;
     const s3_level *in = s->in;
@@ -439,13 +502,14 @@ static void s3_faces(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
         const uint32_t kf = s3_kind(s, f), base_t = s3_tri_base(s, f), np = s3_point(s, f);
         const uint32_t nt = kf == KIND_PROTECTED ? 1 : 3;
         for (uint32_t i = 0; i < nt; ++i) {
-            out->prot[base_t + i] = kf == KIND_PROTECTED;
+            if (out->prot) out->prot[base_t + i] = kf == KIND_PROTECTED;
             if (out->parent) out->parent[base_t + i] = in->parent[f];
             if (out->lab) out->lab[base_t + i] = in->lab[f];
         }
         if (kf == KIND_PROTECTED) {
             s3_emit(s, base_t, tri[0], tri[1], tri[2]);
-            if (out->uv) memcpy(out->uv + 6 * (size_t)base_t, in->uv + 6 * (size_t)f, 6 * sizeof(float));
+            if (out->uv)
+                memcpy(out->uv + 6 * (size_t)base_t, in->uv + 6 * (size_t)f, 6 * sizeof(float));
             if (s->with_adj)
                 for (uint32_t e = 0; e < 3; ++e) {
                     uint32_t o = in->opp[3 * f + e];
@@ -459,15 +523,14 @@ static void s3_faces(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
                 }
             continue;
         }
-        const float *p0 = in->pos + 3 * (size_t)tri[0], *p1 = in->pos + 3 * (size_t)tri[1],
-                    *p2 = in->pos + 3 * (size_t)tri[2];
-        const s3_nb nb[3] = {s3_neighbour(s, 3 * f), s3_neighbour(s, 3 * f + 1), s3_neighbour(s, 3 * f + 2)};
+        const s3_nb nb[3] = {s3_neighbour(s, 3 * f), s3_neighbour(s, 3 * f + 1),
+                             s3_neighbour(s, 3 * f + 2)};
         if (kf == KIND_CENTROID) {
             /* step (1): the face point at the centroid */
-            float *q = out->pos + 3 * (size_t)np;
-            for (int k = 0; k < 3; ++k) q[k] = (p0[k] + p1[k] + p2[k]) / 3.0f;
+            s3_centroid(in, tri, out->pos + 3 * (size_t)np);
             if (s->with_adj) out->vh[np] = s3_out_he(s, f, 0, 2);
-            for (uint32_t c = 0; c < 3; ++c) s3_face_triangle(s, 3 * f + c, np, &nb[c], &nb[(c + 2) % 3]);
+            for (uint32_t c = 0; c < 3; ++c)
+                s3_face_triangle(s, 3 * f + c, np, &nb[c], &nb[(c + 2) % 3]);
             continue;
         }
         /* Border face on an even iteration: trisect the border edge a0 -> b0 with Kobbelt's
@@ -502,7 +565,8 @@ static void s3_faces(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
             out->vh[np + 1] = s3_out_he(s, f, sb, 1);
         }
         for (uint32_t c = 0; c < 3; ++c)
-            if (c != sb) s3_face_triangle(s, 3 * f + c, s3_Q(s, 3 * f + c), &nb[c], &nb[(c + 2) % 3]);
+            if (c != sb)
+                s3_face_triangle(s, 3 * f + c, s3_Q(s, 3 * f + c), &nb[c], &nb[(c + 2) % 3]);
     }
 }
 
@@ -532,8 +596,8 @@ pgt_result pgt_sqrt3_bound(uint32_t vertex_count, uint32_t face_count, uint32_t 
     return PGT_OK;
 }
 
-pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt_sqrt3_options *opts,
-                               pgt_error *err) {
+pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
+                               const pgt_sqrt3_options *opts, pgt_error *err) {
     pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
     if (!opts) opts = &defaults;
     memset(out, 0, sizeof(*out));
@@ -543,7 +607,8 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
         return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)",
                              opts->iterations, PGT_SQRT3_MAX_ITERATIONS);
     const uint32_t k = opts->iterations, threads = opts->threads ? opts->threads : 1;
-    pgt_result r = pgt_sqrt3_bound(in_mesh->vertex_count, in_mesh->face_count, 0, k, NULL, NULL, err);
+    pgt_result r =
+        pgt_sqrt3_bound(in_mesh->vertex_count, in_mesh->face_count, 0, k, NULL, NULL, err);
     if (r != PGT_OK) return r;
 
     pgt_adjacency adj;
@@ -564,18 +629,22 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
     cur.prot = calloc((size_t)F0 + 1, 1);
     cur.vh = malloc(((size_t)V0 + 1) * sizeof(uint32_t));
     if (opts->out_face_parent) cur.parent = malloc(((size_t)F0 + 1) * sizeof(uint32_t));
-    int owned = 0; /* cur's mesh arrays belong to the input until the first iteration */
+    uint32_t n_protected = 0; /* the same in every level of the call */
+    int owned = 0;            /* cur's mesh arrays belong to the input until the first iteration */
     if (!cur.prot || !cur.vh || (opts->out_face_parent && !cur.parent)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
         goto fail;
     }
     if (opts->protected_faces)
-        for (uint32_t f = 0; f < F0; ++f) cur.prot[f] = opts->protected_faces[f] != 0;
+        for (uint32_t f = 0; f < F0; ++f)
+            n_protected += cur.prot[f] = opts->protected_faces[f] != 0;
     if (cur.parent)
         for (uint32_t f = 0; f < F0; ++f) cur.parent[f] = f;
     for (uint32_t v = 0; v < V0; ++v) cur.vh[v] = PGT_NONE;
-    for (uint32_t h = 3 * F0; h-- > 0;) cur.vh[cur.idx[h]] = h; /* the smallest half-edge leaving v */
+    for (uint32_t h = 3 * F0; h-- > 0;)
+        cur.vh[cur.idx[h]] = h; /* the smallest half-edge leaving v */
 
+    uint32_t border = adj.border_half_edges; /* of the current level */
     float alpha[S3_ALPHA_TABLE];
     alpha[0] = 0.0f;
     for (uint32_t n = 1; n < S3_ALPHA_TABLE; ++n) alpha[n] = s3_alpha(n);
@@ -587,28 +656,37 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
         s.even = (it % 2) == 1; /* CGAL: refine_border on i % 2 == 1, restarting at every call */
         s.with_adj = it + 1 < k || opts->out_opposite != NULL;
         s.alpha = alpha;
-        s.kind = malloc((size_t)cur.F + 1);
-        s.bslot = malloc((size_t)cur.F + 1);
-        s.pt_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
-        s.face_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
+        /* Uniform is known without classifying: no protected face (they stay protected through
+         * the call), and no border face to trisect. */
+        s.uniform = n_protected == 0 && (!s.even || border == 0);
+        s.closed = s.uniform && border == 0 && !cur.uv;
+        if (!s.uniform) {
+            s.kind = malloc((size_t)cur.F + 1);
+            s.bslot = malloc((size_t)cur.F + 1);
+            s.pt_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
+            s.face_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
+        }
         s.uv_mode = malloc((size_t)cur.V + 1);
         if (cur.uv) s.uv_relaxed = malloc(((size_t)cur.V * 2 + 1) * sizeof(float));
-        if (!s.kind || !s.bslot || !s.pt_off || !s.face_off || !s.uv_mode || (cur.uv && !s.uv_relaxed)) {
+        if ((!s.uniform && (!s.kind || !s.bslot || !s.pt_off || !s.face_off)) || !s.uv_mode ||
+            (cur.uv && !s.uv_relaxed)) {
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
         } else {
-            pgt_parallel_for(cur.F, threads, s3_classify, &s);
-            uint32_t np = 0, nf = 0;
-            for (uint32_t f = 0; f < cur.F; ++f) {
-                s.pt_off[f] = np;
-                s.face_off[f] = nf;
-                np += s.kind[f]; /* KIND_* equals the number of new points */
-                nf += s.kind[f] == KIND_PROTECTED ? 1 : 3;
+            uint32_t np = cur.F, nf = 3 * cur.F; /* uniform: one point, three triangles a face */
+            if (!s.uniform) {
+                pgt_parallel_for(cur.F, threads, s3_classify, &s);
+                np = nf = 0;
+                for (uint32_t f = 0; f < cur.F; ++f) {
+                    s.pt_off[f] = np;
+                    s.face_off[f] = nf;
+                    np += s.kind[f]; /* KIND_* equals the number of new points */
+                    nf += s.kind[f] == KIND_PROTECTED ? 1 : 3;
+                }
             }
-            s.uniform = np == cur.F && nf == 3 * cur.F; /* every face a centroid face */
             nx.V = cur.V + np, nx.F = nf;
             nx.pos = malloc(((size_t)nx.V * 3 + 1) * sizeof(float));
             nx.idx = malloc(((size_t)nx.F * 3 + 1) * sizeof(uint32_t));
-            nx.prot = malloc((size_t)nx.F + 1);
+            if (s.with_adj || opts->out_protected) nx.prot = malloc((size_t)nx.F + 1);
             if (cur.uv) nx.uv = malloc(((size_t)nx.F * 6 + 1) * sizeof(float));
             if (cur.lab) nx.lab = malloc(((size_t)nx.F + 1) * sizeof(int32_t));
             if (cur.parent) nx.parent = malloc(((size_t)nx.F + 1) * sizeof(uint32_t));
@@ -616,16 +694,18 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
                 nx.opp = malloc(((size_t)nx.F * 3 + 1) * sizeof(uint32_t));
                 nx.vh = malloc(((size_t)nx.V + 1) * sizeof(uint32_t));
             }
-            if (!nx.pos || !nx.idx || !nx.prot || (cur.uv && !nx.uv) || (cur.lab && !nx.lab) ||
-                (cur.parent && !nx.parent) || (s.with_adj && (!nx.opp || !nx.vh))) {
+            if (!nx.pos || !nx.idx || ((s.with_adj || opts->out_protected) && !nx.prot) ||
+                (cur.uv && !nx.uv) || (cur.lab && !nx.lab) || (cur.parent && !nx.parent) ||
+                (s.with_adj && (!nx.opp || !nx.vh))) {
                 r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
                                   "sqrt3: out of memory for %u vertices, %u faces", nx.V, nx.F);
             } else {
                 pgt_parallel_for(cur.V, threads, s3_vertices, &s);
-                pgt_parallel_for(cur.F, threads, s3_faces, &s);
+                pgt_parallel_for(cur.F, threads, s.closed ? s3_faces_closed : s3_faces, &s);
             }
         }
-        free(s.kind), free(s.bslot), free(s.pt_off), free(s.face_off), free(s.uv_mode), free(s.uv_relaxed);
+        free(s.kind), free(s.bslot), free(s.pt_off), free(s.face_off), free(s.uv_mode),
+            free(s.uv_relaxed);
         if (r != PGT_OK) {
             s3_level_free(&nx);
             goto fail;
@@ -636,6 +716,7 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
             free(cur.prot), free(cur.vh), free(cur.parent);
             pgt_adjacency_destroy(&adj);
         }
+        if (s.even) border *= 3; /* every border edge was trisected */
         cur = nx;
         owned = 1;
     }
@@ -644,8 +725,10 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
         r = pgt_mesh_copy(out, in_mesh, err);
         if (r != PGT_OK) goto fail;
         if (opts->out_protected) memcpy(opts->out_protected, cur.prot, cur.F);
-        if (opts->out_face_parent) memcpy(opts->out_face_parent, cur.parent, (size_t)cur.F * sizeof(uint32_t));
-        if (opts->out_opposite) memcpy(opts->out_opposite, cur.opp, (size_t)cur.F * 3 * sizeof(uint32_t));
+        if (opts->out_face_parent)
+            memcpy(opts->out_face_parent, cur.parent, (size_t)cur.F * sizeof(uint32_t));
+        if (opts->out_opposite)
+            memcpy(opts->out_opposite, cur.opp, (size_t)cur.F * 3 * sizeof(uint32_t));
         free(cur.prot), free(cur.vh), free(cur.parent);
         pgt_adjacency_destroy(&adj);
         return PGT_OK;
@@ -653,8 +736,10 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh, const pgt
     out->vertex_count = cur.V, out->face_count = cur.F;
     out->positions = cur.pos, out->indices = cur.idx, out->uvs = cur.uv, out->labels = cur.lab;
     if (opts->out_protected) memcpy(opts->out_protected, cur.prot, cur.F);
-    if (opts->out_face_parent) memcpy(opts->out_face_parent, cur.parent, (size_t)cur.F * sizeof(uint32_t));
-    if (opts->out_opposite) memcpy(opts->out_opposite, cur.opp, (size_t)cur.F * 3 * sizeof(uint32_t));
+    if (opts->out_face_parent)
+        memcpy(opts->out_face_parent, cur.parent, (size_t)cur.F * sizeof(uint32_t));
+    if (opts->out_opposite)
+        memcpy(opts->out_opposite, cur.opp, (size_t)cur.F * 3 * sizeof(uint32_t));
     free(cur.opp), free(cur.prot), free(cur.parent), free(cur.vh);
     return PGT_OK;
 

@@ -27,9 +27,9 @@ typedef struct pgt_adjacency {
     uint32_t non_manifold_edges;    /* edges with >2 faces or repeated direction */
     uint32_t non_manifold_vertices; /* vertices whose faces form more than one fan */
     uint32_t degenerate_faces;      /* faces that repeat a vertex index */
-    uint32_t bad_edge[2];           /* the first non-manifold edge found (vertex ids), or PGT_NONE */
-    uint32_t bad_vertex;            /* the first non-manifold vertex found, or PGT_NONE */
-    uint32_t bad_face;              /* the first degenerate face found, or PGT_NONE */
+    uint32_t bad_edge[2]; /* the first non-manifold edge found (vertex ids), or PGT_NONE */
+    uint32_t bad_vertex;  /* the first non-manifold vertex found, or PGT_NONE */
+    uint32_t bad_face;    /* the first degenerate face found, or PGT_NONE */
 } pgt_adjacency;
 
 static inline uint32_t pgt_half_edge_next(uint32_t h) { return h % 3u == 2u ? h - 2u : h + 1u; }

@@ -16,18 +16,18 @@ typedef enum pgt_result {
     PGT_OK = 0,
     PGT_ERROR_INVALID_ARGUMENT = 1, /* a caller or flag passed a value outside the contract */
     PGT_ERROR_OUT_OF_MEMORY = 2,
-    PGT_ERROR_IO = 3,               /* a file could not be opened, read, written or renamed */
-    PGT_ERROR_PARSE = 4,            /* a token is not what the format allows at that place */
-    PGT_ERROR_TRUNCATED = 5,        /* the input ends before what its header promised */
-    PGT_ERROR_COUNT_MISMATCH = 6,   /* a declared count disagrees with the data */
-    PGT_ERROR_INDEX_RANGE = 7,      /* an index is zero (OBJ), negative past the start, or too big */
-    PGT_ERROR_NOT_FINITE = 8,       /* a coordinate is NaN or infinite */
-    PGT_ERROR_LIMIT = 9,            /* a declared or produced size exceeds what pgt supports */
-    PGT_ERROR_UNSUPPORTED = 10,     /* valid input that uses a feature pgt does not read */
-    PGT_ERROR_EMPTY = 11,           /* the input holds no faces */
-    PGT_ERROR_NON_MANIFOLD = 12,    /* an operation that needs a 2-manifold met a bad edge/vertex */
-    PGT_ERROR_DEGENERATE = 13,      /* a face repeats a vertex */
-    PGT_ERROR_BACKEND = 14          /* a GPU API call failed */
+    PGT_ERROR_IO = 3,             /* a file could not be opened, read, written or renamed */
+    PGT_ERROR_PARSE = 4,          /* a token is not what the format allows at that place */
+    PGT_ERROR_TRUNCATED = 5,      /* the input ends before what its header promised */
+    PGT_ERROR_COUNT_MISMATCH = 6, /* a declared count disagrees with the data */
+    PGT_ERROR_INDEX_RANGE = 7,    /* an index is zero (OBJ), negative past the start, or too big */
+    PGT_ERROR_NOT_FINITE = 8,     /* a coordinate is NaN or infinite */
+    PGT_ERROR_LIMIT = 9,          /* a declared or produced size exceeds what pgt supports */
+    PGT_ERROR_UNSUPPORTED = 10,   /* valid input that uses a feature pgt does not read */
+    PGT_ERROR_EMPTY = 11,         /* the input holds no faces */
+    PGT_ERROR_NON_MANIFOLD = 12,  /* an operation that needs a 2-manifold met a bad edge/vertex */
+    PGT_ERROR_DEGENERATE = 13,    /* a face repeats a vertex */
+    PGT_ERROR_BACKEND = 14        /* a GPU API call failed */
 } pgt_result;
 
 #define PGT_ERROR_MESSAGE_SIZE 512

@@ -33,13 +33,14 @@ extern "C" {
 #define PGT_SQRT3_MAX_ITERATIONS 12u
 
 typedef struct pgt_sqrt3_options {
-    uint32_t iterations;             /* k >= 0 (0 copies the input) */
-    uint32_t threads;                /* 0 or 1: single-threaded */
-    const uint8_t *protected_faces;  /* face_count flags (nonzero = protected), or NULL */
-    uint8_t *out_protected;          /* optional, caller-owned, >= bound faces: output flags */
-    uint32_t *out_face_parent;       /* optional, caller-owned, >= bound faces: input face per output face */
-    uint32_t *out_opposite;          /* optional, caller-owned, >= 3 x bound faces: output adjacency,
-                                        derived from the input's (see pgt_adjacency_build) */
+    uint32_t iterations;            /* k >= 0 (0 copies the input) */
+    uint32_t threads;               /* 0 or 1: single-threaded */
+    const uint8_t *protected_faces; /* face_count flags (nonzero = protected), or NULL */
+    uint8_t *out_protected;         /* optional, caller-owned, >= bound faces: output flags */
+    uint32_t
+        *out_face_parent;   /* optional, caller-owned, >= bound faces: input face per output face */
+    uint32_t *out_opposite; /* optional, caller-owned, >= 3 x bound faces: output adjacency,
+                               derived from the input's (see pgt_adjacency_build) */
 } pgt_sqrt3_options;
 
 /* Upper bound of the output sizes for k iterations (exact when no face is protected and the mesh
