@@ -17,8 +17,9 @@ typedef struct pgt_oracle_run {
     double median_ms, best_ms; /* of the subdivision call alone, as the oracle reports it */
 } pgt_oracle_run;
 
-/* Runs `tool IN.off K OUT.off --repeat R` (tool: "cgal_sqrt3" or "openmesh_sqrt3") and parses its
- * JSON line. Returns PGT_OK or an error naming the tool and its exit status. */
+/* Runs `tool IN.off K OUT.off --repeat R` (tool: "cgal_sqrt3" or "openmesh_sqrt3"; out_off "-"
+ * times without writing) and parses its JSON line. Returns PGT_OK or an error naming the tool and
+ * its exit status. */
 pgt_result pgt_oracle_sqrt3(const char *tool, const char *in_off, uint32_t k, const char *out_off,
                             uint32_t repeat, pgt_oracle_run *out, pgt_error *err);
 
