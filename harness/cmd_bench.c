@@ -28,7 +28,7 @@ static const char *bench_usage =
     "and writes one CSV row per mesh x k x thread count, headed by machine, commit and date.\n"
     "\n"
     "  --out FILE      CSV to write (default results/subdiv.csv; temporary file + rename)\n"
-    "  --repeat R      timed runs per measurement after one warm-up, 1 to 1000 (default 5)\n"
+    "  --repeat R      timed runs per measurement after one warm-up, 1 to 1000 (default 7)\n"
     "  --iters LIST    comma-separated k values (default 1,2,3)\n"
     "  --threads LIST  comma-separated thread counts for ours (default 1,<CPUs>)\n"
     "  --meshes LIST   comma-separated names: torus_100k (generated, 100k faces: the issue's\n"
@@ -89,6 +89,24 @@ static long status_kib(const char *field) {
         if (!strncmp(line, field, n) && line[n] == ':') kib = strtol(line + n + 1, NULL, 10);
     fclose(f);
     return kib;
+}
+
+/* One warm-up and `repeat` timed runs of ours; median and best ms, output counts. */
+static int bench_time(const pgt_mesh *m, const pgt_sqrt3_options *o, uint32_t repeat, double *times,
+                      double *med, double *best, uint32_t *vout, uint32_t *fout, pgt_error *err) {
+    pgt_mesh out = {0};
+    if (pgt_sqrt3_subdivide(&out, m, o, err) != PGT_OK) return -1;
+    *vout = out.vertex_count, *fout = out.face_count;
+    pgt_mesh_destroy(&out);
+    for (uint32_t r = 0; r < repeat; ++r) {
+        double t0 = pgt_cli_now_ms();
+        pgt_sqrt3_subdivide(&out, m, o, NULL);
+        times[r] = pgt_cli_now_ms() - t0;
+        pgt_mesh_destroy(&out);
+    }
+    *med = pgt_cli_median(times, repeat);
+    *best = pgt_cli_min(times, repeat);
+    return 0;
 }
 
 /* Peak extra resident memory (MiB) of one subdivision, measured in a forked child: it goes back
@@ -168,11 +186,14 @@ static int bench_subdiv(bench_cfg *cfg) {
     fprintf(csv,
             "# allocator: glibc with mmap off and trimming at 1 GiB in every timed program "
             "(ours and the oracles), so repeated runs reuse memory instead of page-faulting\n");
+    fprintf(csv,
+            "# input: positions and triangles for all three (the oracles read OFF); "
+            "ours_uv_median_ms: ours again with the mesh's per-corner UVs, when it has them\n");
     fprintf(csv, "# ours_peak_mib: extra resident memory of one call at that thread count; "
                  "output_mib: positions+indices of the result\n");
     fprintf(csv, "mesh,faces_in,k,threads,faces_out,vertices_out,ours_median_ms,ours_best_ms,"
-                 "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,ours_peak_"
-                 "mib,output_mib\n");
+                 "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,"
+                 "ours_peak_mib,output_mib,ours_uv_median_ms\n");
 
     uint32_t steps = cfg->n_meshes * cfg->n_iters, step = 0;
     int failures = 0;
@@ -187,6 +208,11 @@ static int bench_subdiv(bench_cfg *cfg) {
             step += cfg->n_iters;
             continue;
         }
+        /* The oracles get positions and triangles only (OFF), so ours is timed on the same; a
+         * textured mesh is timed again with its per-corner UVs (ours_uv_median_ms). */
+        pgt_mesh uv = m;
+        m.uvs = NULL;
+        m.labels = NULL;
         char in_off[4096];
         snprintf(in_off, sizeof in_off, "%s/in.off", tmpdir);
         pgt_mesh_write_options wo = {PGT_FORMAT_OFF, 1};
@@ -210,24 +236,16 @@ static int bench_subdiv(bench_cfg *cfg) {
                 pgt_sqrt3_options o = {0};
                 o.iterations = k;
                 o.threads = cfg->threads[ti];
-                pgt_mesh out = {0};
+                double med, best, uv_med = -1.0, uv_best;
+                uint32_t vout, fout;
                 pgt_error e = {0};
-                int ok = pgt_sqrt3_subdivide(&out, &m, &o, &e) == PGT_OK; /* warm-up */
-                uint32_t vout = out.vertex_count, fout = out.face_count;
-                pgt_mesh_destroy(&out);
-                if (!ok) {
+                if (bench_time(&m, &o, cfg->repeat, times, &med, &best, &vout, &fout, &e) ||
+                    (uv.uvs && bench_time(&uv, &o, cfg->repeat, times, &uv_med, &uv_best, &vout,
+                                          &fout, &e))) {
                     fprintf(stderr, " ours failed: %s", e.message);
                     failures++;
                     break;
                 }
-                for (uint32_t r = 0; r < cfg->repeat; ++r) {
-                    double t0 = pgt_cli_now_ms();
-                    pgt_sqrt3_subdivide(&out, &m, &o, NULL);
-                    times[r] = pgt_cli_now_ms() - t0;
-                    pgt_mesh_destroy(&out);
-                }
-                double med = pgt_cli_median(times, cfg->repeat),
-                       best = pgt_cli_min(times, cfg->repeat);
                 double peak = bench_peak_mib(&m, &o);
                 double out_mib = ((double)vout * 12.0 + (double)fout * 12.0) / 1048576.0;
                 fprintf(csv, "%s,%u,%u,%u,%u,%u,%.3f,%.3f,", name, m.face_count, k, o.threads, fout,
@@ -239,7 +257,9 @@ static int bench_subdiv(bench_cfg *cfg) {
                 if (have_cg) fprintf(csv, "%.2f", cg.median_ms / med);
                 fputc(',', csv);
                 if (have_om) fprintf(csv, "%.2f", om.median_ms / med);
-                fprintf(csv, ",%.1f,%.1f\n", peak, out_mib);
+                fprintf(csv, ",%.1f,%.1f,", peak, out_mib);
+                if (uv_med >= 0.0) fprintf(csv, "%.3f", uv_med);
+                fputc('\n', csv);
                 fprintf(stderr, " ours %.1f ms (%u thr)", med, o.threads);
                 if (have_cg && (cg.faces_out != fout || cg.vertices_out != vout)) {
                     fprintf(stderr, " [CGAL counts differ: %u v %u f]", cg.vertices_out,
@@ -252,7 +272,8 @@ static int bench_subdiv(bench_cfg *cfg) {
             fputc('\n', stderr);
         }
         remove(in_off);
-        pgt_mesh_destroy(&m);
+        pgt_mesh_destroy(&uv); /* owns m's arrays too */
+        m = (pgt_mesh){0};
     }
     free(times);
     rmdir(tmpdir);
@@ -285,7 +306,7 @@ int pgt_cmd_bench(int argc, char **argv) {
     bench_cfg cfg = {0};
     cfg.out_path = "results/subdiv.csv";
     cfg.shared_dir = PGT_SHARED_DIR "/datasets/meshes";
-    cfg.repeat = 5;
+    cfg.repeat = 7;
     cfg.oracles = 1;
     cfg.n_iters = 3;
     cfg.iters[0] = 1, cfg.iters[1] = 2, cfg.iters[2] = 3;

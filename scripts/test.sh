@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# The whole test suite: installs missing Debian packages, builds Release and the ASan+UBSan
-# (Sanitize) configuration, and runs every CTest test in both. Pass Debug to add a third run:
-#   bash scripts/test.sh [Debug]
+# The whole test suite: installs missing Debian packages, builds Release, Debug and the
+# ASan+UBSan (Sanitize) configuration, and runs every CTest test in each (STYLE.md: all three
+# builds run the suite). Name build types to run only those:
+#   bash scripts/test.sh [Release|Debug|Sanitize ...]
 set -euo pipefail
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$top"
 bash scripts/install-deps.sh
-types=(Release Sanitize "$@")
+types=("$@")
+if [ ${#types[@]} -eq 0 ]; then types=(Release Debug Sanitize); fi
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 # ASan: leaks are errors; UBSan: print the stack, then abort (the build already sets no-recover).

@@ -93,6 +93,8 @@ expect bench_bad_flag 2 "$pgt" bench subdiv --repeat zero
 expect bench_quick 0 "$pgt" bench subdiv --quick --no-oracles --meshes icosphere_l2,grid_16x16 --threads 1,2 --out res/subdiv.csv
 grep -q "^# machine: " res/subdiv.csv && grep -q "^# commit: " res/subdiv.csv && grep -q "^# date: " res/subdiv.csv \
   && ok bench_header || bad bench_header "$(head -5 res/subdiv.csv)"
+fields=$(grep -v '^#' res/subdiv.csv | awk -F, '{print NF}' | sort -u | tr '\n' ' ')
+[ "$fields" = "15 " ] && ok bench_rows_match_header || bad bench_rows_match_header "field counts: $fields"
 rows=$(grep -vc '^#' res/subdiv.csv)
 [ "$rows" -eq $((1 + 2 * 2 * 2)) ] && ok bench_rows || bad bench_rows "$rows lines"
 
