@@ -156,7 +156,7 @@ def plot(series, tmax, meta, out_prefix):
 
     plt.rcParams.update({"font.size": 10, "axes.titlesize": 11, "legend.fontsize": 8.5,
                          "pdf.fonttype": 42, "ps.fonttype": 42})
-    fig, ax = plt.subplots(figsize=(6.4, 4.3))
+    fig, ax = plt.subplots(figsize=(7.4, 4.3))
     for key, per_mesh in series.items():
         for i, fam in enumerate(fams):
             pts = sorted(per_mesh.get(fam, {}).items())
@@ -182,8 +182,9 @@ def plot(series, tmax, meta, out_prefix):
     leg1 = ax.legend(handles=impl, loc="upper left", title="Implementation",
                      title_fontsize=8.5, frameon=True, framealpha=0.9)
     ax.add_artist(leg1)
-    ax.legend(handles=meshes, loc="lower right", title="Mesh", title_fontsize=8.5,
-              frameon=True, framealpha=0.9)
+    # outside the axes: inside, it hid the largest meshes' points (lower right)
+    ax.legend(handles=meshes, loc="upper left", bbox_to_anchor=(1.01, 1.0), title="Mesh",
+              title_fontsize=8.5, frameon=True, framealpha=0.9, borderaxespad=0.0)
 
     fig.tight_layout()
     foot = [f"{k.capitalize()}: {meta[k]}" for k in ("machine", "commit", "date") if k in meta]

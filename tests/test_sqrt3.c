@@ -60,6 +60,16 @@ static void run_free(run *r) {
     free(r->opp), free(r->prot), free(r->parent);
 }
 
+/* Half-edges where the adjacency sqrt3 derived disagrees with one rebuilt from its output. */
+static uint32_t adjacency_mismatches(const run *r) {
+    pgt_adjacency a;
+    if (pgt_adjacency_build(&a, &r->out, 1, NULL) != PGT_OK) return PGT_NONE;
+    uint32_t diff = 0;
+    for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r->opp[h];
+    pgt_adjacency_destroy(&a);
+    return diff;
+}
+
 static int same_mesh_bytes(const pgt_mesh *a, const pgt_mesh *b) {
     if (a->vertex_count != b->vertex_count || a->face_count != b->face_count) return 0;
     if (memcmp(a->positions, b->positions, (size_t)a->vertex_count * 3 * sizeof(float))) return 0;
@@ -100,13 +110,9 @@ static void closed_counts_and_adjacency(void) {
             CHECK_MSG(t.manifold && t.border_edges == 0 && t.euler == t0.euler,
                       "%s k=%u: euler %lld (was %lld)", names[n], k, (long long)t.euler,
                       (long long)t0.euler);
-            pgt_adjacency a;
-            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
-            uint32_t diff = 0;
-            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
+            const uint32_t diff = adjacency_mismatches(&r);
             CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency",
                       names[n], k, diff);
-            pgt_adjacency_destroy(&a);
             run_free(&r);
         }
         pgt_mesh_destroy(&m);
@@ -162,13 +168,9 @@ static void border_counts_per_rule(void) {
                       r.out.vertex_count, r.out.face_count, t.border_edges, (unsigned long long)V,
                       (unsigned long long)F, (unsigned long long)B);
             CHECK(t.manifold && t.euler == t0.euler);
-            pgt_adjacency a;
-            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
-            uint32_t diff = 0;
-            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
+            const uint32_t diff = adjacency_mismatches(&r);
             CHECK_MSG(diff == 0, "%s k=%u: %u half-edges disagree with the rebuilt adjacency",
                       names[n], k, diff);
-            pgt_adjacency_destroy(&a);
             run_free(&r);
         }
         pgt_mesh_destroy(&m);
@@ -337,12 +339,7 @@ static void protected_faces_bit_identical(void) {
                       names[n], k);
             if (t0.border_edges == 0)
                 CHECK_MSG(t.border_edges == 0, "%s k=%u: holes appeared", names[n], k);
-            pgt_adjacency a;
-            REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
-            uint32_t diff = 0;
-            for (uint32_t h = 0; h < a.half_edge_count; ++h) diff += a.opposite[h] != r.opp[h];
-            CHECK(diff == 0);
-            pgt_adjacency_destroy(&a);
+            CHECK(adjacency_mismatches(&r) == 0);
             run_free(&r);
         }
         free(prot);
