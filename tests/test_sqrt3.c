@@ -8,6 +8,7 @@
 
 #include "gen.h"
 #include "pgt/adjacency.h"
+#include "pgt/mesh_io.h"
 #include "pgt/rng.h"
 #include "pgt/sqrt3.h"
 #include "test_util.h"
@@ -449,6 +450,43 @@ static void uvs_across_seams_stay_an_atlas(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* UV triangle diameter (max edge length). */
+static double uv_diameter(const float *u) {
+    double d = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3;
+        double x = (double)u[2 * i] - u[2 * j], y = (double)u[2 * i + 1] - u[2 * j + 1];
+        d = fmax(d, sqrt(x * x + y * y));
+    }
+    return d;
+}
+
+/* On a real atlas (spot: 13 charts, one of them mirrored) the point carried across a seam must
+ * stay near the seam: no output UV triangle more than twice the diameter of its input face.
+ * Measured: 1.51 at most with the seam guard (S3_SEAM_MAX_STRETCH, mirrored charts reflected);
+ * 7.2-8.4 without it, the spikes that crossed the atlas. */
+#define UV_SEAM_MAX_GROWTH 2.0
+static void uvs_no_spikes_on_a_real_atlas(void) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/spot.obj", PGT_SHARED_MESH_DIR);
+    pgt_mesh m;
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    REQUIRE(pgt_mesh_read(&m, path, &ro, NULL) == PGT_OK && m.uvs);
+    for (uint32_t k = 1; k <= 3; ++k) {
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
+        double worst = 0.0;
+        for (uint32_t t = 0; t < r.out.face_count; ++t) {
+            double pd = uv_diameter(m.uvs + 6 * (size_t)r.parent[t]);
+            if (pd > 0.0) worst = fmax(worst, uv_diameter(r.out.uvs + 6 * (size_t)t) / pd);
+        }
+        CHECK_MSG(worst <= UV_SEAM_MAX_GROWTH, "k=%u: a UV triangle %.2f x its input face", k,
+                  worst);
+        run_free(&r);
+    }
+    pgt_mesh_destroy(&m);
+}
+
 /* Non-manifold input is refused with an error naming the offending edge or vertex. */
 static void refuses_non_manifold(void) {
     /* three triangles on edge (0, 1) */
@@ -535,6 +573,7 @@ static const pgt_test_case cases[] = {
     {"protected_faces_bit_identical", protected_faces_bit_identical},
     {"uvs_follow_positions_in_one_chart", uvs_follow_positions_in_one_chart},
     {"uvs_across_seams_stay_an_atlas", uvs_across_seams_stay_an_atlas},
+    {"uvs_no_spikes_on_a_real_atlas", uvs_no_spikes_on_a_real_atlas},
     {"refuses_non_manifold", refuses_non_manifold},
     {"relaxation_weights", relaxation_weights},
 };

@@ -219,11 +219,20 @@ static void s3_uv_Q(const s3_step *s, uint32_t h, float out[2]) {
     out[1] = e[1];
 }
 
+/* Signed area (x2) of face f's UV triangle: its chart's orientation there. */
+static double s3_uv_area2(const float *uv, uint32_t f) {
+    const float *u = uv + 6 * (size_t)f;
+    return ((double)u[2] - u[0]) * ((double)u[5] - u[1]) -
+           ((double)u[4] - u[0]) * ((double)u[3] - u[1]);
+}
+
 /* Maps z from the chart where edge (a, b) has UVs (ga, gb) into the chart where it has (fa, fb):
- * the rotation+scale+translation (no mirror) that carries one copy of the seam edge onto the
- * other. A degenerate source edge maps to the destination edge's midpoint. */
+ * the rotation+scale+translation that carries one copy of the seam edge onto the other, preceded
+ * by the reflection across the edge when the two charts have opposite orientations (a mirrored
+ * chart), so that z lands on the far side of the seam either way. A degenerate source edge maps
+ * to the destination edge's midpoint. */
 static void s3_uv_map(const float ga[2], const float gb[2], const float fa[2], const float fb[2],
-                      float z[2]) {
+                      int mirror, float z[2]) {
     double dx = (double)gb[0] - ga[0], dy = (double)gb[1] - ga[1];
     double ex = (double)fb[0] - fa[0], ey = (double)fb[1] - fa[1];
     double d2 = dx * dx + dy * dy;
@@ -232,11 +241,42 @@ static void s3_uv_map(const float ga[2], const float gb[2], const float fa[2], c
         z[1] = (fa[1] + fb[1]) * 0.5f;
         return;
     }
+    double px = (double)z[0] - ga[0], py = (double)z[1] - ga[1];
+    if (mirror) { /* p -> 2 (p.d / d.d) d - p */
+        double t = 2.0 * (px * dx + py * dy) / d2;
+        px = t * dx - px;
+        py = t * dy - py;
+    }
     /* r = (e / d) as complex numbers */
     double rx = (ex * dx + ey * dy) / d2, ry = (ey * dx - ex * dy) / d2;
-    double px = (double)z[0] - ga[0], py = (double)z[1] - ga[1];
     z[0] = (float)(fa[0] + (px * rx - py * ry));
     z[1] = (float)(fa[1] + (px * ry + py * rx));
+}
+
+/* How far beyond a seam the carried point may land, in multiples of the distance of the face's
+ * own new point from the seam. Charts whose copies of a seam edge differ much in length (a sliver
+ * on one side) would otherwise throw the point far across the atlas (seen on spot.obj). */
+#define S3_SEAM_MAX_STRETCH 3.0
+
+/* z is the neighbour's new point carried into this chart across seam (fa, fb); q is this face's
+ * new point; the triangle emitted is (a, z, q) with a at fa, and orient is the sign of this
+ * face's UV area. z must lie beyond the seam, on the other side from q, no farther than
+ * S3_SEAM_MAX_STRETCH times q's distance, and (a, z, q) must keep the face's orientation; else z
+ * becomes q's mirror image across the seam. */
+static void s3_uv_seam_guard(const float fa[2], const float fb[2], const float q[2], double orient,
+                             float z[2]) {
+    double ex = (double)fb[0] - fa[0], ey = (double)fb[1] - fa[1], e2 = ex * ex + ey * ey;
+    if (e2 == 0.0) return;
+    /* signed distances (times |e|) from the seam line */
+    double sq = ex * ((double)q[1] - fa[1]) - ey * ((double)q[0] - fa[0]);
+    double sz = ex * ((double)z[1] - fa[1]) - ey * ((double)z[0] - fa[0]);
+    double turn = ((double)z[0] - fa[0]) * ((double)q[1] - fa[1]) -
+                  ((double)z[1] - fa[1]) * ((double)q[0] - fa[0]); /* area of (a, z, q) x2 */
+    if (sq * sz < 0.0 && fabs(sz) <= S3_SEAM_MAX_STRETCH * fabs(sq) && turn * orient > 0.0) return;
+    double px = (double)q[0] - fa[0], py = (double)q[1] - fa[1];
+    double t = 2.0 * (px * ex + py * ey) / e2;
+    z[0] = (float)(fa[0] + (t * ex - px));
+    z[1] = (float)(fa[1] + (t * ey - py));
 }
 
 /* ---- pass 3: old vertices ------------------------------------------------------------------ */
@@ -477,7 +517,10 @@ static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, co
                 s3_uv_get(in, o, gb);
                 s3_uv_get(in, h, fa);
                 s3_uv_get(in, s3_next(h), fb);
-                s3_uv_map(ga, gb, fa, fb, ub);
+                const double af = s3_uv_area2(in->uv, f);
+                const int mirror = (af > 0.0) != (s3_uv_area2(in->uv, o / 3) > 0.0);
+                s3_uv_map(ga, gb, fa, fb, mirror, ub);
+                s3_uv_seam_guard(fa, fb, uq, af, ub);
             }
         } else {
             s3_uv_old(s, s3_next(h), ub);
