@@ -2,12 +2,15 @@
 # The main job: installs missing Debian packages, builds Release, and regenerates every table
 # and figure the project knows on its embedded default data, with a progress line per step and a
 # summary of what it wrote.
-#   bash scripts/main.sh [--quick]    (--quick: small inputs, for a smoke run)
+#   bash scripts/main.sh [--quick]    (--quick: small inputs, for a smoke run; it writes under
+#                                      build/quick/ so results/ keeps the real tables)
 set -euo pipefail
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$top"
 quick=()
-if [ "${1:-}" = "--quick" ]; then quick=(--quick); fi
+res=results figs=paper_figs/out
+if [ "${1:-}" = "--quick" ]; then quick=(--quick) res=build/quick/results figs=build/quick/figs; fi
+mkdir -p "$res" "$figs"
 py=/usr/bin/python3
 steps=5
 step() { echo "[main $1/$steps] $2"; }
@@ -20,25 +23,24 @@ step 2 "building Release"
 dir=$(bash scripts/build.sh Release | tail -n 1)
 pgt="$dir/harness/pgt"
 
-step 3 "benchmark: pgt bench subdiv -> results/subdiv.csv (ours vs CGAL vs OpenMesh)"
-"$pgt" bench subdiv --out results/subdiv.csv "${quick[@]}"
-written+=(results/subdiv.csv)
+step 3 "benchmark: pgt bench subdiv -> $res/subdiv.csv (ours vs CGAL vs OpenMesh)"
+"$pgt" bench subdiv --out "$res/subdiv.csv" "${quick[@]}"
+written+=("$res/subdiv.csv")
 
-step 4 "figure: time vs output faces -> paper_figs/out/subdiv_time.{png,pdf}"
-mkdir -p paper_figs/out
-"$py" paper_figs/subdiv_time.py results/subdiv.csv paper_figs/out/subdiv_time
-written+=(paper_figs/out/subdiv_time.png paper_figs/out/subdiv_time.pdf)
+step 4 "figure: time vs output faces -> $figs/subdiv_time.{png,pdf}"
+"$py" paper_figs/subdiv_time.py "$res/subdiv.csv" "$figs/subdiv_time"
+written+=("$figs/subdiv_time.png" "$figs/subdiv_time.pdf")
 
-step 5 "figure: spot at k = 0, 1, 2 -> paper_figs/out/subdiv_levels.{png,pdf}"
+step 5 "figure: spot at k = 0, 1, 2 -> $figs/subdiv_levels.{png,pdf}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 spot="$top/../shared/datasets/meshes/spot.obj"
 "$pgt" subdiv "$spot" --iters 0 -o "$work/k0.ply" >/dev/null
 "$pgt" subdiv "$spot" --iters 1 -o "$work/k1.ply" >/dev/null
 "$pgt" subdiv "$spot" --iters 2 -o "$work/k2.ply" >/dev/null
-"$py" paper_figs/mesh_levels.py paper_figs/out/subdiv_levels "$work/k0.ply" "$work/k1.ply" "$work/k2.ply" \
+"$py" paper_figs/mesh_levels.py "$figs/subdiv_levels" "$work/k0.ply" "$work/k1.ply" "$work/k2.ply" \
   --labels "k = 0" "k = 1" "k = 2" --title "sqrt(3) subdivision of spot (Keenan Crane, public domain)" --up y
-written+=(paper_figs/out/subdiv_levels.png paper_figs/out/subdiv_levels.pdf)
+written+=("$figs/subdiv_levels.png" "$figs/subdiv_levels.pdf")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done
