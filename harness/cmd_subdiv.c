@@ -39,7 +39,7 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     const char *backend = "cpu";
     uint32_t iters = 1, threads = pgt_cli_cpu_count(), device = 0;
     int32_t group = 0;
-    int have_group = 0, json = 0, precise = 0, have_iters = 0;
+    int have_group = 0, json = 0, precise = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -49,7 +49,6 @@ int pgt_cmd_subdiv(int argc, char **argv) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_uint(verb, a, v, 0, PGT_SQRT3_MAX_ITERATIONS, &iters))
                 return PGT_EXIT_USAGE;
-            have_iters = 1;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--protect")) {
@@ -80,7 +79,6 @@ int pgt_cmd_subdiv(int argc, char **argv) {
             return pgt_cli_fail(verb, "unexpected argument '%s' (one input mesh only)", a);
         }
     }
-    (void)have_iters;
     if (!in_path) return pgt_cli_fail(verb, "no input mesh (see pgt subdiv --help)");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o OUT");
     if (strcmp(backend, "cpu") != 0) {

@@ -62,7 +62,7 @@ typedef struct s3_step {
     uint32_t *face_off;
     const float *alpha; /* S3_ALPHA_TABLE entries */
     float *uv_relaxed;  /* 2V */
-    uint8_t *uv_mode;   /* V: 1 = all corners of the vertex take uv_relaxed */
+    uint8_t *uv_mode;   /* V, with UVs only: 1 = all corners of the vertex take uv_relaxed */
 } s3_step;
 
 /* Per-face facts of a step. A "uniform" step (no protected face, and no border face to trisect)
@@ -123,6 +123,11 @@ static void s3_classify(void *p, uint32_t begin, uint32_t end, uint32_t worker) 
 
 /* ---- helpers on the input level ------------------------------------------------------------ */
 
+/* Corner c of border face f starts h_1, the half-edge after its border half-edge (at b0). */
+static inline int s3_is_h1(const s3_step *s, uint32_t f, uint32_t c) {
+    return c == (s->bslot[f] + 1u) % 3u;
+}
+
 /* Output vertex of face(h)'s new point on h's side. h is not the border half-edge of its face. */
 static uint32_t s3_Q(const s3_step *s, uint32_t h) {
     uint32_t f = h / 3, base = s3_point(s, f);
@@ -130,7 +135,7 @@ static uint32_t s3_Q(const s3_step *s, uint32_t h) {
     assert(s->kind[f] == KIND_BORDER && h % 3 != s->bslot[f]);
     /* h_1 (after the border half-edge) starts at b0: E_b = base + 1; h_2 starts at the apex:
      * E_a = base. */
-    return h % 3 == (s->bslot[f] + 1u) % 3u ? base + 1 : base;
+    return s3_is_h1(s, f, h % 3) ? base + 1 : base;
 }
 
 /* Output half-edge e of the triangle emitted in slot c of face f. */
@@ -350,7 +355,7 @@ static void s3_vertices(void *p, uint32_t begin, uint32_t end, uint32_t worker) 
         float *po = out->pos + 3 * (size_t)v;
         uint32_t h0 = in->vh[v];
         po[0] = pv[0], po[1] = pv[1], po[2] = pv[2];
-        s->uv_mode[v] = 0;
+        if (in->uv) s->uv_mode[v] = 0;
         if (h0 == PGT_NONE) {
             if (s->with_adj) out->vh[v] = PGT_NONE;
             continue;
@@ -488,7 +493,7 @@ static S3_HOT s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
         return nb;
     }
     nb.q_opp = s3_Q(s, o);
-    if (gc == (s->bslot[g] + 1u) % 3u) /* o is h_1 of a border face: its middle triangle */
+    if (s3_is_h1(s, g, gc)) /* o is h_1 of a border face: its middle triangle */
         nb.e0 = s3_out_he(s, g, s->bslot[g], 1);
     /* else o is h_2 of a border face: a -> Q(o) is the first third of the trisected border */
     return nb;
@@ -536,14 +541,14 @@ static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, co
         oo[1] = nb->e1_flip;
     else if (!border_face)
         oo[1] = s3_out_he(s, f, (c + 1) % 3, 2);
-    else if (c == (s->bslot[f] + 1u) % 3u) /* h_1: A -> E_b is the middle triangle's e1 */
+    else if (s3_is_h1(s, f, c)) /* h_1: A -> E_b is the middle triangle's e1 */
         oo[1] = s3_out_he(s, f, s->bslot[f], 1);
     else /* h_2: a0 -> E_a lies on the border */
         oo[1] = PGT_NONE;
     /* e2: Q(h) -> a */
     if (!border_face)
         oo[2] = pnb->e2_next;
-    else if (c == (s->bslot[f] + 1u) % 3u) /* h_1: E_b -> b0 lies on the border */
+    else if (s3_is_h1(s, f, c)) /* h_1: E_b -> b0 lies on the border */
         oo[2] = PGT_NONE;
     else /* h_2: E_a -> A is the middle triangle's e2 */
         oo[2] = s3_out_he(s, f, s->bslot[f], 2);
@@ -766,10 +771,12 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
             s.pt_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
             s.face_off = malloc(((size_t)cur.F + 1) * sizeof(uint32_t));
         }
-        s.uv_mode = malloc((size_t)cur.V + 1);
-        if (cur.uv) s.uv_relaxed = malloc(((size_t)cur.V * 2 + 1) * sizeof(float));
-        if ((!s.uniform && (!s.kind || !s.bslot || !s.pt_off || !s.face_off)) || !s.uv_mode ||
-            (cur.uv && !s.uv_relaxed)) {
+        if (cur.uv) {
+            s.uv_mode = malloc((size_t)cur.V + 1);
+            s.uv_relaxed = malloc(((size_t)cur.V * 2 + 1) * sizeof(float));
+        }
+        if ((!s.uniform && (!s.kind || !s.bslot || !s.pt_off || !s.face_off)) ||
+            (cur.uv && (!s.uv_mode || !s.uv_relaxed))) {
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
         } else {
             uint32_t np = cur.F, nf = 3 * cur.F; /* uniform: one point, three triangles a face */
