@@ -136,6 +136,17 @@ static void closed_fast_path_equals_general(void) {
         CHECK(!memcmp(a.out.indices, b.out.indices, (size_t)a.out.face_count * 12));
         CHECK(!memcmp(a.opp, b.opp, (size_t)a.out.face_count * 12));
         CHECK(!memcmp(a.parent, b.parent, (size_t)a.out.face_count * 4));
+        /* Without any optional output the last step reads the level before it implicitly (no
+         * stored connectivity): still the same bytes, labels included. */
+        pgt_mesh c;
+        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL};
+        REQUIRE(pgt_sqrt3_subdivide(&c, &without, &o, NULL) == PGT_OK);
+        CHECK(c.vertex_count == a.out.vertex_count && c.face_count == a.out.face_count);
+        CHECK(!memcmp(a.out.positions, c.positions, (size_t)a.out.vertex_count * 12));
+        CHECK(!memcmp(a.out.indices, c.indices, (size_t)a.out.face_count * 12));
+        CHECK(a.out.labels && c.labels &&
+              !memcmp(a.out.labels, c.labels, (size_t)a.out.face_count * 4));
+        pgt_mesh_destroy(&c);
         run_free(&a);
         run_free(&b);
     }

@@ -2,16 +2,30 @@
 #include "pgt/parallel.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 
+/* Shared by the threads of one call: each takes the next block of `block` elements. */
 typedef struct pgt_parallel_job {
     pgt_range_fn fn;
     void *ctx;
-    uint32_t begin, end, worker;
+    uint32_t count, block;
+    atomic_uint_fast64_t next;
 } pgt_parallel_job;
 
+typedef struct pgt_parallel_worker {
+    pgt_parallel_job *job;
+    uint32_t worker;
+} pgt_parallel_worker;
+
 static void *pgt_parallel_run(void *arg) {
-    pgt_parallel_job *job = arg;
-    job->fn(job->ctx, job->begin, job->end, job->worker);
+    pgt_parallel_worker *w = arg;
+    pgt_parallel_job *job = w->job;
+    for (;;) {
+        const uint64_t b = atomic_fetch_add(&job->next, job->block);
+        if (b >= job->count) break;
+        const uint64_t e = b + job->block < job->count ? b + job->block : job->count;
+        job->fn(job->ctx, (uint32_t)b, (uint32_t)e, w->worker);
+    }
     return NULL;
 }
 
@@ -26,24 +40,22 @@ void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *c
         if (count) fn(ctx, 0, count, 0);
         return;
     }
-    pgt_parallel_job jobs[PGT_MAX_THREADS];
+    /* Blocks taken on demand, about PGT_PARALLEL_BLOCKS_PER_THREAD per thread: passes whose
+     * elements cost unequal work (old vertices walking fans next to face points that do not)
+     * and a shared, noisy machine both balance without a scheduler. */
+    const uint32_t per = threads * PGT_PARALLEL_BLOCKS_PER_THREAD;
+    uint32_t block = count / per + (count % per != 0);
+    if (block < min_per_thread / 4) block = min_per_thread / 4;
+    pgt_parallel_job job = {fn, ctx, count, block, 0};
+    atomic_init(&job.next, 0);
+    pgt_parallel_worker workers[PGT_MAX_THREADS];
     pthread_t tids[PGT_MAX_THREADS];
     int started[PGT_MAX_THREADS];
-    uint32_t chunk = count / threads + (count % threads != 0);
     for (uint32_t t = 0; t < threads; ++t) {
-        uint32_t b = t * chunk, e = b + chunk;
-        if (b > count) b = count;
-        if (e > count) e = count;
-        jobs[t] = (pgt_parallel_job){fn, ctx, b, e, t};
-        started[t] = 0;
+        workers[t] = (pgt_parallel_worker){&job, t};
+        started[t] = t > 0 && pthread_create(&tids[t], NULL, pgt_parallel_run, &workers[t]) == 0;
     }
+    pgt_parallel_run(&workers[0]); /* also does the share of any thread that could not start */
     for (uint32_t t = 1; t < threads; ++t)
-        started[t] = pthread_create(&tids[t], NULL, pgt_parallel_run, &jobs[t]) == 0;
-    pgt_parallel_run(&jobs[0]);
-    for (uint32_t t = 1; t < threads; ++t) {
-        if (started[t])
-            pthread_join(tids[t], NULL);
-        else
-            pgt_parallel_run(&jobs[t]); /* could not start a thread: do its share here */
-    }
+        if (started[t]) pthread_join(tids[t], NULL);
 }

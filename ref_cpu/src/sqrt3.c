@@ -51,6 +51,11 @@ typedef struct s3_level {
 
 typedef struct s3_step {
     const s3_level *in;
+    /* When set, `in` is implicit: only its V, F and pos are stored, and its triangles, adjacency,
+     * vh, labels and parents are those a closed uniform step makes from `base` (see s3_in_idx).
+     * The last step of a call uses this so the level before the output never holds its
+     * connectivity (the output plus O(input) scratch). */
+    const s3_level *base;
     s3_level *out;
     int even;     /* the iteration trisects border edges */
     int with_adj; /* fill out->opp and out->vh (another iteration follows, or asked for) */
@@ -89,6 +94,39 @@ static float s3_alpha(uint32_t n) {
 
 static inline uint32_t s3_next(uint32_t h) { return pgt_half_edge_next(h); }
 static inline uint32_t s3_prev(uint32_t h) { return pgt_half_edge_prev(h); }
+
+/* ---- the input level's connectivity, stored or implicit ------------------------------------ */
+
+/* A closed uniform step turns half-edge H = 3f + c of `base` (V_b vertices) into the triangle
+ * H = (idx_b[H], V_b + opp_b[H] / 3, V_b + f) with adjacency (3 next(opp_b[H]) + 2,
+ * 3 opp_b[H] + 1, 3 opp_b[prev(H)]) (s3_faces_closed). `imp` is a compile-time constant in every
+ * caller, so the stored case stays a plain load. */
+static S3_HOT uint32_t s3_in_idx(const s3_step *s, int imp, uint32_t h) {
+    if (!imp) return s->in->idx[h];
+    const s3_level *b = s->base;
+    const uint32_t H = h / 3, e = h % 3;
+    return e == 0 ? b->idx[H] : e == 1 ? b->V + b->opp[H] / 3 : b->V + H / 3;
+}
+static S3_HOT uint32_t s3_in_opp(const s3_step *s, int imp, uint32_t h) {
+    if (!imp) return s->in->opp[h];
+    const s3_level *b = s->base;
+    const uint32_t H = h / 3, e = h % 3;
+    return e == 0   ? 3 * s3_next(b->opp[H]) + 2
+           : e == 1 ? 3 * b->opp[H] + 1
+                    : 3 * b->opp[s3_prev(H)];
+}
+static S3_HOT uint32_t s3_in_vh(const s3_step *s, int imp, uint32_t v) {
+    if (!imp) return s->in->vh[v];
+    const s3_level *b = s->base;
+    if (v >= b->V) return 3 * (3 * (v - b->V)) + 2;
+    return b->vh[v] == PGT_NONE ? PGT_NONE : 3 * b->vh[v];
+}
+static S3_HOT uint32_t s3_in_parent(const s3_step *s, int imp, uint32_t f) {
+    return imp ? s->base->parent[f / 3] : s->in->parent[f];
+}
+static S3_HOT int32_t s3_in_lab(const s3_step *s, int imp, uint32_t f) {
+    return imp ? s->base->lab[f / 3] : s->in->lab[f];
+}
 
 static int s3_uv_equal(const float *uv, uint32_t c0, uint32_t c1) {
     return uv[2 * (size_t)c0] == uv[2 * (size_t)c1] &&
@@ -345,6 +383,51 @@ static void s3_vertices_closed(void *p, uint32_t begin, uint32_t end, uint32_t w
     }
 }
 
+/* Pass 3 on an implicit input (s3_step.base): the fans are known without walking the implicit
+ * level. An old vertex v of base keeps its fan, its neighbours now being the face points of the
+ * faces across its fan's half-edges; the face point of base face f has valence 6: its corners and
+ * the face points across its edges, alternating. Visited in the order s3_vertices_closed_body
+ * walks them, so the same bytes (tested: closed_fast_path_equals_general). */
+static void s3_vertices_implicit(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    s3_step *s = p;
+    const s3_level *in = s->in, *b = s->base;
+    s3_level *out = s->out;
+    const uint32_t Vb = b->V;
+    (void)worker;
+    for (uint32_t v = begin; v < end; ++v) {
+        const float *pv = in->pos + 3 * (size_t)v;
+        float *po = out->pos + 3 * (size_t)v, sum[3] = {0.0f, 0.0f, 0.0f};
+        uint32_t n = 0;
+        if (v < Vb) {
+            const uint32_t h0 = b->vh[v];
+            if (h0 == PGT_NONE) {
+                po[0] = pv[0], po[1] = pv[1], po[2] = pv[2];
+                if (s->with_adj) out->vh[v] = PGT_NONE;
+                continue;
+            }
+            uint32_t h = h0;
+            do {
+                const float *pw = in->pos + 3 * ((size_t)Vb + b->opp[h] / 3);
+                sum[0] += pw[0], sum[1] += pw[1], sum[2] += pw[2];
+                n++;
+                h = b->opp[s3_prev(h)];
+            } while (h != h0);
+        } else {
+            const uint32_t *tri = b->idx + 3 * (size_t)(v - Vb),
+                           *opp = b->opp + 3 * (size_t)(v - Vb);
+            for (uint32_t c = 0; c < 3; ++c) {
+                const float *pc = in->pos + 3 * (size_t)tri[c];
+                const float *pg = in->pos + 3 * ((size_t)Vb + opp[c] / 3);
+                sum[0] += pc[0], sum[1] += pc[1], sum[2] += pc[2];
+                sum[0] += pg[0], sum[1] += pg[1], sum[2] += pg[2];
+            }
+            n = 6;
+        }
+        s3_relax(s, n, pv, sum, po);
+        if (s->with_adj) out->vh[v] = 3 * s3_in_vh(s, 1, v); /* T(h0).e0 */
+    }
+}
+
 static void s3_vertices(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
     s3_step *s = p;
     const s3_level *in = s->in;
@@ -565,14 +648,14 @@ static S3_HOT void s3_centroid(const s3_level *in, const uint32_t *tri, float *q
  * and the benchmark's): every neighbour is a centroid face and face f's point and triangles sit
  * at V + f and 3f, so the general pass below reduces to index arithmetic. Same output (tested:
  * closed_fast_path_equals_general). */
-static void s3_faces_closed(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
-    s3_step *s = p;
+static S3_HOT void s3_faces_closed_body(s3_step *s, uint32_t begin, uint32_t end, int imp) {
     const s3_level *in = s->in;
     s3_level *out = s->out;
     const uint32_t V = in->V;
-    (void)worker;
     for (uint32_t f = begin; f < end; ++f) {
-        const uint32_t *tri = in->idx + 3 * (size_t)f, *opp = in->opp + 3 * (size_t)f;
+        uint32_t tri[3], opp[3];
+        for (uint32_t c = 0; c < 3; ++c)
+            tri[c] = s3_in_idx(s, imp, 3 * f + c), opp[c] = s3_in_opp(s, imp, 3 * f + c);
         const uint32_t np = V + f, t0 = 3 * f;
         s3_centroid(in, tri, out->pos + 3 * (size_t)np);
         uint32_t g[3], gc[3];
@@ -582,8 +665,8 @@ static void s3_faces_closed(void *p, uint32_t begin, uint32_t end, uint32_t work
             o[3 * c] = tri[c], o[3 * c + 1] = V + g[c], o[3 * c + 2] = np;
         for (int c = 0; c < 3; ++c) {
             if (out->prot) out->prot[t0 + c] = 0;
-            if (out->parent) out->parent[t0 + c] = in->parent[f];
-            if (out->lab) out->lab[t0 + c] = in->lab[f];
+            if (out->parent) out->parent[t0 + c] = s3_in_parent(s, imp, f);
+            if (out->lab) out->lab[t0 + c] = s3_in_lab(s, imp, f);
         }
         if (!s->with_adj) continue;
         out->vh[np] = 3 * t0 + 2;
@@ -595,6 +678,24 @@ static void s3_faces_closed(void *p, uint32_t begin, uint32_t end, uint32_t work
             oo[3 * c + 2] = 3 * (3 * g[pc] + gc[pc]);                      /* T(opp(prev h)).e0 */
         }
     }
+}
+
+static void s3_faces_closed(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    (void)worker;
+    s3_faces_closed_body(p, begin, end, 0);
+}
+static void s3_faces_implicit(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    (void)worker;
+    s3_faces_closed_body(p, begin, end, 1);
+}
+
+/* Pass 4 of a closed step whose output stays implicit (the next, last step reads its
+ * connectivity from this step's input): the face points only. */
+static void s3_face_points(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
+    s3_step *s = p;
+    (void)worker;
+    for (uint32_t f = begin; f < end; ++f)
+        s3_centroid(s->in, s->in->idx + 3 * (size_t)f, s->out->pos + 3 * ((size_t)s->in->V + f));
 }
 
 static void s3_faces(void *p, uint32_t begin, uint32_t end, uint32_t worker) {
@@ -683,6 +784,17 @@ static void s3_level_free(s3_level *l) {
     memset(l, 0, sizeof(*l));
 }
 
+/* Frees a level; the input level (not owned) shares the caller's arrays and the adjacency. */
+static void s3_level_release(s3_level *l, int owned, pgt_adjacency *adj) {
+    if (owned) {
+        s3_level_free(l);
+        return;
+    }
+    free(l->prot), free(l->vh), free(l->parent);
+    pgt_adjacency_destroy(adj);
+    memset(l, 0, sizeof(*l));
+}
+
 pgt_result pgt_sqrt3_bound(uint32_t vertex_count, uint32_t face_count, uint32_t border_edges,
                            uint32_t iterations, uint32_t *out_vertex_bound,
                            uint32_t *out_face_bound, pgt_error *err) {
@@ -736,6 +848,8 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
     if (opts->out_face_parent) cur.parent = malloc(((size_t)F0 + 1) * sizeof(uint32_t));
     uint32_t n_protected = 0; /* the same in every level of the call */
     int owned = 0;            /* cur's mesh arrays belong to the input until the first iteration */
+    s3_level base = {0};      /* the last step's implicit input is made from this (s3_step.base) */
+    int have_base = 0, base_owned = 0;
     if (!cur.prot || !cur.vh || (opts->out_face_parent && !cur.parent)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
         goto fail;
@@ -765,6 +879,13 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
          * the call), and no border face to trisect. */
         s.uniform = n_protected == 0 && (!s.even || border == 0);
         s.closed = s.uniform && border == 0 && !cur.uv;
+        /* A closed step followed by the last step (closed too: nothing it tests changes) keeps
+         * its output implicit: positions only. */
+        const int pos_only = s.closed && it + 2 == k;
+        if (pos_only) s.with_adj = 0;
+        if (have_base) s.base = &base;
+        const int32_t *in_lab = have_base ? base.lab : cur.lab;
+        const uint32_t *in_parent = have_base ? base.parent : cur.parent;
         if (!s.uniform) {
             s.kind = malloc((size_t)cur.F + 1);
             s.bslot = malloc((size_t)cur.F + 1);
@@ -791,24 +912,33 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
                 }
             }
             nx.V = cur.V + np, nx.F = nf;
+            const int want_prot = !pos_only && (s.with_adj || opts->out_protected);
+            const int want_lab = !pos_only && in_lab, want_parent = !pos_only && in_parent;
             nx.pos = malloc(((size_t)nx.V * 3 + 1) * sizeof(float));
-            nx.idx = malloc(((size_t)nx.F * 3 + 1) * sizeof(uint32_t));
-            if (s.with_adj || opts->out_protected) nx.prot = malloc((size_t)nx.F + 1);
+            if (!pos_only) nx.idx = malloc(((size_t)nx.F * 3 + 1) * sizeof(uint32_t));
+            if (want_prot) nx.prot = malloc((size_t)nx.F + 1);
             if (cur.uv) nx.uv = malloc(((size_t)nx.F * 6 + 1) * sizeof(float));
-            if (cur.lab) nx.lab = malloc(((size_t)nx.F + 1) * sizeof(int32_t));
-            if (cur.parent) nx.parent = malloc(((size_t)nx.F + 1) * sizeof(uint32_t));
+            if (want_lab) nx.lab = malloc(((size_t)nx.F + 1) * sizeof(int32_t));
+            if (want_parent) nx.parent = malloc(((size_t)nx.F + 1) * sizeof(uint32_t));
             if (s.with_adj) {
                 nx.opp = malloc(((size_t)nx.F * 3 + 1) * sizeof(uint32_t));
                 nx.vh = malloc(((size_t)nx.V + 1) * sizeof(uint32_t));
             }
-            if (!nx.pos || !nx.idx || ((s.with_adj || opts->out_protected) && !nx.prot) ||
-                (cur.uv && !nx.uv) || (cur.lab && !nx.lab) || (cur.parent && !nx.parent) ||
+            if (!nx.pos || (!pos_only && !nx.idx) || (want_prot && !nx.prot) ||
+                (cur.uv && !nx.uv) || (want_lab && !nx.lab) || (want_parent && !nx.parent) ||
                 (s.with_adj && (!nx.opp || !nx.vh))) {
                 r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
                                   "sqrt3: out of memory for %u vertices, %u faces", nx.V, nx.F);
+            } else if (have_base) {
+                pgt_parallel_for(cur.V, threads, s3_vertices_implicit, &s);
+                pgt_parallel_for(cur.F, threads, s3_faces_implicit, &s);
             } else {
                 pgt_parallel_for(cur.V, threads, s.closed ? s3_vertices_closed : s3_vertices, &s);
-                pgt_parallel_for(cur.F, threads, s.closed ? s3_faces_closed : s3_faces, &s);
+                pgt_parallel_for(cur.F, threads,
+                                 pos_only   ? s3_face_points
+                                 : s.closed ? s3_faces_closed
+                                            : s3_faces,
+                                 &s);
             }
         }
         free(s.kind), free(s.bslot), free(s.pt_off), free(s.face_off), free(s.uv_mode),
@@ -817,11 +947,12 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
             s3_level_free(&nx);
             goto fail;
         }
-        if (owned) {
-            s3_level_free(&cur);
+        if (pos_only) { /* cur becomes the base of the implicit level nx */
+            if (owned) free(cur.pos);
+            base = cur, base.pos = NULL, base_owned = owned, have_base = 1;
         } else {
-            free(cur.prot), free(cur.vh), free(cur.parent);
-            pgt_adjacency_destroy(&adj);
+            s3_level_release(&cur, owned, &adj);
+            if (have_base) s3_level_release(&base, base_owned, &adj), have_base = 0;
         }
         if (s.even) border *= 3; /* every border edge was trisected */
         cur = nx;
@@ -851,12 +982,8 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
     return PGT_OK;
 
 fail:
-    if (owned) {
-        s3_level_free(&cur);
-    } else {
-        free(cur.prot), free(cur.vh), free(cur.parent);
-        pgt_adjacency_destroy(&adj);
-    }
+    s3_level_release(&cur, owned, &adj);
+    if (have_base) s3_level_release(&base, base_owned, &adj);
     memset(out, 0, sizeof(*out));
     return r;
 }

@@ -1,8 +1,8 @@
 /* pgt: a minimal fork-join parallel loop on pthreads for the reference.
  *
- * The range [0, count) is cut into `threads` contiguous chunks of equal size (the last one
- * shorter), so which thread computes an element never changes what it computes: results are the
- * same bytes for any thread count. */
+ * The range [0, count) is cut into contiguous blocks that the threads take on demand. fn must
+ * compute each element independently of which thread and which block it lands in, so results are
+ * the same bytes for any thread count; `worker` (< threads) is only for per-thread scratch. */
 #ifndef PGT_PARALLEL_H
 #define PGT_PARALLEL_H
 
@@ -14,6 +14,9 @@ extern "C" {
 
 /* Most worker threads a call may use. */
 #define PGT_MAX_THREADS 256u
+
+/* Blocks per thread a loop is cut into (dynamic balance vs. per-block overhead). */
+#define PGT_PARALLEL_BLOCKS_PER_THREAD 16u
 
 typedef void (*pgt_range_fn)(void *ctx, uint32_t begin, uint32_t end, uint32_t worker);
 
