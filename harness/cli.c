@@ -9,6 +9,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "gen.h"
+#include "pgt/mesh_io.h"
+
 int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     va_list ap;
     fprintf(stderr, "pgt %s: ", verb);
@@ -157,4 +160,22 @@ double pgt_cli_min(const double *v, uint32_t n) {
     for (uint32_t i = 1; i < n; ++i)
         if (v[i] < m) m = v[i];
     return m;
+}
+
+const char *const pgt_cli_shared_meshes[] = {
+    "spot.obj",  "bob_tri.obj",          "ogre_bs_rest.obj", "human_neutral.obj",
+    "pizza.obj", "nefertiti-lowres.obj", "mountain.obj"};
+const uint32_t pgt_cli_shared_mesh_count =
+    sizeof pgt_cli_shared_meshes / sizeof *pgt_cli_shared_meshes;
+
+pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
+                              pgt_error *err) {
+    uint32_t g = pgt_gen_default_find(name);
+    if (g != PGT_NONE) return pgt_gen_default(g, out, err);
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    struct stat st;
+    if (stat(name, &st) == 0 || strchr(name, '/')) return pgt_mesh_read(out, name, &ro, err);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", shared_dir, name);
+    return pgt_mesh_read(out, path, &ro, err);
 }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "pgt/mesh.h"
+#include "pgt/result.h"
 
 #define PGT_EXIT_OK 0
 #define PGT_EXIT_FAIL 1  /* the work ran and found a problem (e.g. a diff outside tolerance) */
@@ -49,8 +50,21 @@ int pgt_cli_same_file(const char *a, const char *b);
 double pgt_cli_median(const double *v, uint32_t n);
 double pgt_cli_min(const double *v, uint32_t n);
 
+/* The meshes of ../shared/datasets/meshes the project's defaults use (all 2-manifold), and that
+ * folder as configured at build time. */
+extern const char *const pgt_cli_shared_meshes[];
+extern const uint32_t pgt_cli_shared_mesh_count;
+#define PGT_CLI_SHARED_MESH_DIR PGT_SHARED_DIR "/datasets/meshes"
+
+/* Loads a mesh named on a command line: a generated default dataset (pgt_datasets --list), an
+ * existing file, or a file name inside shared_dir. UVs are kept, so are labels. */
+pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
+                              pgt_error *err);
+
 /* Verbs. */
 int pgt_cmd_subdiv(int argc, char **argv);
 int pgt_cmd_bench(int argc, char **argv);
+int pgt_cmd_diff(int argc, char **argv);
+int pgt_cmd_devices(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "backend.h"
 #include "cli.h"
 #include "gen.h"
 #include "oracle.h"
@@ -23,6 +24,7 @@
 static const char *bench_usage =
     "usage: pgt bench subdiv [--out FILE] [--repeat R] [--iters LIST] [--threads LIST]\n"
     "                        [--meshes LIST] [--shared DIR] [--no-oracles] [--quick]\n"
+    "                        [--backends LIST] [--device N]\n"
     "\n"
     "Times sqrt(3) subdivision (ours, CGAL, OpenMesh; same input, same run, subdivision only)\n"
     "and writes one CSV row per mesh x k x thread count, headed by machine, commit and date.\n"
@@ -37,6 +39,9 @@ static const char *bench_usage =
     "                  every mesh of the shared folder)\n"
     "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
     "  --no-oracles    skip CGAL and OpenMesh (their columns stay empty)\n"
+    "  --backends LIST GPU backends to time beside ours: cl, vk, both (cl,vk) or none (default:\n"
+    "                  every one with a device; a missing device leaves its columns empty)\n"
+    "  --device N      device index of each GPU API (see pgt devices; default 0)\n"
     "  --quick         small and fast: torus_100k replaced by a 10k-face torus, k=1,2, R=1\n";
 
 #define BENCH_MAX_LIST 32
@@ -47,6 +52,10 @@ typedef struct bench_cfg {
     const char *meshes[BENCH_MAX_LIST];
     uint32_t n_meshes;
     int oracles, quick;
+    int gpu_asked[2]; /* cl, vk: timed when a device opens (asked explicitly: must open) */
+    int gpu_explicit; /* --backends given */
+    uint32_t device;
+    pgt_backend gpu[2]; /* open backends (kind CPU = not open) */
     char mesh_list_buf[4096];
 } bench_cfg;
 
@@ -66,16 +75,11 @@ static int parse_uint_list(const char *flag, const char *text, uint32_t lo, uint
     return 0;
 }
 
-/* Loads a named benchmark mesh: generated or from the shared folder. */
+/* Loads a named benchmark mesh: the generated bench torus, or pgt_cli_load_named's. */
 static pgt_result bench_load(const bench_cfg *cfg, const char *name, pgt_mesh *m, pgt_error *err) {
     if (!strcmp(name, "torus_100k"))
         return pgt_gen_bench_torus(m, cfg->quick ? 10000 : 100000, err);
-    uint32_t g = pgt_gen_default_find(name);
-    if (g != PGT_NONE) return pgt_gen_default(g, m, err);
-    char path[2048];
-    snprintf(path, sizeof path, "%s/%s", cfg->shared_dir, name);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
-    return pgt_mesh_read(m, path, &ro, err);
+    return pgt_cli_load_named(name, cfg->shared_dir, m, err);
 }
 
 /* A field of /proc/self/status in KiB (VmRSS, VmHWM), or -1. */
@@ -106,6 +110,27 @@ static int bench_time(const pgt_mesh *m, const pgt_sqrt3_options *o, uint32_t re
     }
     *med = pgt_cli_median(times, repeat);
     *best = pgt_cli_min(times, repeat);
+    return 0;
+}
+
+/* One warm-up and `repeat` timed calls on a GPU backend: medians of the device time (sum of
+ * kernel times) and of the whole call (upload, kernels, download, host-side adjacency). */
+static int bench_gpu(pgt_backend *b, const pgt_mesh *m, const pgt_sqrt3_options *o, uint32_t repeat,
+                     double *times, double *dev_med, double *total_med, pgt_error *err) {
+    pgt_mesh out = {0};
+    pgt_gpu_times t;
+    if (pgt_backend_sqrt3(b, &out, m, o, &t, err) != PGT_OK) return -1;
+    pgt_mesh_destroy(&out);
+    double *dev = times + repeat;
+    for (uint32_t r = 0; r < repeat; ++r) {
+        double t0 = pgt_cli_now_ms();
+        if (pgt_backend_sqrt3(b, &out, m, o, &t, err) != PGT_OK) return -1;
+        times[r] = pgt_cli_now_ms() - t0;
+        dev[r] = t.device_ms;
+        pgt_mesh_destroy(&out);
+    }
+    *total_med = pgt_cli_median(times, repeat);
+    *dev_med = pgt_cli_median(dev, repeat);
     return 0;
 }
 
@@ -191,13 +216,21 @@ static int bench_subdiv(bench_cfg *cfg) {
             "ours_uv_median_ms: ours again with the mesh's per-corner UVs, when it has them\n");
     fprintf(csv, "# ours_peak_mib: extra resident memory of one call at that thread count; "
                  "output_mib: positions+indices of the result\n");
+    for (int g = 0; g < 2; ++g)
+        if (cfg->gpu[g].kind != PGT_BACKEND_CPU)
+            fprintf(csv, "# %s: %s\n", g ? "vk" : "cl", cfg->gpu[g].name);
+    fprintf(csv, "# cl_/vk_device_median_ms: the kernels' device time (OpenCL profiling events, "
+                 "Vulkan timestamps); cl_/vk_total_median_ms: the whole call as a user sees it "
+                 "(input adjacency on the host, upload, kernels, download); the same on every "
+                 "thread row\n");
     fprintf(csv, "mesh,faces_in,k,threads,faces_out,vertices_out,ours_median_ms,ours_best_ms,"
                  "cgal_median_ms,openmesh_median_ms,cgal_over_ours,openmesh_over_ours,"
-                 "ours_peak_mib,output_mib,ours_uv_median_ms\n");
+                 "ours_peak_mib,output_mib,ours_uv_median_ms,cl_device_median_ms,"
+                 "cl_total_median_ms,vk_device_median_ms,vk_total_median_ms\n");
 
     uint32_t steps = cfg->n_meshes * cfg->n_iters, step = 0;
     int failures = 0;
-    double *times = malloc(sizeof(double) * cfg->repeat);
+    double *times = malloc(sizeof(double) * 2 * cfg->repeat);
     for (uint32_t mi = 0; mi < cfg->n_meshes && times; ++mi) {
         const char *name = cfg->meshes[mi];
         pgt_mesh m = {0};
@@ -232,6 +265,20 @@ static int bench_subdiv(bench_cfg *cfg) {
                 if (!have_om) fprintf(stderr, "pgt bench: %s\n", e2.message);
             }
             fprintf(stderr, "[%u/%u] %s (%u faces) k=%u:", step, steps, name, m.face_count, k);
+            double gdev[2] = {-1.0, -1.0}, gtot[2] = {-1.0, -1.0};
+            for (int g = 0; g < 2; ++g) {
+                if (cfg->gpu[g].kind == PGT_BACKEND_CPU) continue;
+                pgt_sqrt3_options o = {0};
+                o.iterations = k;
+                pgt_error e = {0};
+                if (bench_gpu(&cfg->gpu[g], &m, &o, cfg->repeat, times, &gdev[g], &gtot[g], &e)) {
+                    fprintf(stderr, " %s failed: %s", g ? "vk" : "cl", e.message);
+                    gdev[g] = gtot[g] = -1.0;
+                    failures++;
+                } else {
+                    fprintf(stderr, " %s %.1f ms (device %.1f)", g ? "vk" : "cl", gtot[g], gdev[g]);
+                }
+            }
             for (uint32_t ti = 0; ti < cfg->n_threads; ++ti) {
                 pgt_sqrt3_options o = {0};
                 o.iterations = k;
@@ -259,6 +306,12 @@ static int bench_subdiv(bench_cfg *cfg) {
                 if (have_om) fprintf(csv, "%.2f", om.median_ms / med);
                 fprintf(csv, ",%.1f,%.1f,", peak, out_mib);
                 if (uv_med >= 0.0) fprintf(csv, "%.3f", uv_med);
+                for (int g = 0; g < 2; ++g) {
+                    fputc(',', csv);
+                    if (gdev[g] >= 0.0) fprintf(csv, "%.3f", gdev[g]);
+                    fputc(',', csv);
+                    if (gtot[g] >= 0.0) fprintf(csv, "%.3f", gtot[g]);
+                }
                 fputc('\n', csv);
                 fprintf(stderr, " ours %.1f ms (%u thr)", med, o.threads);
                 if (have_cg && (cg.faces_out != fout || cg.vertices_out != vout)) {
@@ -287,10 +340,6 @@ static int bench_subdiv(bench_cfg *cfg) {
     return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
 }
 
-static const char *default_shared_meshes[] = {
-    "spot.obj",  "bob_tri.obj",          "ogre_bs_rest.obj", "human_neutral.obj",
-    "pizza.obj", "nefertiti-lowres.obj", "mountain.obj"};
-
 int pgt_cmd_bench(int argc, char **argv) {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         fputs(bench_usage, argc < 2 ? stderr : stdout);
@@ -305,9 +354,10 @@ int pgt_cmd_bench(int argc, char **argv) {
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
     bench_cfg cfg = {0};
     cfg.out_path = "results/subdiv.csv";
-    cfg.shared_dir = PGT_SHARED_DIR "/datasets/meshes";
+    cfg.shared_dir = PGT_CLI_SHARED_MESH_DIR;
     cfg.repeat = 7;
     cfg.oracles = 1;
+    cfg.gpu_asked[0] = cfg.gpu_asked[1] = 1;
     cfg.n_iters = 3;
     cfg.iters[0] = 1, cfg.iters[1] = 2, cfg.iters[2] = 3;
     cfg.n_threads = 0;
@@ -351,6 +401,23 @@ int pgt_cmd_bench(int argc, char **argv) {
             cfg.oracles = 0;
         } else if (!strcmp(a, "--quick")) {
             cfg.quick = 1;
+        } else if (!strcmp(a, "--backends")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
+            cfg.gpu_explicit = 1;
+            cfg.gpu_asked[0] = cfg.gpu_asked[1] = 0;
+            if (!strcmp(v, "both") || !strcmp(v, "cl,vk") || !strcmp(v, "vk,cl"))
+                cfg.gpu_asked[0] = cfg.gpu_asked[1] = 1;
+            else if (!strcmp(v, "cl"))
+                cfg.gpu_asked[0] = 1;
+            else if (!strcmp(v, "vk"))
+                cfg.gpu_asked[1] = 1;
+            else if (strcmp(v, "none") != 0)
+                return pgt_cli_fail("bench", "--backends: expected cl, vk, both or none, got '%s'",
+                                    v);
+        } else if (!strcmp(a, "--device")) {
+            if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
+                pgt_cli_uint("bench", a, v, 0, 1024, &cfg.device))
+                return PGT_EXIT_USAGE;
         } else {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench --help)", a);
         }
@@ -366,9 +433,25 @@ int pgt_cmd_bench(int argc, char **argv) {
     if (!have_meshes) {
         cfg.meshes[cfg.n_meshes++] = "torus_100k";
         if (!cfg.quick)
-            for (size_t i = 0; i < sizeof default_shared_meshes / sizeof *default_shared_meshes;
-                 ++i)
-                cfg.meshes[cfg.n_meshes++] = default_shared_meshes[i];
+            for (uint32_t i = 0; i < pgt_cli_shared_mesh_count; ++i)
+                cfg.meshes[cfg.n_meshes++] = pgt_cli_shared_meshes[i];
     }
-    return bench_subdiv(&cfg);
+    /* Open the GPU backends once: kernel builds and instance creation stay out of the timings. */
+    for (int g = 0; g < 2; ++g) {
+        if (!cfg.gpu_asked[g]) continue;
+        const pgt_backend_kind kind = g ? PGT_BACKEND_VK : PGT_BACKEND_CL;
+        pgt_error err = {0};
+        if (pgt_backend_open(&cfg.gpu[g], kind, cfg.device, 1, &err) != PGT_OK) {
+            if (cfg.gpu_explicit) {
+                pgt_backend_close(&cfg.gpu[0]), pgt_backend_close(&cfg.gpu[1]);
+                return pgt_cli_fail("bench", "%s", err.message);
+            }
+            fprintf(stderr, "pgt bench: no %s timing (%s)\n", pgt_backend_kind_name(kind),
+                    err.message);
+            pgt_backend_close(&cfg.gpu[g]); /* kind back to CPU: not open */
+        }
+    }
+    const int rc = bench_subdiv(&cfg);
+    pgt_backend_close(&cfg.gpu[0]), pgt_backend_close(&cfg.gpu[1]);
+    return rc;
 }

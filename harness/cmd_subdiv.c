@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "backend.h"
 #include "cli.h"
 #include "pgt/mesh_io.h"
 #include "pgt/selection.h"
@@ -9,7 +10,7 @@
 
 static const char *subdiv_usage =
     "usage: pgt subdiv IN --iters K -o OUT [--protect FILE | --group G] [--threads N]\n"
-    "                  [--backend cpu] [--device N] [--precise] [--json]\n"
+    "                  [--backend cpu|cl|vk] [--device N] [--profile] [--precise] [--json]\n"
     "\n"
     "sqrt(3) subdivision (Kobbelt 2000; paper 004 Algorithm 2): K iterations in one call, with\n"
     "Kobbelt's border rule on every second iteration of the call (as CGAL and OpenMesh).\n"
@@ -26,8 +27,12 @@ static const char *subdiv_usage =
     "  --group G      smoothing group: subdivide only the faces whose PLY face property 'group'\n"
     "                 is G; every other face is protected.\n"
     "  --threads N    worker threads, 1 to 256 (default: the number of CPUs)\n"
-    "  --backend B    cpu (cl and vk arrive with the GPU backends)\n"
-    "  --device N     device index for a GPU backend (default 0; ignored by cpu)\n"
+    "  --backend B    cpu (the C reference, default), cl (OpenCL) or vk (Vulkan). The GPU\n"
+    "                 backends give the reference's output element by element (pgt diff) but\n"
+    "                 do not carry per-corner UVs (a note says so when the input has them).\n"
+    "  --device N     device index of that API (see pgt devices; default 0; ignored by cpu)\n"
+    "  --profile      print the per-kernel device times of a GPU backend (launches, total and\n"
+    "                 median ms)\n"
     "  --precise      OFF/OBJ output with 17 significant digits instead of 9\n"
     "  --json         print the summary as one JSON object instead of one line\n"
     "\n"
@@ -36,10 +41,10 @@ static const char *subdiv_usage =
 
 int pgt_cmd_subdiv(int argc, char **argv) {
     const char *verb = "subdiv", *in_path = NULL, *out_path = NULL, *protect_path = NULL;
-    const char *backend = "cpu";
+    pgt_backend_kind kind = PGT_BACKEND_CPU;
     uint32_t iters = 1, threads = pgt_cli_cpu_count(), device = 0;
     int32_t group = 0;
-    int have_group = 0, json = 0, precise = 0;
+    int have_group = 0, json = 0, precise = 0, profile = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -62,13 +67,16 @@ int pgt_cmd_subdiv(int argc, char **argv) {
                 pgt_cli_uint(verb, a, v, 1, 256, &threads))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--backend")) {
-            if (!(backend = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_backend_parse(verb, v, &kind))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--device")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_uint(verb, a, v, 0, 1024, &device))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--json")) {
             json = 1;
+        } else if (!strcmp(a, "--profile")) {
+            profile = 1;
         } else if (!strcmp(a, "--precise")) {
             precise = 1;
         } else if (a[0] == '-' && a[1] != '\0') {
@@ -81,12 +89,6 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     }
     if (!in_path) return pgt_cli_fail(verb, "no input mesh (see pgt subdiv --help)");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o OUT");
-    if (strcmp(backend, "cpu") != 0) {
-        if (!strcmp(backend, "cl") || !strcmp(backend, "vk"))
-            return pgt_cli_fail(verb, "--backend %s: this build has no %s backend yet (cpu only)",
-                                backend, !strcmp(backend, "cl") ? "OpenCL" : "Vulkan");
-        return pgt_cli_fail(verb, "--backend: expected cpu, cl or vk, got '%s'", backend);
-    }
     if (protect_path && have_group)
         return pgt_cli_fail(verb, "--protect and --group exclude each other");
     if (pgt_mesh_format_from_path(out_path) == PGT_FORMAT_AUTO)
@@ -99,6 +101,9 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     pgt_mesh in = {0}, out = {0};
     uint8_t *prot = NULL;
     int rc = PGT_EXIT_USAGE;
+    pgt_backend backend;
+    if (pgt_backend_open(&backend, kind, device, profile, &err) != PGT_OK)
+        return pgt_cli_fail(verb, "%s", err.message);
     double t0 = pgt_cli_now_ms();
     if (pgt_mesh_read(&in, in_path, NULL, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
@@ -134,7 +139,12 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     opts.iterations = iters;
     opts.threads = threads;
     opts.protected_faces = prot;
-    if (pgt_sqrt3_subdivide(&out, &in, &opts, &err) != PGT_OK) {
+    if (kind != PGT_BACKEND_CPU && in.uvs)
+        fprintf(stderr,
+                "pgt subdiv: note: the %s backend does not carry UVs; %s is written "
+                "without them (use --backend cpu to keep them)\n",
+                pgt_backend_kind_name(kind), out_path);
+    if (pgt_backend_sqrt3(&backend, &out, &in, &opts, NULL, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s: %s", in_path, err.message);
         goto done;
     }
@@ -150,22 +160,25 @@ int pgt_cmd_subdiv(int argc, char **argv) {
         pgt_cli_json_string(stdout, in_path);
         printf(",\"output\":");
         pgt_cli_json_string(stdout, out_path);
-        printf(",\"backend\":\"cpu\",\"iterations\":%u,\"threads\":%u,\"vertices_in\":%u,"
+        printf(",\"backend\":\"%s\",\"iterations\":%u,\"threads\":%u,\"vertices_in\":%u,"
                "\"faces_in\":%u,\"vertices_out\":%u,\"faces_out\":%u,\"protected_faces\":%u,"
                "\"read_ms\":%.3f,\"subdivide_ms\":%.3f,\"write_ms\":%.3f}\n",
-               iters, threads, in.vertex_count, in.face_count, out.vertex_count, out.face_count,
+               pgt_backend_kind_name(kind), iters, threads, in.vertex_count, in.face_count,
+               out.vertex_count, out.face_count,
                protect_path ? selected
                : have_group ? in.face_count - selected
                             : 0,
                t1 - t0, t2 - t1, t3 - t2);
     } else {
         printf("subdiv: %s (%u vertices, %u faces) -> %s (%u vertices, %u faces), k=%u, %u "
-               "threads, cpu: %.2f ms subdivide (read %.2f ms, write %.2f ms)\n",
+               "threads, %s: %.2f ms subdivide (read %.2f ms, write %.2f ms)\n",
                in_path, in.vertex_count, in.face_count, out_path, out.vertex_count, out.face_count,
-               iters, threads, t2 - t1, t1 - t0, t3 - t2);
+               iters, threads, pgt_backend_kind_name(kind), t2 - t1, t1 - t0, t3 - t2);
     }
+    if (profile) pgt_backend_print_profile(&backend, json ? stderr : stdout);
     rc = PGT_EXIT_OK;
 done:
+    pgt_backend_close(&backend);
     free(prot);
     pgt_mesh_destroy(&in);
     pgt_mesh_destroy(&out);

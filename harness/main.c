@@ -11,10 +11,14 @@ static const char *usage =
     "  subdiv     sqrt(3) subdivision of a mesh (Kobbelt 2000; paper 004), k iterations,\n"
     "             with protected faces or a smoothing group\n"
     "  bench      benchmarks that write CSV tables to results/ (pgt bench subdiv)\n"
+    "  diff       reference vs an OpenCL or Vulkan backend, element by element (pgt diff all)\n"
+    "  devices    the OpenCL and Vulkan devices (the N of --device N)\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
     "  --version      the version\n"
+    "\n"
+    "Every verb that runs an algorithm takes --backend cpu|cl|vk and --device N.\n"
     "\n"
     "Exit codes: 0 success, 1 the work ran and found a problem, 2 bad flag, value or input.\n"
     "Meshes: OBJ, OFF, PLY (ascii or binary little-endian) in; OFF, OBJ, binary PLY out.\n";
@@ -35,6 +39,8 @@ int main(int argc, char **argv) {
     }
     if (!strcmp(verb, "subdiv")) return pgt_cmd_subdiv(argc - 1, argv + 1);
     if (!strcmp(verb, "bench")) return pgt_cmd_bench(argc - 1, argv + 1);
+    if (!strcmp(verb, "diff")) return pgt_cmd_diff(argc - 1, argv + 1);
+    if (!strcmp(verb, "devices")) return pgt_cmd_devices(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

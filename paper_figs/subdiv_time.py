@@ -26,9 +26,12 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 REQUIRED = ("mesh", "faces_out", "threads", "ours_median_ms")
 ORACLES = (("cgal_median_ms", "CGAL"), ("openmesh_median_ms", "OpenMesh"))
+# the GPU backends, whole call (upload, kernels, download) as a user sees it; optional columns
+GPUS = (("cl_total_median_ms", "OpenCL"), ("vk_total_median_ms", "Vulkan"))
 # colour-blind-safe (Okabe-Ito); one per implementation, so the same colour means the same
 # code in every panel of the paper
-COLOURS = {"ours1": "#56B4E9", "oursN": "#0072B2", "CGAL": "#D55E00", "OpenMesh": "#009E73"}
+COLOURS = {"ours1": "#56B4E9", "oursN": "#0072B2", "CGAL": "#D55E00", "OpenMesh": "#009E73",
+           "OpenCL": "#CC79A7", "Vulkan": "#E69F00"}
 MARKERS = "osD^v<>pPX*h"
 
 
@@ -118,7 +121,7 @@ def collect(path, header, rows):
         die(f"{path}: no row has usable mesh, faces_out and threads")
 
     tmax = max(t for *_, t in recs)
-    series = {"ours1": {}, "oursN": {}, "CGAL": {}, "OpenMesh": {}}
+    series = {"ours1": {}, "oursN": {}, "CGAL": {}, "OpenMesh": {}, "OpenCL": {}, "Vulkan": {}}
     for ln, r, fam, fo, th in recs:
         if th in (1, tmax):
             ms = num(r, "ours_median_ms", ln, path, empty)
@@ -127,7 +130,7 @@ def collect(path, header, rows):
                     series["ours1"].setdefault(fam, {})[fo] = ms
                 if th == tmax and tmax != 1:
                     series["oursN"].setdefault(fam, {})[fo] = ms
-        for col, key in ORACLES:
+        for col, key in ORACLES + GPUS:
             if col not in header:
                 continue
             # the oracle time is repeated on every thread count's row: keep the first
@@ -150,9 +153,15 @@ def collect(path, header, rows):
 def plot(series, tmax, meta, out_prefix):
     fams = sorted({f for s in series.values() for f in s},
                   key=lambda f: max(max(s.get(f, {0: 0})) for s in series.values()))
+    gpu_names = {"OpenCL": meta.get("cl", ""), "Vulkan": meta.get("vk", "")}
     labels = {"ours1": "ours, 1 thread", "oursN": f"ours, {tmax} threads",
               "CGAL": "CGAL", "OpenMesh": "OpenMesh"}
-    styles = {"ours1": "-", "oursN": "-", "CGAL": "--", "OpenMesh": ":"}
+    for k, name in gpu_names.items():
+        # "cl 0: Portable Computing Language / pthread-..." -> "ours, OpenCL (Portable ...)"
+        dev = name.split(":", 1)[-1].split("/")[0].strip()
+        labels[k] = f"ours, {k}" + (f" ({dev[:28]})" if dev else "")
+    styles = {"ours1": "-", "oursN": "-", "CGAL": "--", "OpenMesh": ":", "OpenCL": "-.",
+              "Vulkan": "-."}
 
     plt.rcParams.update({"font.size": 10, "axes.titlesize": 11, "legend.fontsize": 8.5,
                          "pdf.fonttype": 42, "ps.fonttype": 42})

@@ -11,6 +11,9 @@ quick=()
 res=results figs=paper_figs/out
 if [ "${1:-}" = "--quick" ]; then quick=(--quick) res=build/quick/results figs=build/quick/figs; fi
 mkdir -p "$res" "$figs"
+# GPU kernel caches inside the build folder (PoCL, Mesa), not in the user's home
+export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
+export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
 steps=5
 step() { echo "[main $1/$steps] $2"; }
@@ -23,7 +26,7 @@ step 2 "building Release"
 dir=$(bash scripts/build.sh Release | tail -n 1)
 pgt="$dir/harness/pgt"
 
-step 3 "benchmark: pgt bench subdiv -> $res/subdiv.csv (ours vs CGAL vs OpenMesh)"
+step 3 "benchmark: pgt bench subdiv -> $res/subdiv.csv (ours on cpu, OpenCL, Vulkan vs CGAL vs OpenMesh)"
 "$pgt" bench subdiv --out "$res/subdiv.csv" "${quick[@]}"
 written+=("$res/subdiv.csv")
 

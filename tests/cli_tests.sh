@@ -28,7 +28,7 @@ ico="$work/data/icosphere_l1.off"
 expect help 0 "$pgt" --help
 grep -q "subdiv" out.txt && ok help_lists_subdiv || bad help_lists_subdiv "no subdiv in --help"
 expect subdiv_help 0 "$pgt" subdiv --help
-for flag in --iters -o --protect --group --threads --backend --device --json --precise; do
+for flag in --iters -o --protect --group --threads --backend --device --profile --json --precise; do
   grep -q -- "$flag" out.txt && ok "subdiv_help_documents_$flag" || bad "subdiv_help_documents_$flag" "missing"
 done
 expect bench_help 0 "$pgt" bench --help
@@ -46,8 +46,37 @@ expect missing_value 2 "$pgt" subdiv "$ico" --iters
 one_line missing_value_one_line "needs a value"
 expect no_output 2 "$pgt" subdiv "$ico" --iters 1
 expect bad_extension 2 "$pgt" subdiv "$ico" --iters 1 -o x.xyz
-expect gpu_backend_not_built 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --backend cl
+expect gpu_no_such_device 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --backend cl --device 999
+one_line gpu_no_such_device_one_line "device 999"
 expect unknown_backend 2 "$pgt" subdiv "$ico" --iters 1 -o x.off --backend cuda
+
+# pgt devices, pgt diff (the backends' own diffs are the diff_cl / diff_vk tests)
+expect devices 0 "$pgt" devices
+grep -q "^OpenCL:" out.txt && grep -q "^Vulkan:" out.txt && ok devices_lists_both_apis || bad devices_lists_both_apis "$(cat out.txt)"
+expect devices_json 0 "$pgt" devices --json
+/usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); assert set(d)=={"cl","vk"}' \
+  && ok devices_json_parses || bad devices_json_parses "$(cat out.txt)"
+expect diff_help 0 "$pgt" diff --help
+for flag in --backend --device --iters --protected --shared --profile --json; do
+  grep -q -- "$flag" out.txt && ok "diff_help_documents_$flag" || bad "diff_help_documents_$flag" "missing"
+done
+expect diff_no_backend 2 "$pgt" diff sqrt3 "$ico"
+one_line diff_no_backend_one_line "no backend"
+expect diff_unknown_algorithm 2 "$pgt" diff frobnicate --backend cl
+one_line diff_unknown_algorithm_one_line "unknown algorithm"
+expect diff_bad_pattern 2 "$pgt" diff sqrt3 --backend cpu "$ico" --protected some
+expect diff_missing_input 2 "$pgt" diff sqrt3 --backend cpu nothere.off
+one_line diff_missing_input_names_file "nothere.off"
+# the reference against itself: every element equal, exit 0, JSON lines that parse
+expect diff_cpu_self 0 "$pgt" diff sqrt3 --backend cpu "$ico" grid_16x16 --iters 1,2 --json
+/usr/bin/python3 -c '
+import json
+rows=[json.loads(l) for l in open("out.txt")]
+cases=[r for r in rows if "case" in r]
+assert len(cases)==8 and all(r["pass"] and r["positions"]["max_ulp"]==0 for r in cases), rows
+assert rows[-1]["summary"] and rows[-1]["cases"]==8 and rows[-1]["failed"]==0' \
+  && ok diff_cpu_self_json || bad diff_cpu_self_json "$(head -c 400 out.txt)"
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 
@@ -90,11 +119,13 @@ expect protect_and_group 2 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 
 
 expect bench_unknown 2 "$pgt" bench nothing
 expect bench_bad_flag 2 "$pgt" bench subdiv --repeat zero
-expect bench_quick 0 "$pgt" bench subdiv --quick --no-oracles --meshes icosphere_l2,grid_16x16 --threads 1,2 --out res/subdiv.csv
+expect bench_bad_backends 2 "$pgt" bench subdiv --backends cuda
+# (GPU columns: tests/backend_diff.sh, which runs with the drivers' test environment)
+expect bench_quick 0 "$pgt" bench subdiv --quick --no-oracles --backends none --meshes icosphere_l2,grid_16x16 --threads 1,2 --out res/subdiv.csv
 grep -q "^# machine: " res/subdiv.csv && grep -q "^# commit: " res/subdiv.csv && grep -q "^# date: " res/subdiv.csv \
   && ok bench_header || bad bench_header "$(head -5 res/subdiv.csv)"
 fields=$(grep -v '^#' res/subdiv.csv | awk -F, '{print NF}' | sort -u | tr '\n' ' ')
-[ "$fields" = "15 " ] && ok bench_rows_match_header || bad bench_rows_match_header "field counts: $fields"
+[ "$fields" = "19 " ] && ok bench_rows_match_header || bad bench_rows_match_header "field counts: $fields"
 rows=$(grep -vc '^#' res/subdiv.csv)
 [ "$rows" -eq $((1 + 2 * 2 * 2)) ] && ok bench_rows || bad bench_rows "$rows lines"
 

@@ -83,8 +83,8 @@ static inline uint32_t s3_point(const s3_step *s, uint32_t f) {
     return s->in->V + (s->uniform ? f : s->pt_off[f]);
 }
 
-/* alpha_n of eq. 4.2, computed in double and rounded to float (the value every backend uses). */
-static float s3_alpha(uint32_t n) {
+float pgt_sqrt3_alpha(uint32_t n) {
+    if (n == 0) return 0.0f;
     const double two_pi = 6.283185307179586476925286766559;
     return (float)((4.0 - 2.0 * cos(two_pi / (double)n)) / 9.0);
 }
@@ -328,7 +328,7 @@ static void s3_uv_seam_guard(const float fa[2], const float fb[2], const float q
  * to sum. Returns alpha_n. */
 static S3_HOT float s3_relax(const s3_step *s, uint32_t n, const float *pv, const float *sum,
                              float *po) {
-    const float a = n < S3_ALPHA_TABLE ? s->alpha[n] : s3_alpha(n), w = a / (float)n;
+    const float a = n < S3_ALPHA_TABLE ? s->alpha[n] : pgt_sqrt3_alpha(n), w = a / (float)n;
     for (int k = 0; k < 3; ++k) po[k] = (1.0f - a) * pv[k] + w * sum[k];
     return a;
 }
@@ -866,7 +866,7 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
     uint32_t border = adj.border_half_edges; /* of the current level */
     float alpha[S3_ALPHA_TABLE];
     alpha[0] = 0.0f;
-    for (uint32_t n = 1; n < S3_ALPHA_TABLE; ++n) alpha[n] = s3_alpha(n);
+    for (uint32_t n = 1; n < S3_ALPHA_TABLE; ++n) alpha[n] = pgt_sqrt3_alpha(n);
 
     for (uint32_t it = 0; it < k; ++it) {
         s3_step s = {0};

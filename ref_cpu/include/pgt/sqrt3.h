@@ -49,6 +49,10 @@ pgt_result pgt_sqrt3_bound(uint32_t vertex_count, uint32_t face_count, uint32_t 
                            uint32_t iterations, uint32_t *out_vertex_bound,
                            uint32_t *out_face_bound, pgt_error *err);
 
+/* alpha_n of eq. 4.2, (4 - 2 cos(2 pi / n)) / 9, computed in double and rounded to float once:
+ * the value the reference and every backend use (0 for n = 0). */
+float pgt_sqrt3_alpha(uint32_t n);
+
 /* Subdivides `in` into *out (allocated here; destroy with pgt_mesh_destroy). The input must be a
  * consistently oriented 2-manifold, with or without border (PGT_ERROR_NON_MANIFOLD otherwise,
  * naming one offending edge or vertex). opts may be NULL (k = 1). */

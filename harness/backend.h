@@ -1,0 +1,55 @@
+/* pgt harness: one entry point per algorithm for every backend (cpu = the reference, cl =
+ * OpenCL, vk = Vulkan), taking and returning the reference's flat arrays. Verbs open a backend
+ * once (device choice, kernel builds, profiling) and run algorithms on it. */
+#ifndef PGT_BACKEND_H
+#define PGT_BACKEND_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "host.h"
+#include "pgt/mesh.h"
+#include "pgt/sqrt3.h"
+
+typedef enum pgt_backend_kind {
+    PGT_BACKEND_CPU = 0,
+    PGT_BACKEND_CL = 1,
+    PGT_BACKEND_VK = 2
+} pgt_backend_kind;
+
+typedef struct pgt_backend {
+    pgt_backend_kind kind;
+    uint32_t device;
+    struct pgt_cl *cl;
+    struct pgt_vk *vk;
+    int profiling;
+    pgt_gpu_profile profile; /* kernel events of every call since open (profiling on) */
+    char name[320];          /* "cpu (reference)", "cl 0: platform / device", ... */
+} pgt_backend;
+
+/* "cpu", "cl", "vk". */
+const char *pgt_backend_kind_name(pgt_backend_kind kind);
+
+/* Parses --backend's value; on failure prints a one-line error for `verb` and returns nonzero. */
+int pgt_backend_parse(const char *verb, const char *text, pgt_backend_kind *out);
+
+/* Opens the backend on device `device` (GPU backends; ignored by cpu). Profiling records every
+ * kernel launch (OpenCL events, Vulkan timestamps). Vulkan validation is on when the environment
+ * sets PGT_VK_VALIDATION=1 (the tests do): any validation message fails the call. */
+pgt_result pgt_backend_open(pgt_backend *b, pgt_backend_kind kind, uint32_t device, int profiling,
+                            pgt_error *err);
+void pgt_backend_close(pgt_backend *b);
+
+/* sqrt(3) subdivision: pgt_sqrt3_subdivide on the chosen backend. GPU backends do not carry
+ * per-corner UVs (out->uvs is NULL). times may be NULL (cpu leaves it zeroed). */
+pgt_result pgt_backend_sqrt3(pgt_backend *b, pgt_mesh *out, const pgt_mesh *in,
+                             const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err);
+
+/* The --profile table of the events recorded since open: kernel, launches, total ms, median ms
+ * (nothing for cpu). */
+void pgt_backend_print_profile(const pgt_backend *b, FILE *f);
+
+/* Both APIs' devices, as `pgt devices` prints them. */
+pgt_result pgt_backend_list(pgt_backend_kind kind, pgt_gpu_device_list *out, pgt_error *err);
+
+#endif

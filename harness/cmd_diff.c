@@ -1,0 +1,209 @@
+/* pgt diff: the reference and a GPU backend on the same inputs, element by element. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "backend.h"
+#include "cli.h"
+#include "diff.h"
+#include "gen.h"
+#include "pgt/rng.h"
+
+static const char *diff_usage =
+    "usage: pgt diff ALGO --backend cl|vk [INPUTS...] [--device N] [--iters LIST]\n"
+    "                [--protected LIST] [--shared DIR] [--profile] [--json]\n"
+    "\n"
+    "Runs the C reference and a backend on the same input and compares their outputs element\n"
+    "by element: integer and topological outputs must be equal (the count of mismatches is\n"
+    "printed); floats get the largest absolute error, the largest ULP distance and the worst\n"
+    "element, and a verdict against the tolerance table (harness/tolerances.h).\n"
+    "\n"
+    "  ALGO            sqrt3, or all (every algorithm pgt has, on its default inputs)\n"
+    "  INPUTS          meshes: generated dataset names (pgt_datasets --list), files, or file\n"
+    "                  names in the shared folder. Default: every generated default dataset and\n"
+    "                  every mesh of the shared folder the project uses.\n"
+    "  --backend B     cl (OpenCL) or vk (Vulkan); cpu compares the reference with itself\n"
+    "  --device N      device index of that API (see pgt devices; default 0)\n"
+    "  --iters LIST    sqrt3 iterations per case, comma-separated (default 1,2,3)\n"
+    "  --protected L   protection patterns, comma-separated: none, quarter (faces whose\n"
+    "                  counter-based hash of (seed 3, face) falls in the lowest quarter are\n"
+    "                  protected) (default none,quarter)\n"
+    "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
+    "  --profile       print the per-kernel table (launches, total and median device ms)\n"
+    "  --json          one JSON object per case, then a summary object\n"
+    "\n"
+    "Environment: PGT_VK_VALIDATION=1 turns on the Vulkan validation layer (any message fails).\n"
+    "Exit 0 when every case is within tolerance, 1 when one is not, 2 on a bad flag, a bad\n"
+    "input or a backend error.\n";
+
+#define DIFF_MAX_LIST 64
+
+/* Seed of the "quarter" protection pattern (any fixed value: the pattern must only be the same
+ * for both sides and across runs). */
+#define DIFF_PROTECT_SEED 3u
+
+typedef struct diff_cfg {
+    const char *inputs[DIFF_MAX_LIST];
+    uint32_t n_inputs, iters[DIFF_MAX_LIST], n_iters;
+    int protect_none, protect_quarter, json, profile;
+    const char *shared_dir;
+} diff_cfg;
+
+static int diff_list(const char *flag, const char *text, diff_cfg *c, int iters) {
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", text);
+    int n = 0;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save), ++n) {
+        if (iters) {
+            if (c->n_iters >= DIFF_MAX_LIST)
+                return pgt_cli_fail("diff", "%s: at most %d values", flag, DIFF_MAX_LIST);
+            if (pgt_cli_uint("diff", flag, tok, 0, PGT_SQRT3_MAX_ITERATIONS,
+                             &c->iters[c->n_iters++]))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(tok, "none")) {
+            c->protect_none = 1;
+        } else if (!strcmp(tok, "quarter")) {
+            c->protect_quarter = 1;
+        } else {
+            return pgt_cli_fail("diff", "%s: expected none or quarter, got '%s'", flag, tok);
+        }
+    }
+    if (n == 0) return pgt_cli_fail("diff", "%s: empty list", flag);
+    return 0;
+}
+
+/* sqrt3 over every input x pattern x k; returns the number of failing cases, or -1 on an error
+ * that stops the run (message printed). */
+static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases) {
+    int failures = 0;
+    for (uint32_t i = 0; i < c->n_inputs; ++i) {
+        pgt_mesh m = {0};
+        pgt_error err = {0};
+        if (pgt_cli_load_named(c->inputs[i], c->shared_dir, &m, &err) != PGT_OK) {
+            pgt_cli_fail("diff", "%s", err.message);
+            return -1;
+        }
+        uint8_t *prot = malloc((size_t)m.face_count + 1);
+        if (!prot) {
+            pgt_mesh_destroy(&m);
+            pgt_cli_fail("diff", "out of memory");
+            return -1;
+        }
+        for (uint32_t f = 0; f < m.face_count; ++f)
+            prot[f] = pgt_rng_float(DIFF_PROTECT_SEED, 0, f) < 0.25f;
+        for (int p = 0; p < 2; ++p) {
+            if ((p == 0 && !c->protect_none) || (p == 1 && !c->protect_quarter)) continue;
+            for (uint32_t k = 0; k < c->n_iters; ++k) {
+                pgt_diff_sqrt3 d;
+                char label[512];
+                snprintf(label, sizeof label, "%s k=%u protected=%s", c->inputs[i], c->iters[k],
+                         p ? "quarter" : "none");
+                if (pgt_diff_sqrt3_run(b, &m, c->iters[k], p ? prot : NULL, &d, &err) != PGT_OK) {
+                    pgt_cli_fail("diff", "%s: %s", label, err.message);
+                    free(prot), pgt_mesh_destroy(&m);
+                    return -1;
+                }
+                pgt_diff_sqrt3_print(stdout, label, &d, c->json);
+                fflush(stdout);
+                (*cases)++;
+                if (!d.pass) {
+                    failures++;
+                    /* A backend error on an input the reference accepts is an error, not a
+                     * disagreement: stop with exit 2 (device lost, out of memory, ...). */
+                    if (d.got_failed && !d.ref_failed) {
+                        pgt_cli_fail("diff", "%s: %s: %s", label, b->name, d.got_message);
+                        free(prot), pgt_mesh_destroy(&m);
+                        return -1;
+                    }
+                }
+            }
+        }
+        free(prot);
+        pgt_mesh_destroy(&m);
+    }
+    return failures;
+}
+
+int pgt_cmd_diff(int argc, char **argv) {
+    const char *verb = "diff";
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        fputs(diff_usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? PGT_EXIT_USAGE : PGT_EXIT_OK;
+    }
+    const char *algo = argv[1];
+    if (strcmp(algo, "sqrt3") != 0 && strcmp(algo, "all") != 0)
+        return pgt_cli_fail(verb, "unknown algorithm '%s' (known: sqrt3, all)", algo);
+    diff_cfg c;
+    memset(&c, 0, sizeof c);
+    c.shared_dir = PGT_CLI_SHARED_MESH_DIR;
+    int have_backend = 0;
+    pgt_backend_kind kind = PGT_BACKEND_CPU;
+    uint32_t device = 0;
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(diff_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--backend")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_backend_parse(verb, v, &kind))
+                return PGT_EXIT_USAGE;
+            have_backend = 1;
+        } else if (!strcmp(a, "--device")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, 1024, &device))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--iters")) {
+            c.n_iters = 0;
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || diff_list(a, v, &c, 1))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--protected")) {
+            c.protect_none = c.protect_quarter = 0;
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || diff_list(a, v, &c, 0))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--shared")) {
+            if (!(c.shared_dir = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--profile")) {
+            c.profile = 1;
+        } else if (!strcmp(a, "--json")) {
+            c.json = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return pgt_cli_fail(verb, "unknown flag '%s' (see pgt diff --help)", a);
+        } else {
+            if (c.n_inputs >= DIFF_MAX_LIST)
+                return pgt_cli_fail(verb, "at most %d inputs", DIFF_MAX_LIST);
+            c.inputs[c.n_inputs++] = a;
+        }
+    }
+    if (!have_backend) return pgt_cli_fail(verb, "no backend: give --backend cl or vk");
+    if (c.n_iters == 0) c.iters[0] = 1, c.iters[1] = 2, c.iters[2] = 3, c.n_iters = 3;
+    if (!c.protect_none && !c.protect_quarter) c.protect_none = c.protect_quarter = 1;
+    if (c.n_inputs == 0) {
+        for (uint32_t g = 0; g < pgt_gen_default_count() && c.n_inputs < DIFF_MAX_LIST; ++g)
+            c.inputs[c.n_inputs++] = pgt_gen_default_name(g);
+        for (uint32_t s = 0; s < pgt_cli_shared_mesh_count && c.n_inputs < DIFF_MAX_LIST; ++s)
+            c.inputs[c.n_inputs++] = pgt_cli_shared_meshes[s];
+    }
+
+    pgt_backend b;
+    pgt_error err = {0};
+    if (pgt_backend_open(&b, kind, device, c.profile, &err) != PGT_OK)
+        return pgt_cli_fail(verb, "%s", err.message);
+    if (!c.json) printf("diff: reference vs %s\n", b.name);
+    uint32_t cases = 0;
+    const double t0 = pgt_cli_now_ms();
+    const int failures = diff_sqrt3(&b, &c, &cases); /* every algorithm pgt has: sqrt3 today */
+    const double ms = pgt_cli_now_ms() - t0;
+    if (failures >= 0) {
+        if (c.json) {
+            printf("{\"summary\":true,\"backend\":");
+            pgt_cli_json_string(stdout, b.name);
+            printf(",\"cases\":%u,\"failed\":%d,\"ms\":%.1f}\n", cases, failures, ms);
+        } else {
+            printf("diff: %u cases, %d outside tolerance (%.1f s)\n", cases, failures, ms / 1e3);
+        }
+    }
+    if (c.profile) pgt_backend_print_profile(&b, c.json ? stderr : stdout);
+    pgt_backend_close(&b);
+    if (failures < 0) return PGT_EXIT_USAGE;
+    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+}

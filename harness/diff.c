@@ -1,0 +1,193 @@
+/* pgt harness: element-by-element diff of backend outputs against the reference. */
+#include "diff.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static int64_t ordered_bits(float x) {
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    /* map the sign-magnitude float order onto the integers: -0 and +0 both to 0 */
+    return (u & 0x80000000u) ? -(int64_t)(u & 0x7FFFFFFFu) : (int64_t)u;
+}
+
+uint64_t pgt_ulp_distance(float a, float b) {
+    if (isnan(a) || isnan(b)) return UINT64_MAX;
+    const int64_t d = ordered_bits(a) - ordered_bits(b);
+    return (uint64_t)(d < 0 ? -d : d);
+}
+
+void pgt_diff_floats_run(pgt_diff_floats *d, const float *ref, const float *got, uint64_t n,
+                         uint32_t max_ulp, double abs_bound) {
+    memset(d, 0, sizeof(*d));
+    d->count = n;
+    for (uint64_t i = 0; i < n; ++i) {
+        const uint64_t u = pgt_ulp_distance(ref[i], got[i]);
+        const double e = fabs((double)ref[i] - (double)got[i]);
+        if (i == 0 || u > d->max_ulp) {
+            d->max_ulp = u;
+            d->worst = i, d->worst_ref = ref[i], d->worst_got = got[i];
+        }
+        if (e > d->max_abs || isnan(e)) d->max_abs = isnan(e) ? INFINITY : e;
+        if (u > max_ulp && !(e <= abs_bound)) d->outside++;
+    }
+}
+
+static uint64_t count_u32(const uint32_t *a, const uint32_t *b, uint64_t n, uint64_t *first) {
+    uint64_t c = 0;
+    for (uint64_t i = 0; i < n; ++i)
+        if (a[i] != b[i]) {
+            if (c++ == 0 && first) *first = i;
+        }
+    return c;
+}
+
+typedef struct diff_run {
+    pgt_mesh out;
+    uint32_t *opp, *parent;
+    uint8_t *prot;
+} diff_run;
+
+static void diff_run_free(diff_run *r) {
+    pgt_mesh_destroy(&r->out);
+    free(r->opp), free(r->parent), free(r->prot);
+    memset(r, 0, sizeof(*r));
+}
+
+pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t iterations,
+                              const uint8_t *protected_faces, pgt_diff_sqrt3 *d, pgt_error *err) {
+    memset(d, 0, sizeof(*d));
+    d->first_triangle = UINT64_MAX;
+    d->tolerance = pgt_tolerance_find("sqrt3", "positions");
+    uint32_t vb = 0, fb = 0;
+    pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, iterations, &vb, &fb, NULL);
+    diff_run runs[2];
+    memset(runs, 0, sizeof runs);
+    pgt_backend cpu;
+    pgt_backend_open(&cpu, PGT_BACKEND_CPU, 0, 0, NULL);
+    for (int i = 0; i < 2; ++i) {
+        diff_run *r = &runs[i];
+        r->opp = malloc(((size_t)fb * 3 + 1) * sizeof(uint32_t));
+        r->parent = malloc(((size_t)fb + 1) * sizeof(uint32_t));
+        r->prot = malloc((size_t)fb + 1);
+        if (!r->opp || !r->parent || !r->prot) {
+            diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "diff: out of memory (%u faces)",
+                                 fb);
+        }
+        pgt_sqrt3_options o = {iterations, pgt_cli_cpu_count(), protected_faces,
+                               r->prot,    r->parent,           r->opp};
+        pgt_error e = {0};
+        const double t0 = pgt_cli_now_ms();
+        pgt_result res = pgt_backend_sqrt3(i == 0 ? &cpu : b, &r->out, in, &o, NULL, &e);
+        const double ms = pgt_cli_now_ms() - t0;
+        if (i == 0) {
+            d->ref_ms = ms, d->ref_failed = res != PGT_OK, d->ref_code = res;
+            snprintf(d->ref_message, sizeof d->ref_message, "%s", e.message);
+        } else {
+            d->got_ms = ms, d->got_failed = res != PGT_OK, d->got_code = res;
+            snprintf(d->got_message, sizeof d->got_message, "%s", e.message);
+        }
+    }
+    pgt_backend_close(&cpu);
+    if (d->ref_failed || d->got_failed) {
+        d->pass = d->ref_failed && d->got_failed && d->ref_code == d->got_code;
+        diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+        return PGT_OK;
+    }
+    const pgt_mesh *ro = &runs[0].out, *go = &runs[1].out;
+    d->ref_vertices = ro->vertex_count, d->got_vertices = go->vertex_count;
+    d->ref_faces = ro->face_count, d->got_faces = go->face_count;
+    d->diagonal = pgt_mesh_bbox_diagonal(ro);
+    const int same_counts = d->ref_vertices == d->got_vertices && d->ref_faces == d->got_faces;
+    if (same_counts) {
+        const uint64_t F = ro->face_count, V = ro->vertex_count;
+        d->triangles = count_u32(ro->indices, go->indices, 3 * F, &d->first_triangle);
+        if (d->first_triangle != UINT64_MAX) d->first_triangle /= 3;
+        d->opposite = count_u32(runs[0].opp, runs[1].opp, 3 * F, NULL);
+        d->parents = count_u32(runs[0].parent, runs[1].parent, F, NULL);
+        for (uint64_t f = 0; f < F; ++f) d->protected_flags += runs[0].prot[f] != runs[1].prot[f];
+        if (ro->labels || go->labels) {
+            if (!ro->labels || !go->labels)
+                d->labels = F;
+            else
+                d->labels =
+                    count_u32((const uint32_t *)ro->labels, (const uint32_t *)go->labels, F, NULL);
+        }
+        pgt_diff_floats_run(&d->positions, ro->positions, go->positions, 3 * V,
+                            d->tolerance->max_ulp, d->tolerance->max_abs_rel * d->diagonal);
+    }
+    d->pass = same_counts && d->triangles == 0 && d->opposite == 0 && d->parents == 0 &&
+              d->protected_flags == 0 && d->labels == 0 && d->positions.outside == 0;
+    diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+    return PGT_OK;
+}
+
+void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, int json) {
+    const char *verdict = d->pass ? "ok" : "FAIL";
+    if (json) {
+        fprintf(f, "{\"algorithm\":\"sqrt3\",\"case\":");
+        pgt_cli_json_string(f, label);
+        fprintf(f, ",\"pass\":%s", d->pass ? "true" : "false");
+        if (d->ref_failed || d->got_failed) {
+            fprintf(f, ",\"reference_error\":");
+            pgt_cli_json_string(f, d->ref_failed ? pgt_result_name(d->ref_code) : "");
+            fprintf(f, ",\"backend_error\":");
+            pgt_cli_json_string(f, d->got_failed ? pgt_result_name(d->got_code) : "");
+            fprintf(f, ",\"message\":");
+            pgt_cli_json_string(f, d->got_failed ? d->got_message : d->ref_message);
+            fprintf(f, "}\n");
+            return;
+        }
+        fprintf(f,
+                ",\"vertices\":[%u,%u],\"faces\":[%u,%u],\"mismatches\":{\"triangles\":%llu,"
+                "\"opposite\":%llu,\"parents\":%llu,\"protected\":%llu,\"labels\":%llu},"
+                "\"positions\":{\"max_abs\":%.9g,\"max_abs_over_diagonal\":%.9g,\"max_ulp\":%llu,"
+                "\"worst\":%llu,\"worst_ref\":%.9g,\"worst_got\":%.9g,\"outside\":%llu},"
+                "\"tolerance\":{\"max_ulp\":%u,\"max_abs_rel\":%g},\"reference_ms\":%.3f,"
+                "\"backend_ms\":%.3f}\n",
+                d->ref_vertices, d->got_vertices, d->ref_faces, d->got_faces,
+                (unsigned long long)d->triangles, (unsigned long long)d->opposite,
+                (unsigned long long)d->parents, (unsigned long long)d->protected_flags,
+                (unsigned long long)d->labels, d->positions.max_abs,
+                d->diagonal > 0 ? d->positions.max_abs / d->diagonal : 0.0,
+                (unsigned long long)d->positions.max_ulp, (unsigned long long)d->positions.worst,
+                d->positions.worst_ref, d->positions.worst_got,
+                (unsigned long long)d->positions.outside, d->tolerance->max_ulp,
+                d->tolerance->max_abs_rel, d->ref_ms, d->got_ms);
+        return;
+    }
+    if (d->ref_failed || d->got_failed) {
+        if (d->pass)
+            fprintf(f, "sqrt3 %s: both refuse (%s): %s: ok\n", label, pgt_result_name(d->ref_code),
+                    d->ref_message);
+        else
+            fprintf(f, "sqrt3 %s: reference %s, backend %s: %s: FAIL\n", label,
+                    d->ref_failed ? pgt_result_name(d->ref_code) : "ok",
+                    d->got_failed ? pgt_result_name(d->got_code) : "ok",
+                    d->got_failed ? d->got_message : d->ref_message);
+        return;
+    }
+    if (d->ref_vertices != d->got_vertices || d->ref_faces != d->got_faces) {
+        fprintf(f, "sqrt3 %s: counts differ: reference %u v %u f, backend %u v %u f: FAIL\n", label,
+                d->ref_vertices, d->ref_faces, d->got_vertices, d->got_faces);
+        return;
+    }
+    const uint64_t w = d->positions.worst;
+    fprintf(f,
+            "sqrt3 %s: %u v %u f; mismatches: triangles %llu, opposite %llu, parents %llu, "
+            "protected %llu, labels %llu; positions: max abs %.3g (%.2g x diag), max ulp %llu "
+            "(v%llu.%c ref %.9g got %.9g), %llu outside %u ulp / %.0e x diag; %.1f vs %.1f ms: "
+            "%s\n",
+            label, d->ref_vertices, d->ref_faces, (unsigned long long)d->triangles,
+            (unsigned long long)d->opposite, (unsigned long long)d->parents,
+            (unsigned long long)d->protected_flags, (unsigned long long)d->labels,
+            d->positions.max_abs, d->diagonal > 0 ? d->positions.max_abs / d->diagonal : 0.0,
+            (unsigned long long)d->positions.max_ulp, (unsigned long long)(w / 3), "xyz"[w % 3],
+            d -> positions.worst_ref, d->positions.worst_got,
+            (unsigned long long)d->positions.outside, d->tolerance->max_ulp,
+            d->tolerance->max_abs_rel, d->ref_ms, d->got_ms, verdict);
+}

@@ -1,0 +1,55 @@
+/* pgt harness: element-by-element comparison of a backend's outputs with the reference's
+ * (`pgt diff`, and the tests that run it). */
+#ifndef PGT_DIFF_H
+#define PGT_DIFF_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "backend.h"
+#include "tolerances.h"
+
+/* Distance in units in the last place between two floats (0 for equal values, +0 vs -0 too;
+ * UINT64_MAX when either is NaN). */
+uint64_t pgt_ulp_distance(float a, float b);
+
+/* Float outputs: the largest absolute error and ULP distance, and the worst element. */
+typedef struct pgt_diff_floats {
+    uint64_t count;   /* elements compared */
+    uint64_t outside; /* elements outside the tolerance (beyond max_ulp and beyond max_abs) */
+    double max_abs;
+    uint64_t max_ulp;
+    uint64_t worst; /* element with the largest ULP distance (first of equals) */
+    float worst_ref, worst_got;
+} pgt_diff_floats;
+
+/* Compares n floats; abs_bound is the tolerance's absolute bound (already scaled). */
+void pgt_diff_floats_run(pgt_diff_floats *d, const float *ref, const float *got, uint64_t n,
+                         uint32_t max_ulp, double abs_bound);
+
+/* One sqrt(3) case: reference vs backend on the same input and options. */
+typedef struct pgt_diff_sqrt3 {
+    int ref_failed, got_failed; /* the call returned an error (codes below) */
+    pgt_result ref_code, got_code;
+    char ref_message[PGT_ERROR_MESSAGE_SIZE], got_message[PGT_ERROR_MESSAGE_SIZE];
+    uint32_t ref_vertices, got_vertices, ref_faces, got_faces;
+    /* mismatching elements of integer outputs (0 expected) */
+    uint64_t triangles, opposite, parents, protected_flags, labels;
+    uint64_t first_triangle; /* first mismatching triangle (UINT64_MAX when none) */
+    pgt_diff_floats positions;
+    double diagonal; /* of the reference output */
+    const pgt_tolerance *tolerance;
+    int pass; /* counts and integer outputs equal, positions within the tolerance; or both
+                 refused the input with the same error code */
+    double ref_ms, got_ms;
+} pgt_diff_sqrt3;
+
+/* Runs both and compares. Returns PGT_OK when the comparison could be made (a refusal by both
+ * with the same code counts as a comparison); an error only for what stops it (out of memory). */
+pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t iterations,
+                              const uint8_t *protected_faces, pgt_diff_sqrt3 *d, pgt_error *err);
+
+/* One line (or one JSON object) describing a case; `label` names the input and options. */
+void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, int json);
+
+#endif

@@ -1,0 +1,46 @@
+/* pgt: THE tolerance table of `pgt diff` (one file; every bound says why it is that bound).
+ *
+ * Integer and topological outputs (counts, triangles, adjacency, parents, flags, labels) have
+ * no entry: they must be equal, always. A float element passes when it is within max_ulp units
+ * in the last place of the reference's value OR within max_abs_rel x the reference output's
+ * bounding-box diagonal (ULPs mean nothing for a coordinate that happens to sit near 0, where a
+ * float is far denser than the data's own precision). */
+#ifndef PGT_TOLERANCES_H
+#define PGT_TOLERANCES_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+typedef struct pgt_tolerance {
+    const char *algorithm;
+    const char *output;
+    uint32_t max_ulp;
+    double max_abs_rel; /* x bounding-box diagonal of the reference output */
+    const char *why;
+} pgt_tolerance;
+
+static const pgt_tolerance pgt_tolerances[] = {
+    /* sqrt(3) positions. The backends run the reference's float operations in its order with
+     * contraction off, so an IEEE device (PoCL and lavapipe are) gives the same bits. The bound
+     * leaves room for what the APIs allow a real GPU: OpenCL C and Vulkan let x / y be 2.5 ulp
+     * off (the centroid's / 3, the masks' / 27, alpha_n / n), i.e. ~3 ulp per operation; a
+     * vertex sees at most one division-rounded weight per iteration and the relaxations are
+     * convex combinations (they do not amplify an error), so k <= 3 iterations stay within
+     * 3 x 3 ulp of cancellation-free data; 16 ulp adds margin for the sums' reordering a
+     * compiler may not do but a driver might. 1e-6 x diagonal is 8x float epsilon over a unit
+     * model: the absolute floor for coordinates near zero. */
+    {"sqrt3", "positions", 16u, 1e-6,
+     "division may be 2.5 ulp on OpenCL/Vulkan devices; k <= 3 convex relaxations do not "
+     "amplify; 1e-6 x diagonal floors coordinates near 0"},
+};
+
+static inline const pgt_tolerance *pgt_tolerance_find(const char *algorithm, const char *output) {
+    for (size_t i = 0; i < sizeof pgt_tolerances / sizeof *pgt_tolerances; ++i)
+        if (!strcmp(pgt_tolerances[i].algorithm, algorithm) &&
+            !strcmp(pgt_tolerances[i].output, output))
+            return &pgt_tolerances[i];
+    return NULL;
+}
+
+#endif

@@ -1,0 +1,723 @@
+/* pgt: OpenEXR reading and writing through the OpenEXR 3.1 C API (OpenEXRCore).
+ *
+ * Based on the OpenEXR file layout (openexr.com, "OpenEXR File Layout"): the magic number
+ * 76 2f 31 01, a version field, the header attributes, an offset table of one uint64 per chunk,
+ * then the chunks (scanline blocks of 16 rows for ZIP, or tiles). OpenEXRCore parses and decodes;
+ * this file adds what pgt needs around it: declared sizes checked against the PGT_IMAGE_MAX_*
+ * limits and the offset table and every chunk against the file size before anything large is
+ * allocated, the library's errors mapped to pgt_result codes with messages naming the file, and
+ * the write-to-a-temporary-file-then-rename rule of every pgt writer.
+ *
+ * All I/O goes through our own read/write callbacks (pread/pwrite on our descriptor, or memcpy
+ * from memory), so the library never opens, truncates or deletes a file itself. */
+#include "pgt/image.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <openexr.h>
+
+#include "image_internal.h"
+
+static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
+
+/* One file or memory buffer being read or written, and what went wrong with it. */
+typedef struct exr_stream {
+    const char *name;         /* the path (or the memory reader's name), for messages */
+    int fd;                   /* -1 when reading from memory */
+    const unsigned char *mem; /* memory reading */
+    uint64_t size;            /* reading: bytes in the file, fixed when it was opened */
+    int io_errno;             /* the first failed read or write, 0 if none */
+    int chunks_checked;       /* reading: check_chunks found every chunk inside the file */
+    const char *compression;  /* reading: the file's compression, once the header is read */
+    char lib_msg[256];        /* the library's last error message */
+} exr_stream;
+
+/* OpenEXRCore reports errors through a callback, sometimes while it holds its context lock, so
+ * the callback must not call back into the library (exr_get_user_data would take that lock
+ * again). It finds the stream of the call in progress through this thread-local pointer. */
+static _Thread_local exr_stream *current_stream;
+
+static void on_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
+    (void)ctxt;
+    (void)code;
+    exr_stream *s = current_stream;
+    if (s) snprintf(s->lib_msg, sizeof(s->lib_msg), "%s", msg ? msg : "");
+}
+
+static int64_t stream_read(exr_const_context_t ctxt, void *userdata, void *buffer, uint64_t sz,
+                           uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
+    (void)ctxt;
+    (void)error_cb;
+    exr_stream *s = userdata;
+    if (offset >= s->size) return 0;
+    uint64_t n = s->size - offset < sz ? s->size - offset : sz;
+    if (s->fd < 0) {
+        memcpy(buffer, s->mem + offset, (size_t)n);
+        return (int64_t)n;
+    }
+    uint64_t done = 0;
+    while (done < n) {
+        ssize_t got =
+            pread(s->fd, (char *)buffer + done, (size_t)(n - done), (off_t)(offset + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) {
+            if (!s->io_errno) s->io_errno = errno;
+            return -1;
+        }
+        if (got == 0) break; /* the file shrank since we measured it: a short read */
+        done += (uint64_t)got;
+    }
+    return (int64_t)done;
+}
+
+static int64_t stream_size(exr_const_context_t ctxt, void *userdata) {
+    (void)ctxt;
+    return (int64_t)((exr_stream *)userdata)->size;
+}
+
+static int64_t stream_write(exr_const_context_t ctxt, void *userdata, const void *buffer,
+                            uint64_t sz, uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
+    (void)ctxt;
+    (void)error_cb;
+    exr_stream *s = userdata;
+    uint64_t done = 0;
+    while (done < sz) {
+        ssize_t put =
+            pwrite(s->fd, (const char *)buffer + done, (size_t)(sz - done), (off_t)(offset + done));
+        if (put < 0 && errno == EINTR) continue;
+        if (put <= 0) {
+            if (!s->io_errno) s->io_errno = put < 0 ? errno : EIO;
+            return -1;
+        }
+        done += (uint64_t)put;
+    }
+    return (int64_t)done;
+}
+
+static exr_context_initializer_t stream_initializer(exr_stream *s) {
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = on_exr_error;
+    init.user_data = s;
+    init.read_fn = stream_read;
+    init.size_fn = stream_size;
+    init.write_fn = stream_write;
+    /* A damaged offset table is an error, not something to guess around by scanning chunks. */
+    init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    return init;
+}
+
+/* ---- reading ---- */
+
+/* Maps a failed library call while reading. A short read (the library asked for bytes past the
+ * end of the file) is truncation, unless check_chunks has seen every chunk inside the file: then
+ * the library read past a chunk because the chunk lies about its size, a parse error. A failed
+ * read of our own descriptor is I/O; everything the library rejects as malformed is a parse
+ * error. */
+static pgt_result read_fail(exr_stream *s, exr_result_t rv, const char *what, pgt_error *err) {
+    if (s->io_errno)
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", s->name,
+                             strerror(s->io_errno));
+    pgt_result code = PGT_ERROR_PARSE;
+    if (rv == EXR_ERR_OUT_OF_MEMORY)
+        code = PGT_ERROR_OUT_OF_MEMORY;
+    else if (rv == EXR_ERR_READ_IO && !s->chunks_checked)
+        code = PGT_ERROR_TRUNCATED;
+    else if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED)
+        code = PGT_ERROR_UNSUPPORTED;
+    const char *msg = s->lib_msg[0] ? s->lib_msg : exr_get_default_error_message(rv);
+    if (code == PGT_ERROR_UNSUPPORTED && s->compression)
+        return pgt_error_set(err, code,
+                             "%s: %s: this OpenEXR C library cannot decode %s "
+                             "compression (%s)",
+                             s->name, what, s->compression, msg);
+    return pgt_error_set(err, code, "%s: %s: %s (OpenEXR %s)", s->name, what, msg,
+                         exr_get_error_code_as_string(rv));
+}
+
+static const char *compression_name(exr_compression_t c) {
+    static const char *const names[] = {"no",    "RLE", "ZIPS", "ZIP",  "PIZ",
+                                        "PXR24", "B44", "B44A", "DWAA", "DWAB"};
+    return (unsigned)c < sizeof(names) / sizeof(names[0]) ? names[c] : "unknown";
+}
+
+#define READ_CALL(call, what)                                                                      \
+    do {                                                                                           \
+        s->lib_msg[0] = '\0';                                                                      \
+        exr_result_t rv_ = (call);                                                                 \
+        if (rv_ != EXR_ERR_SUCCESS) return read_fail(s, rv_, what, err);                           \
+    } while (0)
+
+typedef struct exr_layout {
+    int32_t min_x, min_y; /* data window origin */
+    uint32_t width, height, channels;
+    int tiled;
+    uint32_t tile_w, tile_h;
+    int32_t scanlines_per_chunk;
+    int32_t chunks;
+    exr_compression_t compression;
+} exr_layout;
+
+/* ---- telling a short file from a malformed one ----
+ *
+ * OpenEXRCore reports a header that ends early as a bad header, and a chunk past the end of the
+ * file as a corrupt chunk leader. pgt calls both "truncated", so before the library sees the
+ * file we walk its structure ourselves, as the file layout defines it: after the magic number
+ * and the version field, each header is a list of attributes (name NUL, type NUL, int32 size,
+ * value) ended by an empty name; a multi-part file ends its list of headers with an empty header.
+ * Then comes one offset table of uint64 per chunk, and each chunk starts with a leader (scanline:
+ * int32 y, int32 size; tile: 4 int32 coordinates, int32 size). Anything that is not short but
+ * odd is left for the library to judge. */
+
+/* Little-endian integers, byte by byte (independent of the host). */
+static uint64_t le_u64(const unsigned char *p) {
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+static int32_t le_i32(const unsigned char *p) {
+    uint32_t v = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    return (int32_t)v; /* two's complement on every host pgt builds on */
+}
+
+typedef struct scan_cursor {
+    exr_stream *s;
+    uint64_t pos;
+    unsigned char buf[4096];
+    uint64_t buf_start;
+    size_t buf_len;
+} scan_cursor;
+
+/* 1: a byte, 0: the end of the file, -1: a read error. */
+static int scan_byte(scan_cursor *c, unsigned char *out) {
+    if (c->pos < c->buf_start || c->pos >= c->buf_start + c->buf_len) {
+        int64_t got = stream_read(NULL, c->s, c->buf, sizeof(c->buf), c->pos, NULL);
+        if (got < 0) return -1;
+        c->buf_start = c->pos;
+        c->buf_len = (size_t)got;
+        if (got == 0) return 0;
+    }
+    *out = c->buf[c->pos++ - c->buf_start];
+    return 1;
+}
+
+/* A NUL-terminated name of at most 255 characters. 1: read (*len its length), 0: the file ended,
+ * -1: a read error, -2: malformed (too long). */
+static int scan_name(scan_cursor *c, size_t *len) {
+    for (size_t n = 0; n < 256; ++n) {
+        unsigned char b = 0;
+        int got = scan_byte(c, &b);
+        if (got <= 0) return got;
+        if (b == 0) {
+            *len = n;
+            return 1;
+        }
+    }
+    return -2;
+}
+
+/* Sets *header_end to the offset just past the headers, or 0 when they look malformed (the
+ * library then says how). Returns PGT_ERROR_TRUNCATED when the file ends inside them. */
+static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, pgt_error *err) {
+    *header_end = 0;
+    scan_cursor c;
+    memset(&c, 0, sizeof(c));
+    c.s = s;
+    unsigned char version[8];
+    if (stream_read(NULL, s, version, 8, 0, NULL) != 8)
+        return s->io_errno ? PGT_OK
+                           : pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                                           "%s: the file ends in its version field", s->name);
+    const int multipart = (version[5] & 0x10) != 0; /* version flag bit 12 */
+    c.pos = 8;
+    for (int part = 0, attr = 0;;) {
+        size_t len = 0;
+        int got = scan_name(&c, &len); /* an attribute's name, or the NUL that ends a header */
+        if (got == 1 && len == 0) {
+            if (!multipart || attr == 0) {
+                *header_end = c.pos;
+                return PGT_OK;
+            }
+            part++; /* the next part's header */
+            attr = 0;
+            continue;
+        }
+        if (got == 1) got = scan_name(&c, &len); /* its type */
+        unsigned char size[4];
+        for (int i = 0; i < 4 && got == 1; ++i) got = scan_byte(&c, &size[i]);
+        if (got == 1 && le_i32(size) < 0) got = -2;
+        if (got == 1) {
+            c.pos += (uint64_t)le_i32(size); /* its value */
+            if (c.pos > s->size) got = 0;
+        }
+        if (got == 0)
+            return pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                                 "%s: the file ends in its header (part %d, attribute %d)", s->name,
+                                 part, attr);
+        if (got < 0) return PGT_OK; /* a read error or an odd header: the library says which */
+        attr++;
+    }
+}
+
+/* The offset table and every chunk leader lie inside the file. */
+static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunks, int tiled,
+                               pgt_error *err) {
+    const uint64_t table_end = header_end + (uint64_t)chunks * 8u;
+    if (table_end > s->size)
+        return pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                             "%s: the file ends in its offset table (%d chunks need bytes "
+                             "%llu-%llu, the file holds %llu)",
+                             s->name, chunks, (unsigned long long)header_end,
+                             (unsigned long long)table_end, (unsigned long long)s->size);
+    const uint64_t leader = tiled ? 20u : 8u;
+    unsigned char entry[8], lead[20];
+    for (int32_t i = 0; i < chunks; ++i) {
+        if (stream_read(NULL, s, entry, 8, header_end + 8u * (uint64_t)i, NULL) != 8)
+            return PGT_OK; /* a read error: the library will meet it too */
+        uint64_t at = le_u64(entry);
+        if (at < table_end) continue; /* not a place a chunk can start: the library's to judge */
+        if (at > s->size || s->size - at < leader)
+            return pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                                 "%s: chunk %d starts at byte %llu but the file ends before its "
+                                 "leader (%llu bytes)",
+                                 s->name, i, (unsigned long long)at, (unsigned long long)s->size);
+        if (stream_read(NULL, s, lead, (uint64_t)leader, at, NULL) != (int64_t)leader)
+            return PGT_OK;
+        int32_t packed = le_i32(lead + leader - 4);
+        if (packed >= 0 && (uint64_t)packed > s->size - at - leader)
+            return pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                                 "%s: chunk %d needs bytes %llu-%llu but the file holds %llu",
+                                 s->name, i, (unsigned long long)at,
+                                 (unsigned long long)(at + leader + (uint64_t)packed),
+                                 (unsigned long long)s->size);
+    }
+    s->chunks_checked = 1;
+    return PGT_OK;
+}
+
+/* Everything checked before the pixels are allocated. */
+static pgt_result read_layout(exr_context_t ctxt, exr_stream *s, exr_layout *lay,
+                              const exr_attr_chlist_t **out_ch, pgt_error *err) {
+    const char *name = s->name;
+    int parts = 0;
+    READ_CALL(exr_get_count(ctxt, &parts), "header");
+    if (parts != 1)
+        return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
+                             "%s: a multi-part file of %d parts (pgt reads single-part files)",
+                             name, parts);
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    READ_CALL(exr_get_storage(ctxt, 0, &storage), "header");
+    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+        return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
+                             "%s: deep data (pgt reads flat scanline and tiled images)", name);
+    lay->tiled = storage == EXR_STORAGE_TILED;
+
+    exr_attr_box2i_t dw;
+    READ_CALL(exr_get_data_window(ctxt, 0, &dw), "header");
+    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
+    if (w < 1 || h < 1)
+        return pgt_error_set(err, PGT_ERROR_PARSE,
+                             "%s: empty or inverted data window (%d, %d)-(%d, %d)", name, dw.min.x,
+                             dw.min.y, dw.max.x, dw.max.y);
+    if (w > PGT_IMAGE_MAX_SIDE || h > PGT_IMAGE_MAX_SIDE)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "%s: data window of %lld x %lld pixels exceeds the limit of %u per "
+                             "side",
+                             name, (long long)w, (long long)h, PGT_IMAGE_MAX_SIDE);
+    lay->min_x = dw.min.x;
+    lay->min_y = dw.min.y;
+    lay->width = (uint32_t)w;
+    lay->height = (uint32_t)h;
+
+    const exr_attr_chlist_t *ch = NULL;
+    READ_CALL(exr_get_channels(ctxt, 0, &ch), "header");
+    if (!ch || ch->num_channels < 1)
+        return pgt_error_set(err, PGT_ERROR_PARSE, "%s: no channels", name);
+    if ((uint32_t)ch->num_channels > PGT_IMAGE_MAX_CHANNELS)
+        return pgt_error_set(err, PGT_ERROR_LIMIT, "%s: %d channels exceed the limit of %u", name,
+                             ch->num_channels, PGT_IMAGE_MAX_CHANNELS);
+    lay->channels = (uint32_t)ch->num_channels;
+    for (int c = 0; c < ch->num_channels; ++c) {
+        const exr_attr_chlist_entry_t *e = &ch->entries[c];
+        const char *cn = e->name.str ? e->name.str : "";
+        if (e->name.length < 1 || !e->name.str)
+            return pgt_error_set(err, PGT_ERROR_PARSE, "%s: channel %d has no name", name, c);
+        if ((uint32_t)e->name.length >= PGT_IMAGE_NAME_SIZE)
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "%s: channel name '%.40s' is %d characters long (pgt keeps up to "
+                                 "%u)",
+                                 name, cn, (int)e->name.length, PGT_IMAGE_NAME_SIZE - 1);
+        if (e->x_sampling != 1 || e->y_sampling != 1)
+            return pgt_error_set(
+                err, PGT_ERROR_UNSUPPORTED,
+                "%s: channel '%s' is subsampled %d x %d (pgt reads full-resolution "
+                "channels only)",
+                name, cn, (int)e->x_sampling, (int)e->y_sampling);
+        if (e->pixel_type != EXR_PIXEL_UINT && e->pixel_type != EXR_PIXEL_HALF &&
+            e->pixel_type != EXR_PIXEL_FLOAT)
+            return pgt_error_set(err, PGT_ERROR_PARSE, "%s: channel '%s' has pixel type %d", name,
+                                 cn, (int)e->pixel_type);
+        for (int d = 0; d < c; ++d)
+            if (strcmp(ch->entries[d].name.str, cn) == 0)
+                return pgt_error_set(err, PGT_ERROR_PARSE, "%s: two channels named '%s'", name, cn);
+    }
+    if ((uint64_t)lay->width * lay->height * lay->channels > PGT_IMAGE_MAX_VALUES)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "%s: %u x %u pixels x %u channels exceed the limit of %u values", name,
+                             lay->width, lay->height, lay->channels, PGT_IMAGE_MAX_VALUES);
+
+    /* OpenEXR 3.1 takes any compression byte, and a chunk stored raw never meets it. */
+    READ_CALL(exr_get_compression(ctxt, 0, &lay->compression), "header");
+    if (lay->compression < EXR_COMPRESSION_NONE || lay->compression >= EXR_COMPRESSION_LAST_TYPE)
+        return pgt_error_set(err, PGT_ERROR_PARSE, "%s: unknown compression %d", name,
+                             (int)lay->compression);
+    s->compression = compression_name(lay->compression);
+    int32_t chunks = 0;
+    READ_CALL(exr_get_chunk_count(ctxt, 0, &chunks), "header");
+    if (chunks < 1) return pgt_error_set(err, PGT_ERROR_PARSE, "%s: no chunks", name);
+    lay->chunks = chunks;
+    if (lay->tiled) {
+        uint32_t tw = 0, th = 0;
+        exr_tile_level_mode_t level = EXR_TILE_LAST_TYPE;
+        exr_tile_round_mode_t round = EXR_TILE_ROUND_LAST_TYPE;
+        READ_CALL(exr_get_tile_descriptor(ctxt, 0, &tw, &th, &level, &round), "header");
+        if (tw < 1 || th < 1)
+            return pgt_error_set(err, PGT_ERROR_PARSE, "%s: tiles of %u x %u pixels", name, tw, th);
+        lay->tile_w = tw;
+        lay->tile_h = th;
+        int32_t lw = 0, lh = 0;
+        READ_CALL(exr_get_level_sizes(ctxt, 0, 0, 0, &lw, &lh), "header");
+        if ((int64_t)lw != w || (int64_t)lh != h)
+            return pgt_error_set(err, PGT_ERROR_PARSE,
+                                 "%s: level 0 is %d x %d but the data window %lld x %lld", name, lw,
+                                 lh, (long long)w, (long long)h);
+    } else {
+        READ_CALL(exr_get_scanlines_per_chunk(ctxt, 0, &lay->scanlines_per_chunk), "header");
+        if (lay->scanlines_per_chunk < 1)
+            return pgt_error_set(err, PGT_ERROR_PARSE, "%s: %d scanlines per chunk", name,
+                                 lay->scanlines_per_chunk);
+    }
+    *out_ch = ch;
+    return PGT_OK;
+}
+
+/* Decodes one chunk into columns [x0, x0 + width) and rows [y0, y0 + height) of every plane. */
+static pgt_result decode_chunk(exr_context_t ctxt, exr_stream *s, const exr_layout *lay,
+                               const exr_chunk_info_t *ci, uint32_t x0, uint32_t y0, pgt_image *img,
+                               exr_decode_pipeline_t *dec, int *dec_live, pgt_error *err) {
+    const char *name = s->name;
+    if (ci->width < 1 || ci->height < 1 || (uint64_t)x0 + (uint64_t)ci->width > img->width ||
+        (uint64_t)y0 + (uint64_t)ci->height > img->height)
+        return pgt_error_set(err, PGT_ERROR_PARSE,
+                             "%s: chunk %d of %d x %d pixels at (%u, %u) lies outside the %u x "
+                             "%u data window",
+                             name, ci->idx, ci->width, ci->height, x0, y0, img->width, img->height);
+    if (ci->data_offset > s->size || ci->packed_size > s->size - ci->data_offset)
+        return pgt_error_set(
+            err, PGT_ERROR_TRUNCATED,
+            "%s: chunk %d (rows %u-%u) needs bytes %llu-%llu but the file holds "
+            "%llu bytes",
+            name, ci->idx, y0, y0 + (uint32_t)ci->height - 1, (unsigned long long)ci->data_offset,
+            (unsigned long long)(ci->data_offset + ci->packed_size), (unsigned long long)s->size);
+    /* An uncompressed chunk holds exactly its pixels (OpenEXR 3.1 would read past a short one
+     * into the next chunk). */
+    if (lay->compression == EXR_COMPRESSION_NONE && ci->packed_size != ci->unpacked_size)
+        return pgt_error_set(err, PGT_ERROR_PARSE,
+                             "%s: uncompressed chunk %d holds %llu bytes, not the %llu its "
+                             "pixels need",
+                             name, ci->idx, (unsigned long long)ci->packed_size,
+                             (unsigned long long)ci->unpacked_size);
+    if (*dec_live) {
+        READ_CALL(exr_decoding_update(ctxt, 0, ci, dec), "pixel data");
+    } else {
+        *dec_live = 1; /* exr_decoding_destroy also frees what a failed initialize left */
+        READ_CALL(exr_decoding_initialize(ctxt, 0, ci, dec), "pixel data");
+    }
+    if ((uint32_t)dec->channel_count != img->channel_count)
+        return pgt_error_set(err, PGT_ERROR_PARSE, "%s: chunk %d decodes %d channels, not %u", name,
+                             ci->idx, dec->channel_count, img->channel_count);
+    for (int c = 0; c < dec->channel_count; ++c) {
+        exr_coding_channel_info_t *cc = &dec->channels[c];
+        if (cc->width != ci->width || cc->height != ci->height)
+            return pgt_error_set(err, PGT_ERROR_PARSE,
+                                 "%s: chunk %d: channel %d is %d x %d, not %d x %d", name, ci->idx,
+                                 c, cc->width, cc->height, ci->width, ci->height);
+        /* The library converts HALF and UINT to FLOAT while it unpacks. */
+        cc->decode_to_ptr =
+            (uint8_t *)(pgt_image_plane(img, (uint32_t)c) + (size_t)y0 * img->width + x0);
+        cc->user_pixel_stride = (int32_t)sizeof(float);
+        cc->user_line_stride = (int32_t)(sizeof(float) * img->width);
+        cc->user_data_type = EXR_PIXEL_FLOAT;
+        cc->user_bytes_per_element = (int16_t)sizeof(float);
+    }
+    /* Chosen again for every chunk: the pointers moved, and the choice is cheap. */
+    READ_CALL(exr_decoding_choose_default_routines(ctxt, 0, dec), "pixel data");
+    READ_CALL(exr_decoding_run(ctxt, 0, dec), "pixel data");
+    return PGT_OK;
+}
+
+static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layout *lay,
+                              pgt_image *img, pgt_error *err) {
+    exr_decode_pipeline_t dec;
+    memset(&dec, 0, sizeof(dec));
+    int dec_live = 0;
+    pgt_result r = PGT_OK;
+    exr_chunk_info_t ci;
+    if (lay->tiled) {
+        uint32_t tiles_x = (lay->width - 1) / lay->tile_w + 1;
+        uint32_t tiles_y = (lay->height - 1) / lay->tile_h + 1;
+        for (uint32_t ty = 0; ty < tiles_y && r == PGT_OK; ++ty)
+            for (uint32_t tx = 0; tx < tiles_x && r == PGT_OK; ++tx) {
+                memset(&ci, 0, sizeof(ci));
+                s->lib_msg[0] = '\0';
+                exr_result_t rv = exr_read_tile_chunk_info(ctxt, 0, (int)tx, (int)ty, 0, 0, &ci);
+                if (rv != EXR_ERR_SUCCESS) {
+                    r = read_fail(s, rv, "chunk", err);
+                    break;
+                }
+                if (ci.width > (int32_t)lay->tile_w || ci.height > (int32_t)lay->tile_h)
+                    r = pgt_error_set(err, PGT_ERROR_PARSE,
+                                      "%s: tile (%u, %u) is %d x %d, larger than %u x %u", s->name,
+                                      tx, ty, ci.width, ci.height, lay->tile_w, lay->tile_h);
+                else
+                    r = decode_chunk(ctxt, s, lay, &ci, tx * lay->tile_w, ty * lay->tile_h, img,
+                                     &dec, &dec_live, err);
+            }
+    } else {
+        int64_t end = (int64_t)lay->min_y + lay->height;
+        for (int64_t y = lay->min_y; y < end && r == PGT_OK; y += lay->scanlines_per_chunk) {
+            memset(&ci, 0, sizeof(ci));
+            s->lib_msg[0] = '\0';
+            exr_result_t rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &ci);
+            if (rv != EXR_ERR_SUCCESS) {
+                r = read_fail(s, rv, "chunk", err);
+                break;
+            }
+            if ((int64_t)ci.start_y != y || ci.width != (int32_t)lay->width)
+                r = pgt_error_set(err, PGT_ERROR_PARSE,
+                                  "%s: the chunk for row %lld starts at row %d and is %d wide",
+                                  s->name, (long long)y, ci.start_y, ci.width);
+            else
+                r = decode_chunk(ctxt, s, lay, &ci, 0, (uint32_t)(y - lay->min_y), img, &dec,
+                                 &dec_live, err);
+        }
+    }
+    if (dec_live) exr_decoding_destroy(ctxt, &dec);
+    return r;
+}
+
+static pgt_result read_stream(pgt_image *out, exr_stream *s, pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    if (s->size == 0) return pgt_error_set(err, PGT_ERROR_EMPTY, "%s: empty file", s->name);
+    unsigned char head[4];
+    size_t n = s->size < 4 ? (size_t)s->size : 4;
+    if (stream_read(NULL, s, head, n, 0, NULL) != (int64_t)n)
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", s->name,
+                             strerror(s->io_errno ? s->io_errno : EIO));
+    if (memcmp(head, exr_magic, n) != 0)
+        return pgt_error_set(err, PGT_ERROR_PARSE,
+                             "%s: not an OpenEXR file (it does not start with 76 2f 31 01)",
+                             s->name);
+    if (n < 4)
+        return pgt_error_set(err, PGT_ERROR_TRUNCATED, "%s: the file ends in its magic number",
+                             s->name);
+
+    exr_context_initializer_t init = stream_initializer(s);
+    exr_context_t ctxt = NULL;
+    exr_layout lay;
+    memset(&lay, 0, sizeof(lay));
+    const exr_attr_chlist_t *ch = NULL;
+    uint64_t header_end = 0;
+    pgt_result r = scan_headers(s, &header_end, err);
+    if (r != PGT_OK) return r;
+    current_stream = s;
+    s->lib_msg[0] = '\0';
+    exr_result_t rv = exr_start_read(&ctxt, s->name, &init);
+    if (rv != EXR_ERR_SUCCESS) r = read_fail(s, rv, "header", err);
+    /* Without EXR_CONTEXT_FLAG_STRICT_HEADER the library reports some bad attributes (an unknown
+     * compression byte, ...) and carries on with a default; pgt does not guess. */
+    if (r == PGT_OK && s->lib_msg[0])
+        r = pgt_error_set(err, PGT_ERROR_PARSE, "%s: header: %s", s->name, s->lib_msg);
+    if (r == PGT_OK) r = read_layout(ctxt, s, &lay, &ch, err);
+    if (r == PGT_OK && header_end > 0) r = check_chunks(s, header_end, lay.chunks, lay.tiled, err);
+    if (r == PGT_OK &&
+        pgt_image_create(out, lay.width, lay.height, lay.channels, NULL, NULL) != PGT_OK)
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
+                          "%s: out of memory for %u x %u pixels and %u channels", s->name,
+                          lay.width, lay.height, lay.channels);
+    if (r == PGT_OK) {
+        for (uint32_t c = 0; c < lay.channels; ++c)
+            memcpy(out->names[c], ch->entries[c].name.str, (size_t)ch->entries[c].name.length + 1);
+        r = read_pixels(ctxt, s, &lay, out, err);
+    }
+    if (ctxt) exr_finish(&ctxt);
+    current_stream = NULL;
+    if (r != PGT_OK) pgt_image_destroy(out);
+    return r;
+}
+
+pgt_result pgt_image_read_exr_memory(pgt_image *out, const void *data, size_t size,
+                                     const char *name, pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    if (!name || !name[0]) name = "<memory>";
+    if (!data && size > 0)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: NULL data of %zu bytes", name,
+                             size);
+    exr_stream s;
+    memset(&s, 0, sizeof(s));
+    s.name = name;
+    s.fd = -1;
+    s.mem = data;
+    s.size = size;
+    return read_stream(out, &s, err);
+}
+
+pgt_result pgt_image_read_exr(pgt_image *out, const char *path, pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    if (!path || !path[0])
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "EXR read: no path");
+    exr_stream s;
+    memset(&s, 0, sizeof(s));
+    s.name = path;
+    s.fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (s.fd < 0)
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    pgt_result r;
+    if (fstat(s.fd, &st) != 0)
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot stat: %s", path, strerror(errno));
+    else if (S_ISDIR(st.st_mode))
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: is a directory", path);
+    else if (!S_ISREG(st.st_mode))
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: not a regular file", path);
+    else {
+        s.size = (uint64_t)st.st_size;
+        r = read_stream(out, &s, err);
+    }
+    close(s.fd);
+    return r;
+}
+
+/* ---- writing ---- */
+
+static pgt_result write_fail(exr_stream *s, exr_result_t rv, const char *what, pgt_error *err) {
+    if (s->io_errno)
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", s->name,
+                             strerror(s->io_errno));
+    const char *msg = s->lib_msg[0] ? s->lib_msg : exr_get_default_error_message(rv);
+    return pgt_error_set(err, rv == EXR_ERR_OUT_OF_MEMORY ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_IO,
+                         "%s: %s: %s (OpenEXR %s)", s->name, what, msg,
+                         exr_get_error_code_as_string(rv));
+}
+
+#define WRITE_CALL(call, what)                                                                     \
+    do {                                                                                           \
+        s->lib_msg[0] = '\0';                                                                      \
+        exr_result_t rv_ = (call);                                                                 \
+        if (rv_ != EXR_ERR_SUCCESS) return write_fail(s, rv_, what, err);                          \
+    } while (0)
+
+static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_image *img,
+                               exr_encode_pipeline_t *enc, int *enc_live, pgt_error *err) {
+    int part = 0;
+    WRITE_CALL(exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part), "header");
+    WRITE_CALL(exr_initialize_required_attr_simple(ctxt, part, (int32_t)img->width,
+                                                   (int32_t)img->height, EXR_COMPRESSION_ZIP),
+               "header");
+    for (uint32_t c = 0; c < img->channel_count; ++c)
+        WRITE_CALL(exr_add_channel(ctxt, part, img->names[c], EXR_PIXEL_FLOAT,
+                                   EXR_PERCEPTUALLY_LINEAR, 1, 1),
+                   "channel list");
+    WRITE_CALL(exr_write_header(ctxt), "header");
+    int32_t lines = 0;
+    WRITE_CALL(exr_get_scanlines_per_chunk(ctxt, part, &lines), "header");
+    if (lines < 1) return write_fail(s, EXR_ERR_UNKNOWN, "header", err);
+    for (uint32_t y = 0; y < img->height; y += (uint32_t)lines) {
+        exr_chunk_info_t ci;
+        memset(&ci, 0, sizeof(ci));
+        WRITE_CALL(exr_write_scanline_chunk_info(ctxt, part, (int)y, &ci), "pixel data");
+        if (*enc_live) {
+            WRITE_CALL(exr_encoding_update(ctxt, part, &ci, enc), "pixel data");
+        } else {
+            *enc_live = 1;
+            WRITE_CALL(exr_encoding_initialize(ctxt, part, &ci, enc), "pixel data");
+        }
+        for (int k = 0; k < enc->channel_count; ++k) {
+            exr_coding_channel_info_t *cc = &enc->channels[k];
+            /* The library sorts channels by name: match them by name, not position. */
+            int32_t c = pgt_image_find_channel(img, cc->channel_name);
+            if (c < 0) return write_fail(s, EXR_ERR_UNKNOWN, "channel list", err);
+            cc->encode_from_ptr =
+                (const uint8_t *)(pgt_image_plane(img, (uint32_t)c) + (size_t)y * img->width);
+            cc->user_pixel_stride = (int32_t)sizeof(float);
+            cc->user_line_stride = (int32_t)(sizeof(float) * img->width);
+            cc->user_data_type = EXR_PIXEL_FLOAT;
+            cc->user_bytes_per_element = (int16_t)sizeof(float);
+        }
+        WRITE_CALL(exr_encoding_choose_default_routines(ctxt, part, enc), "pixel data");
+        WRITE_CALL(exr_encoding_run(ctxt, part, enc), "pixel data");
+    }
+    return PGT_OK;
+}
+
+pgt_result pgt_image_write_exr(const pgt_image *img, const char *path, pgt_error *err) {
+    if (!img || !path || !path[0])
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "EXR write: NULL %s",
+                             img ? "path" : "image");
+    if (!img->data || !img->names)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: image has NULL arrays", path);
+    pgt_result r = pgt_image_check_size(img->width, img->height, img->channel_count, path, err);
+    if (r != PGT_OK) return r;
+    const char *names[PGT_IMAGE_MAX_CHANNELS];
+    for (uint32_t c = 0; c < img->channel_count; ++c) names[c] = img->names[c];
+    r = pgt_image_check_names(names, img->channel_count, path, err);
+    if (r != PGT_OK) return r;
+
+    /* PATH.tmp.PID in the same folder, so rename() replaces the target atomically. */
+    size_t tmp_size = strlen(path) + 32;
+    char *tmp = malloc(tmp_size);
+    if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    exr_stream s;
+    memset(&s, 0, sizeof(s));
+    s.name = path;
+    s.fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (s.fd < 0) {
+        int e = errno;
+        free(tmp);
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create a temporary file beside it: %s",
+                             path, strerror(e));
+    }
+
+    exr_context_initializer_t init = stream_initializer(&s);
+    exr_context_t ctxt = NULL;
+    exr_encode_pipeline_t enc;
+    memset(&enc, 0, sizeof(enc));
+    int enc_live = 0;
+    current_stream = &s;
+    s.lib_msg[0] = '\0';
+    exr_result_t rv = exr_start_write(&ctxt, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv != EXR_ERR_SUCCESS) r = write_fail(&s, rv, "start", err);
+    if (r == PGT_OK) r = write_pixels(ctxt, &s, img, &enc, &enc_live, err);
+    if (enc_live) exr_encoding_destroy(ctxt, &enc);
+    if (ctxt) {
+        /* exr_finish writes the offset table. */
+        s.lib_msg[0] = '\0';
+        rv = exr_finish(&ctxt);
+        if (rv != EXR_ERR_SUCCESS && r == PGT_OK) r = write_fail(&s, rv, "offset table", err);
+    }
+    current_stream = NULL;
+    if (close(s.fd) != 0 && r == PGT_OK)
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", path, strerror(errno));
+    if (r == PGT_OK && rename(tmp, path) != 0)
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot move the written file into place: %s",
+                          path, strerror(errno));
+    if (r != PGT_OK) remove(tmp);
+    free(tmp);
+    return r;
+}

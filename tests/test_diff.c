@@ -1,0 +1,94 @@
+/* Tests of the diff's own measures (harness/diff.c): ULP distances with known answers, and that
+ * a float comparison finds, counts and locates what it must. The backends' agreement itself is
+ * the diff_cl / diff_vk tests. */
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "cli.h"
+#include "diff.h"
+#include "test_util.h"
+
+static float from_bits(uint32_t u) {
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+/* Neighbouring floats are 1 apart; the distance counts every float in between, across 0 too. */
+static void ulp_known_answers(void) {
+    CHECK(pgt_ulp_distance(1.0f, 1.0f) == 0);
+    CHECK(pgt_ulp_distance(1.0f, nextafterf(1.0f, 2.0f)) == 1);
+    CHECK(pgt_ulp_distance(nextafterf(1.0f, 2.0f), 1.0f) == 1);
+    CHECK(pgt_ulp_distance(1.0f, 2.0f) == (1u << 23)); /* one binade: 2^23 floats */
+    CHECK(pgt_ulp_distance(0.0f, -0.0f) == 0);
+    const float tiny = from_bits(1u); /* smallest denormal */
+    CHECK(pgt_ulp_distance(tiny, -tiny) == 2);
+    CHECK(pgt_ulp_distance(-1.0f, 1.0f) == 2ull * 0x3F800000u);
+    CHECK(pgt_ulp_distance(FLT_MAX, INFINITY) == 1);
+    CHECK(pgt_ulp_distance(NAN, 1.0f) == UINT64_MAX);
+}
+
+/* Equal arrays: nothing outside. One element 3 ulp off and one 40 ulp off: max_ulp 40 at that
+ * element; with a 16-ulp bound exactly one element is outside, unless the absolute floor
+ * covers it. */
+static void floats_find_the_worst(void) {
+    float ref[6] = {1.0f, -2.5f, 1e-30f, 3.0f, 100.0f, 0.0f}, got[6];
+    memcpy(got, ref, sizeof got);
+    pgt_diff_floats d;
+    pgt_diff_floats_run(&d, ref, got, 6, 16, 0.0);
+    CHECK(d.count == 6 && d.outside == 0 && d.max_ulp == 0 && d.max_abs == 0.0);
+    uint32_t u;
+    memcpy(&u, &ref[1], sizeof u);
+    got[1] = from_bits(u + 3);
+    memcpy(&u, &ref[4], sizeof u);
+    got[4] = from_bits(u - 40);
+    pgt_diff_floats_run(&d, ref, got, 6, 16, 0.0);
+    CHECK(d.max_ulp == 40 && d.worst == 4 && d.worst_ref == ref[4] && d.worst_got == got[4]);
+    CHECK(d.outside == 1);
+    CHECK(fabs(d.max_abs - ((double)ref[4] - (double)got[4])) < 1e-12);
+    /* an absolute floor above the error forgives it */
+    pgt_diff_floats_run(&d, ref, got, 6, 16, 1e-3);
+    CHECK(d.outside == 0 && d.max_ulp == 40);
+    /* NaN is always outside */
+    got[2] = NAN;
+    pgt_diff_floats_run(&d, ref, got, 6, 16, 1e30);
+    CHECK(d.outside == 1 && d.max_ulp == UINT64_MAX && d.worst == 2);
+}
+
+/* The table has the sqrt(3) entry the diff uses, with a reason. */
+static void tolerance_table_entries(void) {
+    const pgt_tolerance *t = pgt_tolerance_find("sqrt3", "positions");
+    REQUIRE(t != NULL);
+    CHECK(t->max_ulp > 0 && t->max_abs_rel > 0.0 && t->why && strlen(t->why) > 20);
+    CHECK(pgt_tolerance_find("sqrt3", "nothing") == NULL);
+}
+
+/* The reference against itself through the diff: every case equal. */
+static void reference_against_itself(void) {
+    pgt_backend cpu;
+    REQUIRE(pgt_backend_open(&cpu, PGT_BACKEND_CPU, 0, 0, NULL) == PGT_OK);
+    pgt_mesh m;
+    REQUIRE(pgt_cli_load_named("hemisphere_jagged_12x32", ".", &m, NULL) == PGT_OK);
+    for (uint32_t k = 1; k <= 3; ++k) {
+        pgt_diff_sqrt3 d;
+        REQUIRE(pgt_diff_sqrt3_run(&cpu, &m, k, NULL, &d, NULL) == PGT_OK);
+        CHECK(d.pass && d.positions.max_ulp == 0 && d.triangles == 0 && d.opposite == 0);
+        CHECK(d.ref_faces == d.got_faces && d.ref_faces == m.face_count * 27u /
+                                                               (k == 3   ? 1
+                                                                : k == 2 ? 3
+                                                                         : 9));
+    }
+    pgt_mesh_destroy(&m);
+    pgt_backend_close(&cpu);
+}
+
+static const pgt_test_case cases[] = {
+    {"ulp_known_answers", ulp_known_answers},
+    {"floats_find_the_worst", floats_find_the_worst},
+    {"tolerance_table_entries", tolerance_table_entries},
+    {"reference_against_itself", reference_against_itself},
+};
+
+PGT_TEST_MAIN(cases)
