@@ -4,7 +4,10 @@
 
 #include <stdint.h>
 
+#include "pgt/adjacency.h"
+#include "pgt/mesh.h"
 #include "pgt/result.h"
+#include "pgt/sqrt3.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -49,6 +52,30 @@ typedef struct pgt_gpu_device_list {
     uint32_t count;
     pgt_gpu_device_info devices[PGT_GPU_MAX_DEVICES];
 } pgt_gpu_device_list;
+
+/* What every GPU backend's sqrt(3) call prepares on the host before uploading, exactly as the
+ * reference does: one copy of it for all backends. */
+typedef struct pgt_gpu_sqrt3_input {
+    pgt_adjacency adj;    /* opposite half-edges of the input (built once, uploaded) */
+    uint32_t *vh;         /* V: the smallest half-edge leaving each vertex, PGT_NONE if isolated */
+    uint32_t *prot;       /* F: 1 = protected (uint, as kernels read it) */
+    uint32_t n_protected; /* protected faces (the same in every level of the call) */
+    float *alpha;         /* alpha_count entries: pgt_sqrt3_alpha(n) */
+    uint32_t alpha_count; /* 2 + the largest fan of the input, at least 64: an interior
+                             unprotected vertex keeps its valence, new points have at most 6, and
+                             border or protected vertices do not use alpha */
+} pgt_gpu_sqrt3_input;
+
+/* The reference's checks in its order and with its messages (input, iterations, output bound,
+ * adjacency, manifold), then the level-0 arrays above. On failure *out is zeroed. */
+pgt_result pgt_gpu_sqrt3_prepare(pgt_gpu_sqrt3_input *out, const pgt_mesh *in,
+                                 const pgt_sqrt3_options *opts, pgt_error *err);
+void pgt_gpu_sqrt3_input_free(pgt_gpu_sqrt3_input *p);
+
+/* k = 0: the reference's copy (without UVs, which GPU backends do not carry) and the optional
+ * outputs (protected flags, identity parents, the input adjacency). */
+pgt_result pgt_gpu_sqrt3_copy(pgt_mesh *out, const pgt_mesh *in, const pgt_sqrt3_options *opts,
+                              const pgt_adjacency *adj, pgt_error *err);
 
 #ifdef __cplusplus
 }

@@ -26,6 +26,7 @@
 #include <pgt/image.h>
 
 #include "png_io.h"
+#include "test_scratch.h"
 #include "test_util.h"
 
 /* ---- helpers ---- */
@@ -86,38 +87,7 @@ static int same_image(const pgt_image *a, const pgt_image *b) {
     return 1;
 }
 
-/* A scratch folder for written files, removed at the end of each case. */
-static char scratch[256];
-static void scratch_make(void) {
-    snprintf(scratch, sizeof(scratch), "/tmp/pgt_test_image_XXXXXX");
-    if (!mkdtemp(scratch)) scratch[0] = '\0';
-}
-static const char *scratch_path(const char *name) {
-    static char path[512];
-    snprintf(path, sizeof(path), "%s/%s", scratch, name);
-    return path;
-}
-static int scratch_count(void) {
-    DIR *d = opendir(scratch);
-    int n = 0;
-    if (!d) return -1;
-    for (struct dirent *e; (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-static void scratch_remove(void) {
-    DIR *d = opendir(scratch);
-    if (!d) return;
-    char path[512];
-    for (struct dirent *e; (e = readdir(d));) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        snprintf(path, sizeof(path), "%s/%s", scratch, e->d_name);
-        if (remove(path) != 0) rmdir(path);
-    }
-    closedir(d);
-    rmdir(scratch);
-}
+static void scratch_make(void) { scratch_make_for("image"); }
 
 /* Reads from memory with garbage in *out first, so that "zeroed on failure" is really tested. */
 static pgt_result read_mem(pgt_image *out, const void *data, size_t size, const char *name,

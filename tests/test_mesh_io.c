@@ -17,6 +17,7 @@
 
 #include <pgt/mesh_io.h>
 
+#include "test_scratch.h"
 #include "test_util.h"
 
 /* ---- helpers ---- */
@@ -103,33 +104,7 @@ static int same_bits(const void *a, const void *b, size_t bytes) {
     return (a == NULL && b == NULL) || (a && b && memcmp(a, b, bytes) == 0);
 }
 
-/* A scratch folder for written files, removed at the end of each case. */
-static char scratch[256];
-static void scratch_make(void) {
-    snprintf(scratch, sizeof(scratch), "/tmp/pgt_test_mesh_io_XXXXXX");
-    if (!mkdtemp(scratch)) scratch[0] = '\0';
-}
-static int scratch_count(void) {
-    DIR *d = opendir(scratch);
-    int n = 0;
-    if (!d) return -1;
-    for (struct dirent *e; (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-static void scratch_remove(void) {
-    DIR *d = opendir(scratch);
-    if (!d) return;
-    char path[512];
-    for (struct dirent *e; (e = readdir(d));) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        snprintf(path, sizeof(path), "%s/%s", scratch, e->d_name);
-        if (remove(path) != 0) rmdir(path);
-    }
-    closedir(d);
-    rmdir(scratch);
-}
+static void scratch_make(void) { scratch_make_for("mesh_io"); }
 
 /* stderr captured into a temporary file, to count the notes a read prints. */
 static int saved_stderr = -1;
@@ -377,8 +352,8 @@ static void test_garbage_and_mutations(void) {
 /* ---- round trips ---- */
 
 static void make_mesh(pgt_mesh *m, uint32_t nv, uint32_t nf, int uvs, int labels) {
-    static const float special[] = {-0.0f, FLT_MAX, -FLT_MAX, FLT_MIN, 1e-40f, 1.0f / 3.0f, 0.1f,
-                                    16777217.0f, -1e-45f};
+    static const float special[] = {-0.0f,       FLT_MAX, -FLT_MAX,    FLT_MIN, 1e-40f,
+                                    1.0f / 3.0f, 0.1f,    16777217.0f, -1e-45f};
     REQUIRE(pgt_mesh_create(m, nv, nf, uvs, labels, NULL) == PGT_OK);
     for (size_t i = 0; i < (size_t)nv * 3; ++i)
         m->positions[i] = i < sizeof(special) / sizeof(special[0]) ? special[i] : rnd_float();
@@ -478,12 +453,12 @@ static void test_round_trips(void) {
 /* quad 0 1 2 3 with vt 2 3 4 1 (1-based), pentagon 4..8 with vt 5..9 */
 static const uint32_t fan_indices[15] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 4, 7, 8};
 static const float fan_uvs[30] = {
-    1, 0, 1, 1, 0, 1, /* quad: vt 2 3 4 */
-    1, 0, 0, 1, 0, 0, /* quad: vt 2 4 1 */
-    0.125f, 0.25f, 0.375f, 0.5f, 0.625f, 0.75f, 0.125f, 0.25f, 0.625f, 0.75f, 0.875f, 1,
-    0.125f, 0.25f, 0.875f, 1, 0.5f, 0.5f,
+    1,      0,      1,      1,      0,      1, /* quad: vt 2 3 4 */
+    1,      0,      0,      1,      0,      0, /* quad: vt 2 4 1 */
+    0.125f, 0.25f,  0.375f, 0.5f,   0.625f, 0.75f,  0.125f, 0.25f, 0.625f,
+    0.75f,  0.875f, 1,      0.125f, 0.25f,  0.875f, 1,      0.5f,  0.5f,
 };
-static const float fan_positions[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0,
+static const float fan_positions[27] = {0, 0, 0, 1, 0,    0, 1, 1,    0, 0, 1,    0, 2, 0,
                                         0, 3, 0, 0, 3.5f, 1, 0, 2.5f, 2, 0, 1.5f, 1, 0};
 
 static void check_fan(const char *file, int with_uvs) {
@@ -683,9 +658,12 @@ static void test_real_meshes(void) {
         uint32_t v, t;
         int uvs;
     } meshes[] = {
-        {"spot.obj", 2930, 5856, 1},           {"bob_tri.obj", 5344, 10688, 1},
-        {"human_neutral.obj", 10475, 20908, 1}, {"pizza.obj", 24916, 49954, 1},
-        {"ogre_bs_rest.obj", 19985, 39856, 1},  {"nefertiti-lowres.obj", 35002, 70000, 0},
+        {"spot.obj", 2930, 5856, 1},
+        {"bob_tri.obj", 5344, 10688, 1},
+        {"human_neutral.obj", 10475, 20908, 1},
+        {"pizza.obj", 24916, 49954, 1},
+        {"ogre_bs_rest.obj", 19985, 39856, 1},
+        {"nefertiti-lowres.obj", 35002, 70000, 0},
         {"mountain.obj", 25600, 50562, 0},
     };
     for (size_t i = 0; i < sizeof(meshes) / sizeof(meshes[0]); ++i) {
@@ -733,8 +711,8 @@ static void test_paths_and_formats(void) {
     CHECK(pgt_mesh_read(&m, "/nonexistent/x.obj", NULL, &err) == PGT_ERROR_IO);
     CHECK(mesh_is_zero(&m) && strstr(err.message, "/nonexistent/x.obj"));
     pgt_error_clear(&err);
-    CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR, &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1},
-                        &err) == PGT_ERROR_IO);
+    CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR, &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1}, &err) ==
+          PGT_ERROR_IO);
     pgt_error_clear(&err);
     CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR "/malformed/MANIFEST", NULL, &err) ==
           PGT_ERROR_UNSUPPORTED);

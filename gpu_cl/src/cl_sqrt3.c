@@ -19,10 +19,6 @@
 #include "sqrt3_cl.h"
 #include "sqrt3_layout.h"
 
-/* Valences below this always have an alpha entry (the reference's table size); the table grows
- * to 2 + the largest input valence when that is more. */
-#define S3_ALPHA_MIN 64u
-
 /* Most launches of one iteration: classify, 4 scan levels, 3 adds, vertices, faces. */
 #define S3_LAUNCHES_PER_STEP 10u
 
@@ -197,26 +193,6 @@ cleanup:
 }
 
 /* k = 0: the reference's copy, on the host, without UVs like every output of this backend. */
-static pgt_result s3_copy(pgt_mesh *out, const pgt_mesh *in, const pgt_sqrt3_options *opts,
-                          const pgt_adjacency *adj, pgt_error *err) {
-    pgt_result r =
-        pgt_mesh_create(out, in->vertex_count, in->face_count, 0, in->labels != NULL, err);
-    if (r != PGT_OK) return r;
-    if (in->vertex_count)
-        memcpy(out->positions, in->positions, (size_t)in->vertex_count * 3 * sizeof(float));
-    if (in->face_count)
-        memcpy(out->indices, in->indices, (size_t)in->face_count * 3 * sizeof(uint32_t));
-    if (in->labels) memcpy(out->labels, in->labels, (size_t)in->face_count * sizeof(int32_t));
-    if (opts->out_protected)
-        for (uint32_t f = 0; f < in->face_count; ++f)
-            opts->out_protected[f] = opts->protected_faces && opts->protected_faces[f] != 0;
-    if (opts->out_face_parent)
-        for (uint32_t f = 0; f < in->face_count; ++f) opts->out_face_parent[f] = f;
-    if (opts->out_opposite)
-        memcpy(opts->out_opposite, adj->opposite, (size_t)in->face_count * 3 * sizeof(uint32_t));
-    return PGT_OK;
-}
-
 pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
                         const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err) {
     pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
@@ -224,26 +200,22 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     if (times) memset(times, 0, sizeof(*times));
     if (!cl || !out) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no context");
     memset(out, 0, sizeof(*out));
-    /* The reference's checks, in its order and with its messages. */
-    if (!in || (in->face_count && (!in->indices || !in->positions)) ||
-        (in->vertex_count && !in->positions))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no input mesh");
-    if (opts->iterations > PGT_SQRT3_MAX_ITERATIONS)
-        return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)",
-                             opts->iterations, PGT_SQRT3_MAX_ITERATIONS);
+    /* The reference's checks and level-0 arrays (gpu_shared/host.c), shared by every backend. */
+    pgt_gpu_sqrt3_input prep;
+    pgt_result r = pgt_gpu_sqrt3_prepare(&prep, in, opts, err);
+    if (r != PGT_OK) return r;
     const uint32_t k = opts->iterations;
-    uint32_t v_bound = 0, f_bound = 0;
-    pgt_result r = pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, k, &v_bound, &f_bound, err);
-    if (r != PGT_OK) return r;
-    pgt_adjacency adj;
-    r = pgt_adjacency_build(&adj, in, 1, err);
-    if (r != PGT_OK) return r;
-    r = pgt_adjacency_require_manifold(&adj, "sqrt3 input", err);
-    if (r != PGT_OK || k == 0) {
-        if (r == PGT_OK) r = s3_copy(out, in, opts, &adj, err);
-        pgt_adjacency_destroy(&adj);
+    if (k == 0) {
+        r = pgt_gpu_sqrt3_copy(out, in, opts, &prep.adj, err);
+        pgt_gpu_sqrt3_input_free(&prep);
         return r;
     }
+    const pgt_adjacency adj = prep.adj;
+    const uint32_t *vh = prep.vh, *prot = prep.prot, n_protected = prep.n_protected;
+    const uint32_t alpha_count = prep.alpha_count;
+    const float *alpha = prep.alpha;
+    uint32_t v_bound = 0, f_bound = 0; /* checked by the preparation: cannot fail here */
+    pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, k, &v_bound, &f_bound, NULL);
 
     const uint32_t V0 = in->vertex_count, F0 = in->face_count;
     const int want_parent = opts->out_face_parent || in->labels;
@@ -251,46 +223,22 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     s3_level cur = {0}, nxt = {0};
     s3_scratch sc = {0};
     cl_mem alpha_buf = NULL;
-    uint32_t *vh = NULL, *prot = NULL, *parent = NULL, *count = NULL, *tmp = NULL, *prot_dl = NULL;
-    float *alpha = NULL;
+    uint32_t *parent = NULL, *tmp = NULL, *prot_dl = NULL;
     double t0;
 
     /* Host arrays of level 0, as the reference makes them. */
-    vh = malloc(((size_t)V0 + 1) * sizeof(uint32_t));
-    prot = malloc(((size_t)F0 + 1) * sizeof(uint32_t));
-    count = calloc((size_t)V0 + 1, sizeof(uint32_t));
     if (want_parent) parent = malloc(((size_t)F0 + 1) * sizeof(uint32_t));
     if (cl->profile) {
         call.cap_events = k * S3_LAUNCHES_PER_STEP;
         call.events = calloc(call.cap_events, sizeof(cl_event));
         call.event_k = calloc(call.cap_events, 1);
     }
-    if (!vh || !prot || !count || (want_parent && !parent) ||
-        (cl->profile && (!call.events || !call.event_k))) {
+    if ((want_parent && !parent) || (cl->profile && (!call.events || !call.event_k))) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
         goto cleanup;
-    }
-    uint32_t n_protected = 0; /* the same in every level of the call */
-    for (uint32_t f = 0; f < F0; ++f) {
-        prot[f] = opts->protected_faces && opts->protected_faces[f] != 0;
-        n_protected += prot[f];
     }
     if (parent)
         for (uint32_t f = 0; f < F0; ++f) parent[f] = f;
-    for (uint32_t v = 0; v < V0; ++v) vh[v] = PGT_NONE;
-    for (uint32_t h = 3 * F0; h-- > 0;) vh[in->indices[h]] = h; /* the smallest leaving v */
-    /* alpha_n for every valence a step meets: an interior unprotected vertex keeps its valence,
-     * a new point has at most 6, and border or protected vertices do not use alpha. */
-    uint32_t max_faces = 0;
-    for (uint32_t h = 0; h < 3 * F0; ++h)
-        if (++count[in->indices[h]] > max_faces) max_faces = count[in->indices[h]];
-    const uint32_t alpha_count = max_faces + 2 > S3_ALPHA_MIN ? max_faces + 2 : S3_ALPHA_MIN;
-    alpha = malloc(alpha_count * sizeof(float));
-    if (!alpha) {
-        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
-        goto cleanup;
-    }
-    for (uint32_t n = 0; n < alpha_count; ++n) alpha[n] = pgt_sqrt3_alpha(n);
 
     const cl_uint flags =
         (n_protected ? PGT_CL_S3_PROT : 0u) | (want_parent ? PGT_CL_S3_PARENT : 0u);
@@ -357,7 +305,8 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
         /* Buffers a launch does not read are bound to the placeholder. */
         const cl_mem ph = cl->placeholder;
         const cl_mem kind = p.is_uniform ? ph : sc.kind, bslot = p.is_uniform ? ph : sc.bslot;
-        const cl_mem pt_off = p.is_uniform ? ph : sc.scan_a, face_off = p.is_uniform ? ph : sc.scan_b;
+        const cl_mem pt_off = p.is_uniform ? ph : sc.scan_a,
+                     face_off = p.is_uniform ? ph : sc.scan_b;
         const cl_mem in_prot = n_protected ? cur.prot : ph, out_prot = n_protected ? nxt.prot : ph;
         const cl_mem in_parent = want_parent ? cur.parent : ph;
         const cl_mem out_parent = want_parent ? nxt.parent : ph;
@@ -470,8 +419,8 @@ cleanup:
     s3_level_release(&cur);
     s3_level_release(&nxt);
     s3_release(&alpha_buf);
-    free(vh), free(prot), free(parent), free(count), free(tmp), free(prot_dl), free(alpha);
-    pgt_adjacency_destroy(&adj);
+    free(parent), free(tmp), free(prot_dl);
+    pgt_gpu_sqrt3_input_free(&prep);
     if (r != PGT_OK) {
         pgt_mesh_destroy(out);
         if (times) memset(times, 0, sizeof(*times));

@@ -222,26 +222,19 @@ static void s3_call_release(pgt_vk *ctx, s3_call *c) {
 
 /* k >= 1 iterations of a validated input with its adjacency. */
 static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_mesh *in,
-                            const pgt_sqrt3_options *opts, const pgt_adjacency *adj,
+                            const pgt_sqrt3_options *opts, const pgt_gpu_sqrt3_input *prep,
                             pgt_gpu_times *times, pgt_error *err) {
     pgt_result r = PGT_OK;
     const uint32_t k = opts->iterations, V0 = in->vertex_count, F0 = in->face_count;
     const int want_parent = opts->out_face_parent || in->labels;
-    uint32_t n_protected = 0, border = adj->border_half_edges;
+    const pgt_adjacency *adj = &prep->adj;
+    const uint32_t n_protected = prep->n_protected, alpha_count = prep->alpha_count;
+    uint32_t border = adj->border_half_edges;
 
     /* ---- level 0 on the host: vh, prot, the alpha table ---- */
     const size_t host_n = (V0 > F0 ? V0 : F0) + 1;
     c->host = malloc(host_n * sizeof(uint32_t));
     if (!c->host) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
-    /* alpha_count: interior unprotected vertices keep their valence, new points have at most 6,
-     * border and protected vertices do not use alpha; so 2 + the largest fan of the input. */
-    uint32_t max_fan = 0;
-    memset(c->host, 0, (size_t)V0 * sizeof(uint32_t));
-    for (uint32_t h = 0; h < 3 * F0; ++h) {
-        const uint32_t n = ++c->host[in->indices[h]];
-        if (n > max_fan) max_fan = n;
-    }
-    const uint32_t alpha_count = max_fan + 2 > 64 ? max_fan + 2 : 64;
 
     const double t_up = s3_now_ms();
     c->cur.V = V0, c->cur.F = F0;
@@ -257,24 +250,10 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.pos, in->positions, 12 * (size_t)V0, err));
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.idx, in->indices, 12 * (size_t)F0, err));
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.opp, adj->opposite, 12 * (size_t)F0, err));
-    for (uint32_t v = 0; v < V0; ++v) c->host[v] = PGT_NONE;
-    for (uint32_t h = 3 * F0; h-- > 0;) c->host[in->indices[h]] = h; /* the smallest leaving v */
-    PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.vh, c->host, 4 * (size_t)V0, err));
-    if (opts->protected_faces) {
-        for (uint32_t f = 0; f < F0; ++f) n_protected += c->host[f] = opts->protected_faces[f] != 0;
-        PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.prot, c->host, 4 * (size_t)F0, err));
-    } else {
-        PGT_VK_TRY(pgt_vk_zero(ctx, &c->cur.prot, 4 * (size_t)F0, err));
-    }
-    float *alpha = malloc((size_t)alpha_count * sizeof(float));
-    if (!alpha) {
-        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
-        goto cleanup;
-    }
-    for (uint32_t n = 0; n < alpha_count; ++n) alpha[n] = pgt_sqrt3_alpha(n); /* alpha_0 = 0 */
-    r = pgt_vk_upload(ctx, &c->alpha, alpha, (size_t)alpha_count * sizeof(float), err);
-    free(alpha);
-    if (r != PGT_OK) goto cleanup;
+    PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.vh, prep->vh, 4 * (size_t)V0, err));
+    PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.prot, prep->prot, 4 * (size_t)F0, err));
+    PGT_VK_TRY(
+        pgt_vk_upload(ctx, &c->alpha, prep->alpha, (size_t)alpha_count * sizeof(float), err));
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
     if (times) times->upload_ms += s3_now_ms() - t_up;
 
@@ -439,50 +418,24 @@ pgt_result pgt_vk_sqrt3(pgt_vk *ctx, pgt_mesh *out, const pgt_mesh *in_mesh,
     if (times) memset(times, 0, sizeof(*times));
     memset(out, 0, sizeof(*out));
     if (!ctx) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3 on vulkan: no context");
-    /* the reference's checks, in its order, with its messages */
-    if (!in_mesh || (in_mesh->face_count && (!in_mesh->indices || !in_mesh->positions)))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no input mesh");
-    if (opts->iterations > PGT_SQRT3_MAX_ITERATIONS)
-        return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)",
-                             opts->iterations, PGT_SQRT3_MAX_ITERATIONS);
+    /* the reference's checks and level-0 arrays (gpu_shared/host.c), shared by every backend */
+    pgt_gpu_sqrt3_input prep;
+    pgt_result r = pgt_gpu_sqrt3_prepare(&prep, in_mesh, opts, err);
+    if (r != PGT_OK) return r;
     const uint32_t k = opts->iterations;
-    pgt_result r =
-        pgt_sqrt3_bound(in_mesh->vertex_count, in_mesh->face_count, 0, k, NULL, NULL, err);
-    if (r != PGT_OK) return r;
-    pgt_adjacency adj;
-    r = pgt_adjacency_build(&adj, in_mesh, 1, err);
-    if (r != PGT_OK) return r;
-    r = pgt_adjacency_require_manifold(&adj, "sqrt3 input", err);
-    if (r != PGT_OK) {
-        pgt_adjacency_destroy(&adj);
-        return r;
-    }
 
     pgt_vk_call_begin(ctx);
     ctx->batch_ms = 0.0;
     if (k == 0) { /* a copy, as the reference */
-        const uint32_t F = in_mesh->face_count;
-        r = pgt_mesh_copy(out, in_mesh, err);
-        if (r == PGT_OK) {
-            free(out->uvs); /* not carried by the GPU backends */
-            out->uvs = NULL;
-            for (uint32_t f = 0; f < F; ++f) {
-                if (opts->out_protected)
-                    opts->out_protected[f] =
-                        opts->protected_faces ? opts->protected_faces[f] != 0 : 0;
-                if (opts->out_face_parent) opts->out_face_parent[f] = f;
-            }
-            if (opts->out_opposite)
-                memcpy(opts->out_opposite, adj.opposite, (size_t)F * 3 * sizeof(uint32_t));
-        }
+        r = pgt_gpu_sqrt3_copy(out, in_mesh, opts, &prep.adj, err);
     } else {
         s3_call c;
         memset(&c, 0, sizeof(c));
-        r = s3_device(ctx, &c, out, in_mesh, opts, &adj, times, err);
+        r = s3_device(ctx, &c, out, in_mesh, opts, &prep, times, err);
         if (r != PGT_OK) pgt_vk_abandon(ctx);
         s3_call_release(ctx, &c);
     }
-    pgt_adjacency_destroy(&adj);
+    pgt_gpu_sqrt3_input_free(&prep);
     r = pgt_vk_call_end(ctx, "pgt_vk_sqrt3", r, err);
     if (r != PGT_OK) {
         pgt_mesh_destroy(out);
