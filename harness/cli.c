@@ -179,3 +179,46 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
     snprintf(path, sizeof path, "%s/%s", shared_dir, name);
     return pgt_mesh_read(out, path, &ro, err);
 }
+
+int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint32_t lo,
+                      uint32_t hi, uint32_t *out, uint32_t max, uint32_t *n) {
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", text);
+    *n = 0;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u values", flag, max);
+        if (pgt_cli_uint(verb, flag, tok, lo, hi, &out[*n])) return PGT_EXIT_USAGE;
+        (*n)++;
+    }
+    if (*n == 0) return pgt_cli_fail(verb, "%s: empty list", flag);
+    return 0;
+}
+
+FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size) {
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) { /* results/ may not exist yet */
+        *slash = 0;
+        mkdir(dir, 0777);
+    }
+    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f) return NULL;
+    char machine[512], commit[64], date[64];
+    pgt_cli_machine(machine, sizeof machine);
+    pgt_cli_commit(commit, sizeof commit);
+    pgt_cli_date(date, sizeof date);
+    fprintf(f, "# %s\n# machine: %s\n# commit: %s\n# date: %s\n", title, machine, commit, date);
+    return f;
+}
+
+int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb) {
+    const int bad = ferror(f);
+    if (fclose(f) != 0 || bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
+    }
+    return 0;
+}

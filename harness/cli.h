@@ -50,6 +50,20 @@ int pgt_cli_same_file(const char *a, const char *b);
 double pgt_cli_median(const double *v, uint32_t n);
 double pgt_cli_min(const double *v, uint32_t n);
 
+/* Parses a comma-separated list of at most max whole numbers in [lo, hi] into out (*n values);
+ * on failure prints a one-line error naming verb and flag and returns nonzero. */
+int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint32_t lo,
+                      uint32_t hi, uint32_t *out, uint32_t max, uint32_t *n);
+
+/* A results table: makes path's folder when missing, opens path.tmp.PID (its name in tmp) and
+ * writes "# title" and the "# machine:", "# commit:", "# date:" lines every table starts with.
+ * NULL (errno set) when the file cannot be opened. */
+FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size);
+
+/* Closes the table and renames it over path; on failure removes it, prints a one-line error
+ * for verb and returns nonzero. */
+int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb);
+
 /* The meshes of ../shared/datasets/meshes the project's defaults use (all 2-manifold), and that
  * folder as configured at build time. */
 extern const char *const pgt_cli_shared_meshes[];
@@ -66,5 +80,9 @@ int pgt_cmd_subdiv(int argc, char **argv);
 int pgt_cmd_bench(int argc, char **argv);
 int pgt_cmd_diff(int argc, char **argv);
 int pgt_cmd_devices(int argc, char **argv);
+int pgt_cmd_atlas(int argc, char **argv);
+int pgt_cmd_march(int argc, char **argv);
+int pgt_cmd_bench_atlas(int argc, char **argv); /* argv[0] = "atlas" */
+int pgt_cmd_bench_march(int argc, char **argv); /* argv[0] = "bench", argv[1] = "march" */
 
 #endif

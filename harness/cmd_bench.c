@@ -22,7 +22,9 @@
 #include "pgt/sqrt3.h"
 
 static const char *bench_usage =
-    "usage: pgt bench subdiv [--out FILE] [--repeat R] [--iters LIST] [--threads LIST]\n"
+    "usage: pgt bench atlas ...    (Table 1 of paper 000: pgt bench atlas --help)\n"
+    "       pgt bench march ...    (marching steps per second: pgt bench march --help)\n"
+    "       pgt bench subdiv [--out FILE] [--repeat R] [--iters LIST] [--threads LIST]\n"
     "                        [--meshes LIST] [--shared DIR] [--no-oracles] [--quick]\n"
     "                        [--backends LIST] [--device N]\n"
     "\n"
@@ -58,22 +60,6 @@ typedef struct bench_cfg {
     pgt_backend gpu[2]; /* open backends (kind CPU = not open) */
     char mesh_list_buf[4096];
 } bench_cfg;
-
-static int parse_uint_list(const char *flag, const char *text, uint32_t lo, uint32_t hi,
-                           uint32_t *out, uint32_t *n) {
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", text);
-    *n = 0;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-         tok = strtok_r(NULL, ",", &save)) {
-        if (*n >= BENCH_MAX_LIST)
-            return pgt_cli_fail("bench", "%s: at most %d values", flag, BENCH_MAX_LIST), -1;
-        if (pgt_cli_uint("bench", flag, tok, lo, hi, &out[*n])) return -1;
-        (*n)++;
-    }
-    if (*n == 0) return pgt_cli_fail("bench", "%s: empty list", flag), -1;
-    return 0;
-}
 
 /* Loads a named benchmark mesh: the generated bench torus, or pgt_cli_load_named's. */
 static pgt_result bench_load(const bench_cfg *cfg, const char *name, pgt_mesh *m, pgt_error *err) {
@@ -184,23 +170,14 @@ static int bench_subdiv(bench_cfg *cfg) {
     if (!mkdtemp(tmpdir))
         return pgt_cli_fail("bench", "cannot make a temporary folder: %s", strerror(errno));
 
-    /* results/ may not exist yet */
-    char dir[2048];
-    snprintf(dir, sizeof dir, "%s", cfg->out_path);
-    char *slash = strrchr(dir, '/');
-    if (slash) {
-        *slash = 0;
-        mkdir(dir, 0777);
-    }
-    char tmp_csv[2200];
-    snprintf(tmp_csv, sizeof tmp_csv, "%s.tmp.%ld", cfg->out_path, (long)getpid());
-    FILE *csv = fopen(tmp_csv, "w");
+    char tmp_csv[4200];
+    FILE *csv = pgt_cli_table_open(
+        cfg->out_path, "pgt bench subdiv: sqrt(3) subdivision, subdivision call only (no file I/O)",
+        tmp_csv, sizeof tmp_csv);
     if (!csv) {
         rmdir(tmpdir);
         return pgt_cli_fail("bench", "cannot write %s: %s", tmp_csv, strerror(errno));
     }
-    fprintf(csv, "# pgt bench subdiv: sqrt(3) subdivision, subdivision call only (no file I/O)\n");
-    fprintf(csv, "# machine: %s\n# commit: %s\n# date: %s\n", machine, commit, date);
     fprintf(csv,
             "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside ours)\n",
             cfg->repeat);
@@ -330,10 +307,7 @@ static int bench_subdiv(bench_cfg *cfg) {
     }
     free(times);
     rmdir(tmpdir);
-    if (fclose(csv) != 0 || rename(tmp_csv, cfg->out_path) != 0) {
-        remove(tmp_csv);
-        return pgt_cli_fail("bench", "cannot write %s: %s", cfg->out_path, strerror(errno));
-    }
+    if (pgt_cli_table_close(csv, tmp_csv, cfg->out_path, "bench")) return PGT_EXIT_USAGE;
     fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)%s\n",
             cfg->out_path, cfg->n_meshes, cfg->n_iters, cfg->n_threads,
             failures ? " with failures (see above)" : "");
@@ -345,8 +319,11 @@ int pgt_cmd_bench(int argc, char **argv) {
         fputs(bench_usage, argc < 2 ? stderr : stdout);
         return argc < 2 ? PGT_EXIT_USAGE : PGT_EXIT_OK;
     }
+    if (!strcmp(argv[1], "atlas")) return pgt_cmd_bench_atlas(argc - 1, argv + 1);
+    if (!strcmp(argv[1], "march")) return pgt_cmd_bench_march(argc, argv);
     if (strcmp(argv[1], "subdiv") != 0)
-        return pgt_cli_fail("bench", "unknown benchmark '%s' (known: subdiv)", argv[1]);
+        return pgt_cli_fail("bench", "unknown benchmark '%s' (known: subdiv, atlas, march)",
+                            argv[1]);
     /* The benchmark allocator policy, the same in the oracle programs (oracle_common.hpp): freed
      * memory stays in the heap, so repeated runs time the algorithm rather than the kernel's
      * first-touch page faults on fresh mmapped blocks (about 45 % of a 2.7M-face run here). */
@@ -378,12 +355,13 @@ int pgt_cmd_bench(int argc, char **argv) {
             have_repeat = 1;
         } else if (!strcmp(a, "--iters")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
-                parse_uint_list(a, v, 0, 6, cfg.iters, &cfg.n_iters))
+                pgt_cli_uint_list("bench", a, v, 0, 6, cfg.iters, BENCH_MAX_LIST, &cfg.n_iters))
                 return PGT_EXIT_USAGE;
             have_iters = 1;
         } else if (!strcmp(a, "--threads")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
-                parse_uint_list(a, v, 1, 256, cfg.threads, &cfg.n_threads))
+                pgt_cli_uint_list("bench", a, v, 1, 256, cfg.threads, BENCH_MAX_LIST,
+                                  &cfg.n_threads))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--meshes")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;

@@ -13,6 +13,8 @@ static const char *usage =
     "  bench      benchmarks that write CSV tables to results/ (pgt bench subdiv)\n"
     "  diff       reference vs an OpenCL or Vulkan backend, element by element (pgt diff all)\n"
     "  devices    the OpenCL and Vulkan devices (the N of --device N)\n"
+    "  atlas      multi-chart geometry-image atlas with indirection pointers (paper 000, sec. 4)\n"
+    "  march      marching on an atlas across charts (paper 000, sec. 5)\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
@@ -41,6 +43,8 @@ int main(int argc, char **argv) {
     if (!strcmp(verb, "bench")) return pgt_cmd_bench(argc - 1, argv + 1);
     if (!strcmp(verb, "diff")) return pgt_cmd_diff(argc - 1, argv + 1);
     if (!strcmp(verb, "devices")) return pgt_cmd_devices(argc - 1, argv + 1);
+    if (!strcmp(verb, "atlas")) return pgt_cmd_atlas(argc - 1, argv + 1);
+    if (!strcmp(verb, "march")) return pgt_cmd_march(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

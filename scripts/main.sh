@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=5
+steps=9
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -44,6 +44,30 @@ spot="$top/../shared/datasets/meshes/spot.obj"
 "$py" paper_figs/mesh_levels.py "$figs/subdiv_levels" "$work/k0.ply" "$work/k1.ply" "$work/k2.ply" \
   --labels "k = 0" "k = 1" "k = 2" --title "sqrt(3) subdivision of spot (Keenan Crane, public domain)" --up y
 written+=("$figs/subdiv_levels.png" "$figs/subdiv_levels.pdf")
+
+step 6 "table 1: pgt bench atlas -> $res/table1.csv (atlas build time, with the paper's rows)"
+atlas_quick=()
+if [ ${#quick[@]} -gt 0 ]; then atlas_quick=(--repeat 1 --meshes cube_sphere_8,spot.obj); fi
+"$pgt" bench atlas --out "$res/table1.csv" "${atlas_quick[@]}"
+written+=("$res/table1.csv")
+
+step 7 "figure: spot's atlas with its indirection pointers -> $figs/atlas_pointers.{png,pdf}"
+"$pgt" atlas "$spot" -o "$work/spot_atlas.exr" --png "$figs/atlas_spot.png" >/dev/null
+"$py" paper_figs/atlas_pointers.py "$work/spot_atlas.exr" "$figs/atlas_pointers" \
+  --title "Indirection geometry image of spot (1024^2), like paper 000 Fig. 2b-c"
+written+=("$figs/atlas_spot.png" "$figs/atlas_pointers.png" "$figs/atlas_pointers.pdf")
+
+step 8 "benchmark: pgt bench march -> $res/march.csv (marching steps per second per core)"
+march_quick=()
+if [ ${#quick[@]} -gt 0 ]; then march_quick=(--quick); fi
+"$pgt" bench march --out "$res/march.csv" "${march_quick[@]}"
+written+=("$res/march.csv")
+
+step 9 "figure: a march on spot's atlas and on the mesh -> $figs/march_path.{png,pdf}"
+"$pgt" march "$work/spot_atlas.exr" --from 700.5,300.5 --dir -1,0.2 --step 4 --steps 400 \
+  -o "$work/path.csv" --dump "$work/spot_dump" >/dev/null
+"$py" paper_figs/march_path.py "$figs/march_path" "$work/path.csv" --dump "$work/spot_dump"
+written+=("$figs/march_path.png" "$figs/march_path.pdf")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done

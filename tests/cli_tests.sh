@@ -77,6 +77,26 @@ assert len(cases)==8 and all(r["pass"] and r["positions"]["max_ulp"]==0 for r in
 assert rows[-1]["summary"] and rows[-1]["cases"]==8 and rows[-1]["failed"]==0' \
   && ok diff_cpu_self_json || bad diff_cpu_self_json "$(head -c 400 out.txt)"
 
+# pgt atlas, pgt march (their algorithms are test_atlas / test_march)
+expect atlas_help 0 "$pgt" atlas --help
+for flag in -o --res --band --k --png --dead-end --threads --json; do
+  grep -q -- "$flag" out.txt && ok "atlas_help_documents_$flag" || bad "atlas_help_documents_$flag" "missing"
+done
+expect march_help 0 "$pgt" march --help
+for flag in --from --dir --step --steps --mask --no-best-pointer --no-rotation -o; do
+  grep -q -- "$flag" out.txt && ok "march_help_documents_$flag" || bad "march_help_documents_$flag" "missing"
+done
+expect atlas_no_uvs 2 "$pgt" atlas "$ico" -o a.exr
+one_line atlas_no_uvs_one_line "UV"
+expect atlas_bad_res 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 1
+one_line atlas_bad_res_one_line "\-\-res"
+expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr --res 128 --png cs.png
+[ -s cs.exr ] && [ -s cs.png ] && ok atlas_writes_exr_and_png || bad atlas_writes_exr_and_png "missing outputs"
+expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
+expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
+expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
+head -1 p.csv | grep -q "^step,u,v,chart,x,y,z,event" && ok march_csv_header || bad march_csv_header "$(head -1 p.csv)"
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 

@@ -1,0 +1,655 @@
+/* pgt march: marching on an atlas across charts (ref_cpu/src/march.c; paper 000, sec. 5), and
+ * pgt bench march: marching steps per second per core. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "gen.h"
+#include "pgt/atlas_build.h"
+#include "pgt/image.h"
+#include "pgt/march.h"
+#include "pgt/rng.h"
+#include "png_io.h"
+
+/* Most steps of one pgt march: a CSV row is ~80 bytes, so 10^7 steps is ~1 GB of text. */
+#define MARCH_CLI_MAX_STEPS 10000000u
+
+/* Inner texels written by --dump for the 3D point cloud of a figure (about; every k-th texel
+ * of every k-th row): enough to show the surface, small enough for matplotlib. */
+#define MARCH_DUMP_POINTS 40000.0
+
+static const char *march_usage =
+    "usage: pgt march ATLAS.exr --from U,V --dir DU,DV --step S --steps N -o PATH.csv\n"
+    "                 [--mask MASK] [--no-best-pointer] [--no-rotation]\n"
+    "                 [--rotation atlas|jacobian] [--dump PREFIX]\n"
+    "\n"
+    "Marches one walker over an atlas written by pgt atlas (paper 000, sec. 5): N steps of S\n"
+    "texels, jumping across charts through the indirection texels (the four cases of Fig. 3,\n"
+    "best indirection texel 5.1, direction rotation 5.2). Positions and directions are in\n"
+    "texel space: x (u) to the right, y (v) downwards (row 0 is the first row of the image);\n"
+    "texel (i, j) covers [i, i+1) x [j, j+1), its centre is (i + 0.5, j + 0.5).\n"
+    "\n"
+    "  ATLAS.exr        an atlas (the 11 channels of ref_cpu/include/pgt/atlas.h)\n"
+    "  --from U,V       start, in texels; must lie in an inner texel (e.g. 100.5,200.5)\n"
+    "  --dir DU,DV      initial direction, in texels (normalised; not 0,0)\n"
+    "  --step S         step length in texels, > 0 and <= 32768\n"
+    "  --steps N        number of steps, 1 to 10000000\n"
+    "  -o PATH.csv      output (written to a temporary file, then renamed): a header line\n"
+    "                   step,u,v,chart,x,y,z,event and one row per step. u,v are the walker's\n"
+    "                   texel coordinates after the step (continuous), chart its chart, x,y,z\n"
+    "                   its 3D position (P interpolated bilinearly over the chart's texels).\n"
+    "                   event: inner (stayed in its chart), jump (jumped through an\n"
+    "                   indirection texel it landed on), search (found one by binary search:\n"
+    "                   background or another chart at the destination; a step that did both\n"
+    "                   is search), stop (dead end, no\n"
+    "                   indirection texel found, or rejected by the mask: the walker does not\n"
+    "                   move and the march ends). Row 0 is the start, with event start.\n"
+    "  --mask MASK      external context (a PNG or EXR image of the atlas's size): a step\n"
+    "                   whose destination texel has mask value >= 0.5 is rejected (event stop).\n"
+    "                   PNG: the first channel (gray, or red), 0..255 as 0..1. EXR: the\n"
+    "                   channel 'mask', else 'Y', else 'R', else the only channel.\n"
+    "  --no-best-pointer  jump through the indirection texel found, without the 5.1 search\n"
+    "                   of its neighbourhood\n"
+    "  --no-rotation    do not rotate the direction at jumps (5.2 off)\n"
+    "  --rotation R     atlas (default: the paper, the angle stored in the atlas's rot\n"
+    "                   channel) or jacobian (the direction with the same 3D motion, from the\n"
+    "                   two charts' texel Jacobians; see march.h)\n"
+    "  --dump PREFIX    also write what a figure needs (paper_figs/march_path.py):\n"
+    "                   PREFIX.atlas.png (the atlas, one pixel per texel: charts in colours,\n"
+    "                   indirection texels darker, dead ends red, background white) and\n"
+    "                   PREFIX.texels.csv (u,v,chart,x,y,z,nx,ny,nz of about 40000 inner\n"
+    "                   texels, on a regular grid of texels)\n"
+    "\n"
+    "Prints one summary line. Exit 0 on success (a march that stops early included), 2 on a\n"
+    "bad flag, value or input.\n";
+
+/* "A,B" as two finite floats. */
+static int parse_pair(const char *flag, const char *text, float *a, float *b) {
+    char *end = NULL;
+    errno = 0;
+    const float x = strtof(text, &end);
+    if (end == text || *end != ',' || errno) goto bad;
+    const char *second = end + 1;
+    const float y = strtof(second, &end);
+    if (end == second || *end || errno || !isfinite(x) || !isfinite(y)) goto bad;
+    *a = x, *b = y;
+    return 0;
+bad:
+    pgt_cli_fail("march", "%s: expected two numbers A,B, got '%s'", flag, text);
+    return -1;
+}
+
+static int parse_float(const char *verb, const char *flag, const char *text, float lo_excl,
+                       float hi, float *out) {
+    char *end = NULL;
+    errno = 0;
+    const float v = strtof(text, &end);
+    if (end == text || *end || errno || !isfinite(v) || !(v > lo_excl) || v > hi) {
+        pgt_cli_fail(verb, "%s: expected a number > %g and <= %g, got '%s'", flag, (double)lo_excl,
+                     (double)hi, text);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int ends_with_ci(const char *s, const char *suffix) {
+    const size_t n = strlen(s), m = strlen(suffix);
+    if (n < m) return 0;
+    for (size_t i = 0; i < m; ++i)
+        if (tolower((unsigned char)s[n - m + i]) != tolower((unsigned char)suffix[i])) return 0;
+    return 1;
+}
+
+/* Reads --mask into w * h floats (malloc'd). 0 on success, else prints the error. */
+static int read_mask(const char *path, uint32_t w, uint32_t h, float **out) {
+    pgt_error err = {0};
+    *out = NULL;
+    if (ends_with_ci(path, ".png")) {
+        uint32_t pw, ph, pc;
+        uint8_t *px = NULL;
+        if (pgt_png_read(path, &pw, &ph, &pc, &px, &err) != PGT_OK)
+            return pgt_cli_fail("march", "--mask %s", err.message), -1;
+        if (pw != w || ph != h) {
+            free(px);
+            return pgt_cli_fail("march", "--mask %s: %u x %u pixels, the atlas is %u x %u", path,
+                                pw, ph, w, h),
+                   -1;
+        }
+        float *m = malloc((size_t)w * h * sizeof(float));
+        if (!m) {
+            free(px);
+            return pgt_cli_fail("march", "out of memory"), -1;
+        }
+        for (size_t i = 0; i < (size_t)w * h; ++i) m[i] = (float)px[i * pc] / 255.0f;
+        free(px);
+        *out = m;
+        return 0;
+    }
+    pgt_image img = {0};
+    if (pgt_image_read_exr(&img, path, &err) != PGT_OK)
+        return pgt_cli_fail("march", "--mask %s", err.message), -1;
+    int32_t c = pgt_image_find_channel(&img, "mask");
+    if (c < 0) c = pgt_image_find_channel(&img, "Y");
+    if (c < 0) c = pgt_image_find_channel(&img, "R");
+    if (c < 0 && img.channel_count == 1) c = 0;
+    if (c < 0) {
+        pgt_image_destroy(&img);
+        return pgt_cli_fail("march",
+                            "--mask %s: no channel 'mask', 'Y' or 'R' (and more than one channel)",
+                            path),
+               -1;
+    }
+    if (img.width != w || img.height != h) {
+        pgt_cli_fail("march", "--mask %s: %u x %u pixels, the atlas is %u x %u", path, img.width,
+                     img.height, w, h);
+        pgt_image_destroy(&img);
+        return -1;
+    }
+    float *m = malloc((size_t)w * h * sizeof(float));
+    if (!m) {
+        pgt_image_destroy(&img);
+        return pgt_cli_fail("march", "out of memory"), -1;
+    }
+    memcpy(m, pgt_image_plane(&img, (uint32_t)c), (size_t)w * h * sizeof(float));
+    pgt_image_destroy(&img);
+    *out = m;
+    return 0;
+}
+
+/* A pastel colour per chart (golden-ratio hues). */
+static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
+    const double h = fmod((double)chart * 0.6180339887498949, 1.0) * 6.0, s = 0.45, v = 0.95;
+    const int i = (int)h;
+    const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+    double r, g, b;
+    switch (i) {
+    case 0:
+        r = v, g = t, b = p;
+        break;
+    case 1:
+        r = q, g = v, b = p;
+        break;
+    case 2:
+        r = p, g = v, b = t;
+        break;
+    case 3:
+        r = p, g = q, b = v;
+        break;
+    case 4:
+        r = t, g = p, b = v;
+        break;
+    default:
+        r = v, g = p, b = q;
+        break;
+    }
+    rgb[0] = (uint8_t)lround(r * 255), rgb[1] = (uint8_t)lround(g * 255),
+    rgb[2] = (uint8_t)lround(b * 255);
+}
+
+/* Writes PATH.tmp.PID then renames it; 0 on success. */
+static FILE *open_tmp(const char *path, char *tmp, size_t size) {
+    snprintf(tmp, size, "%s.tmp.%ld", path, (long)getpid());
+    return fopen(tmp, "w");
+}
+
+static int close_tmp(FILE *f, const char *tmp, const char *path) {
+    return pgt_cli_table_close(f, tmp, path, "march") ? -1 : 0;
+}
+
+static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_image *img) {
+    const uint32_t w = a->width, h = a->height;
+    char path[4096], tmp[4200];
+    uint8_t *px = malloc((size_t)w * h * 3);
+    if (!px) return pgt_cli_fail("march", "out of memory"), -1;
+    size_t inner = 0;
+    for (size_t i = 0; i < (size_t)w * h; ++i) {
+        const uint32_t c = a->texels[i].code, kind = c & 3u;
+        uint8_t *o = px + 3 * i;
+        if (kind == PGT_TEXEL_BACKGROUND) {
+            o[0] = o[1] = o[2] = 255;
+        } else if (kind == PGT_TEXEL_DEAD_END) {
+            o[0] = 200, o[1] = 30, o[2] = 30;
+        } else {
+            chart_colour((c >> 2) - 1u, o);
+            if (kind == PGT_TEXEL_INDIRECTION)
+                for (int k = 0; k < 3; ++k) o[k] = (uint8_t)(o[k] / 2);
+            else
+                inner++;
+        }
+    }
+    pgt_error err = {0};
+    snprintf(path, sizeof path, "%s.atlas.png", prefix);
+    const pgt_result r = pgt_png_write(path, w, h, 3, px, &err);
+    free(px);
+    if (r != PGT_OK) return pgt_cli_fail("march", "--dump: %s", err.message), -1;
+    snprintf(path, sizeof path, "%s.texels.csv", prefix);
+    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    if (!f) return pgt_cli_fail("march", "cannot write %s: %s", tmp, strerror(errno)), -1;
+    uint32_t stride = (uint32_t)ceil(sqrt((double)inner / MARCH_DUMP_POINTS));
+    if (stride < 1) stride = 1;
+    pgt_atlas_channels ch;
+    if (pgt_atlas_channels_find(img, prefix, &ch, &err) != PGT_OK) { /* checked before: a bug */
+        fclose(f);
+        remove(tmp);
+        return pgt_cli_fail("march", "%s", err.message), -1;
+    }
+    const float *nx = pgt_image_plane(img, ch.nx), *ny = pgt_image_plane(img, ch.ny),
+                *nz = pgt_image_plane(img, ch.nz);
+    fprintf(f, "u,v,chart,x,y,z,nx,ny,nz\n");
+    for (uint32_t y = 0; y < h; y += stride)
+        for (uint32_t x = 0; x < w; x += stride) {
+            const size_t i = (size_t)y * w + x;
+            const pgt_march_texel *t = &a->texels[i];
+            if ((t->code & 3u) != PGT_TEXEL_INNER) continue;
+            fprintf(f, "%.1f,%.1f,%u,%.9g,%.9g,%.9g,%.5g,%.5g,%.5g\n", x + 0.5, y + 0.5,
+                    (t->code >> 2) - 1u, (double)t->x, (double)t->y, (double)t->z, (double)nx[i],
+                    (double)ny[i], (double)nz[i]);
+        }
+    return close_tmp(f, tmp, path);
+}
+
+int pgt_cmd_march(int argc, char **argv) {
+    const char *verb = "march", *in_path = NULL, *out_path = NULL, *mask_path = NULL, *dump = NULL;
+    float ux = 0, uy = 0, dx = 0, dy = 0, step = 0;
+    uint32_t steps = 0;
+    int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0;
+    pgt_march_options opts = {0};
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(march_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--from")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || parse_pair(a, v, &ux, &uy))
+                return PGT_EXIT_USAGE;
+            have_from = 1;
+        } else if (!strcmp(a, "--dir")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || parse_pair(a, v, &dx, &dy))
+                return PGT_EXIT_USAGE;
+            if (dx == 0.0f && dy == 0.0f)
+                return pgt_cli_fail(verb, "--dir: the direction 0,0 has no heading");
+            have_dir = 1;
+        } else if (!strcmp(a, "--step")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                parse_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
+                return PGT_EXIT_USAGE;
+            have_step = 1;
+        } else if (!strcmp(a, "--steps")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, MARCH_CLI_MAX_STEPS, &steps))
+                return PGT_EXIT_USAGE;
+            have_steps = 1;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--mask")) {
+            if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--dump")) {
+            if (!(dump = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--no-best-pointer")) {
+            opts.no_best_pointer = 1;
+        } else if (!strcmp(a, "--no-rotation")) {
+            opts.no_rotation = 1;
+        } else if (!strcmp(a, "--rotation")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!strcmp(v, "atlas"))
+                opts.rotation = PGT_MARCH_ROTATION_ATLAS;
+            else if (!strcmp(v, "jacobian"))
+                opts.rotation = PGT_MARCH_ROTATION_JACOBIAN;
+            else
+                return pgt_cli_fail(verb, "--rotation: expected atlas or jacobian, got '%s'", v);
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return pgt_cli_fail(verb, "unknown flag '%s' (see pgt march --help)", a);
+        } else if (!in_path) {
+            in_path = a;
+        } else {
+            return pgt_cli_fail(verb, "unexpected argument '%s' (one atlas only)", a);
+        }
+    }
+    if (!in_path) return pgt_cli_fail(verb, "no atlas (see pgt march --help)");
+    if (!have_from) return pgt_cli_fail(verb, "no start: give --from U,V (texels)");
+    if (!have_dir) return pgt_cli_fail(verb, "no direction: give --dir DU,DV (texels)");
+    if (!have_step) return pgt_cli_fail(verb, "no step length: give --step S (texels)");
+    if (!have_steps) return pgt_cli_fail(verb, "no step count: give --steps N");
+    if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
+    if (pgt_cli_same_file(in_path, out_path))
+        return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input",
+                            out_path);
+
+    const double t0 = pgt_cli_now_ms();
+    pgt_error err = {0};
+    pgt_image img = {0};
+    pgt_march_atlas atlas = {0};
+    float *mask = NULL;
+    int rc = PGT_EXIT_USAGE;
+    if (pgt_image_read_exr(&img, in_path, &err) != PGT_OK ||
+        pgt_march_atlas_create(&atlas, &img, in_path, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    if (mask_path && read_mask(mask_path, atlas.width, atlas.height, &mask)) goto done;
+    opts.mask = mask;
+    pgt_march_state s;
+    if (pgt_march_start(&atlas, ux, uy, dx, dy, &s, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "--from %g,%g --dir %g,%g: %s: %s", (double)ux, (double)uy, (double)dx,
+                     (double)dy, in_path, err.message);
+        goto done;
+    }
+    if (dump && write_dump(dump, &atlas, &img)) goto done;
+    const double t1 = pgt_cli_now_ms();
+
+    char tmp[4200];
+    FILE *f = open_tmp(out_path, tmp, sizeof tmp);
+    if (!f) {
+        pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
+        goto done;
+    }
+    uint32_t counts[4] = {0, 0, 0, 0}, done_steps = 0;
+    pgt_march_stop why = PGT_MARCH_STOP_NONE;
+    float p[3];
+    pgt_march_position(&atlas, s.x, s.y, p);
+    fprintf(f, "step,u,v,chart,x,y,z,event\n");
+    fprintf(f, "0,%.9g,%.9g,%u,%.9g,%.9g,%.9g,start\n", (double)s.x, (double)s.y, s.chart,
+            (double)p[0], (double)p[1], (double)p[2]);
+    for (uint32_t k = 1; k <= steps; ++k) {
+        pgt_march_info info;
+        const pgt_march_event e = pgt_march_step(&atlas, &opts, &s, step, 0.0f, &info);
+        counts[e]++;
+        pgt_march_position(&atlas, s.x, s.y, p);
+        fprintf(f, "%u,%.9g,%.9g,%u,%.9g,%.9g,%.9g,%s\n", k, (double)s.x, (double)s.y, s.chart,
+                (double)p[0], (double)p[1], (double)p[2], pgt_march_event_name(e));
+        if (e == PGT_MARCH_STOP) {
+            why = info.stop;
+            break;
+        }
+        done_steps = k;
+    }
+    if (close_tmp(f, tmp, out_path)) goto done;
+    const double t2 = pgt_cli_now_ms();
+    printf("march: %s (%u x %u texels, %u charts): %u of %u steps of %g texels from (%g, %g): "
+           "%u inner, %u jump, %u search",
+           in_path, atlas.width, atlas.height, atlas.chart_count, done_steps, steps, (double)step,
+           (double)ux, (double)uy, counts[PGT_MARCH_INNER], counts[PGT_MARCH_JUMP],
+           counts[PGT_MARCH_SEARCH]);
+    if (why != PGT_MARCH_STOP_NONE)
+        printf(", stopped at step %u (%s)", done_steps + 1, pgt_march_stop_name(why));
+    printf(" -> %s (read %.1f ms, march+write %.1f ms)\n", out_path, t1 - t0, t2 - t1);
+    rc = PGT_EXIT_OK;
+done:
+    free(mask);
+    pgt_march_atlas_destroy(&atlas);
+    pgt_image_destroy(&img);
+    return rc;
+}
+
+/* ---- pgt bench march ------------------------------------------------------------------------ */
+
+static const char *bench_march_usage =
+    "usage: pgt bench march [--out FILE] [--meshes LIST] [--shared DIR] [--threads LIST]\n"
+    "                       [--walkers W] [--steps N] [--step S] [--res R] [--repeat R] [--quick]\n"
+    "\n"
+    "Marching steps per second per core (the issue's target: >= 20 million) on the atlases of\n"
+    "the given meshes, built in memory with pgt atlas's defaults. W walkers start at seeded\n"
+    "random inner texels and headings and march N steps of S texels each (every step resolves\n"
+    "the destination, jumps when needed, and fetches the 3D position); the walkers are split\n"
+    "over the threads (each marches its own). One CSV row per mesh x thread count, headed by\n"
+    "machine, commit and date.\n"
+    "\n"
+    "  --out FILE      CSV to write (default results/march.csv; temporary file + rename)\n"
+    "  --meshes LIST   comma-separated: a generated default dataset (pgt_datasets --list) or a\n"
+    "                  file name in the shared mesh folder (default: cube_sphere_8 and every\n"
+    "                  mesh of the shared folder that has UVs)\n"
+    "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
+    "  --threads LIST  comma-separated thread counts (default 1,2)\n"
+    "  --walkers W     walkers, 1 to 1048576 (default 16384)\n"
+    "  --steps N       steps per walker, 1 to 100000 (default 1000)\n"
+    "  --step S        step length in texels (default 2)\n"
+    "  --res R         atlas side in texels (default 1024)\n"
+    "  --repeat R      timed runs after one warm-up, 1 to 1000 (default 5)\n"
+    "  --quick         small and fast: 2048 walkers x 200 steps, R = 1\n";
+
+#define BENCH_MARCH_MAX_LIST 32
+
+/* Declared in cli.h by the lead's wiring of `pgt bench march` (cmd_bench.c dispatches to it). */
+/* CPU time of the whole process (every thread), in ms. */
+static double process_cpu_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* Seeded start states: walker i at a uniformly random inner texel position and heading. */
+static int bench_march_seeds(const pgt_march_atlas *a, uint32_t count, float *x, float *y,
+                             float *dx, float *dy, uint32_t *chart) {
+    for (uint32_t i = 0; i < count; ++i) {
+        pgt_march_state s;
+        uint32_t tries = 0;
+        for (;; ++tries) {
+            if (tries == 1000000u) return -1;
+            const uint64_t c = 3ull * ((uint64_t)i * 1000000u + tries);
+            const float rx = pgt_rng_float(1, 0, c) * (float)a->width,
+                        ry = pgt_rng_float(1, 0, c + 1) * (float)a->height,
+                        h = 6.2831853f * pgt_rng_float(1, 0, c + 2);
+            if (pgt_march_start(a, rx, ry, cosf(h), sinf(h), &s, NULL) == PGT_OK) break;
+        }
+        x[i] = s.x, y[i] = s.y, dx[i] = s.dx, dy[i] = s.dy, chart[i] = s.chart;
+    }
+    return 0;
+}
+
+int pgt_cmd_bench_march(int argc, char **argv) {
+    const char *verb = "bench", *out_path = "results/march.csv",
+               *shared_dir = PGT_CLI_SHARED_MESH_DIR;
+    uint32_t threads[BENCH_MARCH_MAX_LIST] = {1, 2}, n_threads = 2, walkers = 16384, steps = 1000,
+             res = 1024, repeat = 5;
+    float step = 2.0f;
+    const char *meshes[BENCH_MARCH_MAX_LIST];
+    uint32_t n_meshes = 0;
+    char list_buf[4096];
+    int quick = 0, have_walkers = 0, have_steps = 0, have_repeat = 0;
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(bench_march_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--out") || !strcmp(a, "-o")) {
+            if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--shared")) {
+            if (!(shared_dir = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--meshes")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            snprintf(list_buf, sizeof list_buf, "%s", v);
+            n_meshes = 0;
+            for (char *save = NULL, *tok = strtok_r(list_buf, ",", &save); tok;
+                 tok = strtok_r(NULL, ",", &save)) {
+                if (n_meshes >= BENCH_MARCH_MAX_LIST)
+                    return pgt_cli_fail(verb, "--meshes: at most %d meshes", BENCH_MARCH_MAX_LIST);
+                meshes[n_meshes++] = tok;
+            }
+            if (!n_meshes) return pgt_cli_fail(verb, "--meshes: empty list");
+        } else if (!strcmp(a, "--threads")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            char buf[512];
+            snprintf(buf, sizeof buf, "%s", v);
+            n_threads = 0;
+            for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+                 tok = strtok_r(NULL, ",", &save)) {
+                if (n_threads >= BENCH_MARCH_MAX_LIST)
+                    return pgt_cli_fail(verb, "--threads: at most %d values", BENCH_MARCH_MAX_LIST);
+                if (pgt_cli_uint(verb, a, tok, 1, 256, &threads[n_threads])) return PGT_EXIT_USAGE;
+                n_threads++;
+            }
+            if (!n_threads) return pgt_cli_fail(verb, "--threads: empty list");
+        } else if (!strcmp(a, "--walkers")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 1u << 20, &walkers))
+                return PGT_EXIT_USAGE;
+            have_walkers = 1;
+        } else if (!strcmp(a, "--steps")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 100000, &steps))
+                return PGT_EXIT_USAGE;
+            have_steps = 1;
+        } else if (!strcmp(a, "--step")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                parse_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--res")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, PGT_ATLAS_MIN_RES, PGT_ATLAS_MAX_RES, &res))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--repeat")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 1000, &repeat))
+                return PGT_EXIT_USAGE;
+            have_repeat = 1;
+        } else if (!strcmp(a, "--quick")) {
+            quick = 1;
+        } else {
+            return pgt_cli_fail(verb, "unknown flag '%s' (see pgt bench march --help)", a);
+        }
+    }
+    if (quick) {
+        if (!have_walkers) walkers = 2048;
+        if (!have_steps) steps = 200;
+        if (!have_repeat) repeat = 1;
+    }
+    if (!n_meshes) {
+        meshes[n_meshes++] = "cube_sphere_8";
+        for (uint32_t k = 0; k < pgt_cli_shared_mesh_count && n_meshes < BENCH_MARCH_MAX_LIST; ++k)
+            meshes[n_meshes++] = pgt_cli_shared_meshes[k]; /* those without UVs are skipped */
+    }
+
+    char tmp[4200];
+    FILE *csv = pgt_cli_table_open(out_path,
+                                   "pgt bench march: marching steps per second per core (paper "
+                                   "000, sec. 5; target >= 20 million steps/s per core)",
+                                   tmp, sizeof tmp);
+    if (!csv) return pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
+    fprintf(csv,
+            "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside); a step "
+            "is one pgt_march_step with the paper's defaults (best pointer, the atlas's rot); "
+            "walkers that stop (dead ends) stop counting\n",
+            repeat);
+    fprintf(csv,
+            "# atlas: pgt_atlas_build defaults at %u x %u; walkers start at seeded random "
+            "inner texels and headings\n",
+            res, res);
+    fprintf(csv, "# msteps_per_s_per_core: wall-clock steps/s over the thread count; "
+                 "msteps_per_cpu_s: steps per second of process CPU time (all threads), the "
+                 "per-core rate without the time other programs take from this one on a shared "
+                 "machine (cache and memory contention still count)\n");
+    fprintf(csv, "# position: no = pgt_march_step only (the marching rule: destination, cases "
+                 "1-4, jumps); yes = each step followed by pgt_march_position (the 3D point a "
+                 "grammar would place geometry at)\n");
+    fprintf(csv, "mesh,faces,charts,resolution,step_texels,walkers,steps_per_walker,threads,"
+                 "position,steps,jumps_per_1000_steps,stopped_walkers,median_ms,best_ms,"
+                 "msteps_per_s,msteps_per_s_per_core,cpu_median_ms,msteps_per_cpu_s\n");
+
+    const size_t n = walkers;
+    float *x0 = malloc(n * 4 * sizeof(float)), *x = malloc(n * 4 * sizeof(float));
+    uint32_t *c0 = malloc(n * sizeof(uint32_t)), *c = malloc(n * sizeof(uint32_t)),
+             *taken = malloc(n * sizeof(uint32_t));
+    double *times = malloc(repeat * sizeof(double)), *cpu = malloc(repeat * sizeof(double)),
+           *sums = malloc(n * sizeof(double));
+    int failures = 0;
+    if (!x0 || !x || !c0 || !c || !taken || !times || !cpu || !sums) {
+        fclose(csv);
+        remove(tmp);
+        free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
+        return pgt_cli_fail(verb, "out of memory");
+    }
+    for (uint32_t mi = 0; mi < n_meshes; ++mi) {
+        pgt_mesh m = {0};
+        pgt_error err = {0};
+        if (pgt_cli_load_named(meshes[mi], shared_dir, &m, &err) != PGT_OK) {
+            fprintf(stderr, "pgt bench march: skipping %s: %s\n", meshes[mi], err.message);
+            failures++;
+            continue;
+        }
+        if (!m.uvs) {
+            fprintf(stderr, "pgt bench march: skipping %s: no UVs\n", meshes[mi]);
+            pgt_mesh_destroy(&m);
+            continue;
+        }
+        pgt_image img = {0};
+        pgt_atlas_options ao = {0};
+        ao.width = ao.height = res;
+        ao.threads = pgt_cli_cpu_count();
+        ao.what = meshes[mi];
+        pgt_atlas_stats st;
+        pgt_march_atlas a = {0};
+        if (pgt_atlas_build(&img, &m, &ao, &st, &err) != PGT_OK ||
+            pgt_march_atlas_create(&a, &img, meshes[mi], &err) != PGT_OK) {
+            fprintf(stderr, "pgt bench march: skipping %s: %s\n", meshes[mi], err.message);
+            failures++;
+            pgt_image_destroy(&img);
+            pgt_mesh_destroy(&m);
+            continue;
+        }
+        float *const s0[4] = {x0, x0 + n, x0 + 2 * n, x0 + 3 * n};
+        float *const s[4] = {x, x + n, x + 2 * n, x + 3 * n};
+        if (bench_march_seeds(&a, walkers, s0[0], s0[1], s0[2], s0[3], c0)) {
+            fprintf(stderr, "pgt bench march: skipping %s: no inner texel found\n", meshes[mi]);
+            failures++;
+            goto next;
+        }
+        /* jumps per 1000 steps, from an untimed pass over (up to) 1024 walkers */
+        uint64_t jumps = 0, counted = 0;
+        for (uint32_t i = 0; i < walkers && i < 1024u; ++i) {
+            pgt_march_state ws = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i]};
+            for (uint32_t k = 0; k < steps; ++k) {
+                pgt_march_info info;
+                if (pgt_march_step(&a, NULL, &ws, step, 0.0f, &info) == PGT_MARCH_STOP) break;
+                jumps += info.jumps, counted++;
+            }
+        }
+        for (uint32_t ti = 0; ti < n_threads; ++ti)
+            for (int with_pos = 0; with_pos < 2; ++with_pos) {
+                uint64_t total = 0;
+                uint32_t stopped = 0;
+                for (uint32_t r = 0; r <= repeat; ++r) {
+                    memcpy(x, x0, n * 4 * sizeof(float));
+                    memcpy(c, c0, n * sizeof(uint32_t));
+                    const double t0 = pgt_cli_now_ms(), c0_ms = process_cpu_ms();
+                    pgt_march_batch(&a, NULL, step, steps, walkers, s[0], s[1], s[2], s[3], c,
+                                    threads[ti], taken, with_pos ? sums : NULL);
+                    const double dt = pgt_cli_now_ms() - t0, dc = process_cpu_ms() - c0_ms;
+                    if (r > 0) times[r - 1] = dt, cpu[r - 1] = dc; /* run 0: the warm-up */
+                }
+                for (uint32_t i = 0; i < walkers; ++i)
+                    total += taken[i], stopped += taken[i] < steps;
+                const double med = pgt_cli_median(times, repeat);
+                const double best = pgt_cli_min(times, repeat),
+                             cpu_med = pgt_cli_median(cpu, repeat);
+                const double msps = (double)total / (med * 1e-3) / 1e6;
+                const double per_cpu = cpu_med > 0.0 ? (double)total / (cpu_med * 1e-3) / 1e6 : 0.0;
+                const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
+                fprintf(csv,
+                        "%s,%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
+                        meshes[mi], m.face_count, st.charts, res, (double)step, walkers, steps,
+                        threads[ti], with_pos ? "yes" : "no", (unsigned long long)total, jpk,
+                        stopped, med, best, msps, msps / threads[ti], cpu_med, per_cpu);
+                fprintf(stderr,
+                        "pgt bench march: %s (%u charts) %u thread%s%s: %.2f M steps/s (%.2f per "
+                        "core; %.2f per CPU-second), %.1f jumps per 1000 steps\n",
+                        meshes[mi], st.charts, threads[ti], threads[ti] > 1 ? "s" : "",
+                        with_pos ? " +position" : "", msps, msps / threads[ti], per_cpu, jpk);
+            }
+    next:
+        pgt_march_atlas_destroy(&a);
+        pgt_image_destroy(&img);
+        pgt_mesh_destroy(&m);
+    }
+    free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
+    if (close_tmp(csv, tmp, out_path)) return PGT_EXIT_USAGE;
+    fprintf(stderr, "pgt bench march: wrote %s%s\n", out_path,
+            failures ? " with failures (see above)" : "");
+    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+}

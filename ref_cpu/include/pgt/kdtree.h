@@ -1,0 +1,62 @@
+/* pgt: a 3D kd-tree over a point set, in flat arrays (for the nearest-texel search of the atlas
+ * pointers, paper 000 section 4: "This search can be greatly accelerated by indexing the
+ * inner-boundary texels into a kd-tree").
+ *
+ * Nodes live in one array and name their children by index; a leaf names a range of the point
+ * permutation. Building and searching use explicit stacks (no recursion), so a GPU kernel can
+ * walk the same arrays. Splits are at the median of the widest axis of the node's points, so the
+ * depth is at most ceil(log2(count / PGT_KDTREE_LEAF_SIZE)) + 1. */
+#ifndef PGT_KDTREE_H
+#define PGT_KDTREE_H
+
+#include <stdint.h>
+
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Points per leaf at most (a leaf scan of 8 beats two more levels of plane tests). */
+#define PGT_KDTREE_LEAF_SIZE 8u
+
+/* Deepest tree (and search stack) supported: 2^40 leaves is far beyond any point count. */
+#define PGT_KDTREE_MAX_DEPTH 48u
+
+/* Node: axis 0..2 with children `a` (coordinates <= split) and `b` (>= split), or a leaf
+ * (axis == PGT_KDTREE_LEAF) holding permuted points [a, b). */
+#define PGT_KDTREE_LEAF 3u
+typedef struct pgt_kdtree_node {
+    float split;
+    uint32_t axis;
+    uint32_t a, b;
+} pgt_kdtree_node;
+
+typedef struct pgt_kdtree {
+    uint32_t point_count, node_count;
+    pgt_kdtree_node *nodes; /* node 0 is the root */
+    float *xyz;             /* 3 * point_count, in leaf order */
+    uint32_t *ids;          /* point_count: the caller's index of each point in leaf order */
+} pgt_kdtree;
+
+/* Builds a tree over count points xyz[3*i .. 3*i+2] (finite). count may be 0. */
+pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, pgt_error *err);
+
+/* Frees and zeroes; NULL or zeroed is a no-op. */
+void pgt_kdtree_destroy(pgt_kdtree *tree);
+
+/* accept(ctx, id): nonzero when point `id` (the caller's index) may be returned. */
+typedef int (*pgt_kdtree_accept_fn)(const void *ctx, uint32_t id);
+
+/* The accepted point nearest to q with squared distance <= max_dist2 (float, computed as
+ * dx*dx + dy*dy + dz*dz); ties go to the smallest id, so the answer does not depend on the
+ * tree's shape. Returns its id and sets *out_dist2, or returns PGT_NONE (0xFFFFFFFF). accept may
+ * be NULL (every point accepted). */
+uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_dist2,
+                            pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,239 @@
+/* pgt: marching on a multi-chart geometry-image atlas across charts (paper 000, section 5).
+ *
+ * This work is based on:
+ *   Paper 000, "on-mesh growth of shape grammars": sec. 5 (the marching rule, the four cases of
+ *   Fig. 3), 5.1 (best indirection pixel, Fig. 5) and 5.2 (rotation of marching directions; the
+ *   angle itself is precomputed by the atlas builder into the `rot` channel, atlas.h).
+ *
+ * A walker lives in texel space (atlas.h: x right, y down, texel (i, j) covers [i, i+1) x
+ * [j, j+1)): a continuous position (x, y) that is always inside an inner texel of `chart`, and a
+ * unit direction (dx, dy) in texel units. One step of `length` texels (the marching rule's image-
+ * space length) aims at P_dest_hat = P_cur + length * d and resolves the texel found there:
+ *
+ *   1. inner texel of the same chart: P_dest = P_dest_hat (event INNER);
+ *   2. indirection texel P0 of the same chart: jump to the centre of the texel its pointer
+ *      names, rotate d (event JUMP), and walk what is left of the step (below);
+ *   3. background (or outside the image): binary search along ]P_cur, P_dest_hat[ for an
+ *      indirection texel P0 of the current chart, jump through it and walk what is left with the
+ *      rotated direction (event SEARCH);
+ *   4. a texel of another chart (inner, indirection or dead end): as 3, every texel that is not
+ *      the current chart's counts as background.
+ *
+ * What is left after a jump is measured in 3D: the step was to cover L3 = length |J d| on the
+ * surface (J: P's finite-difference Jacobian where the walker stands, so |J d| is the 3D length
+ * of one texel of travel along d); the jump covered |pos(ref) - pos(P_cur)| when pos(ref) lies
+ * ahead, nothing when the texel-quantised pointer lands behind; the rest, L3 - covered, is
+ * walked in the destination chart as (L3 - covered) / |J' d'| of its texels. So a step crossing
+ * charts is as long on the surface as one inside a chart, whatever the two charts' texel sizes
+ * (kept input UVs, parametric distortion: spot's seams join texels 3 to 6 times apart). The
+ * paper's case 2 takes P_dest = ref(P_dest_hat) and stops there; a pointer names the inner-
+ * boundary texel nearest to the inner boundary next to P0, about a texel behind P0's centre, so
+ * stopping would shorten every case-2 step by about a texel: case 2 walks the rest too, and
+ * cases 2 and 3 differ only in how P0 is found. The walk after a jump may meet case 2, 3 or 4
+ * in the destination chart, so one step may cross several charts: an explicit loop of at most
+ * PGT_MARCH_MAX_JUMPS jumps (no recursion).
+ *
+ * Best indirection texel (5.1): P_near is the inner texel of the current chart nearest to P0 (in
+ * its one-ring); r = pos(P_near) - pos(P_cur); among the indirection texels P_i of the current
+ * chart in the one-ring of P_near (P0 among them), the one whose c_i = pos(ref(P_i)) - pos(P_cur)
+ * has the largest cosine with r; P0 on ties, and when P_near is P_cur's texel.
+ *
+ * Direction at a jump (5.2): rotated by the angle the builder stored in the indirection texel's
+ * rot (PGT_MARCH_ROTATION_ATLAS, the paper, default), or, beyond the paper, the destination
+ * texel direction with the same 3D motion (PGT_MARCH_ROTATION_JACOBIAN, see below).
+ *
+ * The walker never leaves the image and never stands on anything but an inner texel: a dead-end
+ * texel, a search that finds no indirection texel of the current chart, more than
+ * PGT_MARCH_MAX_JUMPS jumps in one step, or a destination the condition rejects (external
+ * contexts: a mask image or a callback, sampled at the destination) end the march with event
+ * STOP and the state unchanged.
+ *
+ * Rotation convention (atlas.h: "the angle, counter-clockwise in texel space"; atlas_build.h):
+ * a direction (dx, dy) becomes (dx cos a - dy sin a, dx sin a + dy cos a) in texel coordinates,
+ * i.e. it turns from +x towards +y (+y is down in the image, so on screen this turns clockwise).
+ *
+ * Layout: pgt_march_atlas_create validates the atlas once (so the inner loop needs no checks)
+ * and interleaves P with a packed kind-and-chart code, 16 bytes per texel; jumps read the ptr
+ * and rot planes of the image. Walkers of a batch are flat arrays (SoA). float32 throughout. */
+#ifndef PGT_MARCH_H
+#define PGT_MARCH_H
+
+#include <stdint.h>
+
+#include "atlas.h"
+#include "image.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Most chart crossings in one step: a step shorter than a chart crosses one, rarely two (a chart
+ * corner); 16 leaves room for tiny charts (the pizza atlas has 1987 single-triangle charts, a
+ * few texels each) while stopping a walker that a broken pointer pair bounces back and forth. */
+#define PGT_MARCH_MAX_JUMPS 16u
+
+/* Halvings of the binary search of cases 3/4: the bracket starts at the step length (at most
+ * PGT_MARCH_MAX_LENGTH texels, 2^15) and must shrink below one texel to reach the boundary texel
+ * in the worst case; 2^-8 texel below that the texels at both ends are neighbours for sure. */
+#define PGT_MARCH_SEARCH_ITERATIONS 24u
+
+/* Longest step, in texels: the largest image side (PGT_IMAGE_MAX_SIDE, 16384) times ~2 covers any
+ * segment inside an image; longer steps are a caller error. */
+#define PGT_MARCH_MAX_LENGTH 32768.0f
+
+/* Default mask threshold: a destination whose mask value is >= this rejects the step (a mask is
+ * painted 0 = free, 1 = blocked; 0.5 is the midpoint of an 8-bit or float mask). */
+#define PGT_MARCH_MASK_THRESHOLD 0.5f
+
+typedef enum pgt_march_event {
+    PGT_MARCH_INNER = 0,  /* case 1 only: the step stayed in its chart */
+    PGT_MARCH_JUMP = 1,   /* a jump through an indirection texel landed on (case 2), no search */
+    PGT_MARCH_SEARCH = 2, /* at least one binary search (cases 3/4) */
+    PGT_MARCH_STOP = 3    /* dead end, no indirection found, too many jumps, or rejected */
+} pgt_march_event;
+
+/* Lower-case names "inner", "jump", "search", "stop" (the CSV of pgt march). */
+const char *pgt_march_event_name(pgt_march_event e);
+
+/* Packed per-texel code: kind in bits 0-1, chart + 1 in bits 2-31 (0 on background). */
+#define PGT_MARCH_CODE(kind, chart) ((uint32_t)(kind) | ((uint32_t)((chart) + 1) << 2))
+#define PGT_MARCH_MAX_CHARTS (1u << 29)
+
+/* One texel as the marcher reads it: P and the packed code in 16 bytes, so a step's bilinear
+ * position and case test touch one cache line per texel row instead of four (the image's
+ * planar layout: measured 4.2 -> see the report's steps/s), the layout of one RGBA32 texture. */
+typedef struct pgt_march_texel {
+    float x, y, z;
+    uint32_t code; /* PGT_MARCH_CODE(kind, chart) */
+} pgt_march_texel;
+
+/* A validated atlas ready for marching. `texels` (width * height, row-major) is owned; ptr_u,
+ * ptr_v and rot point into the image, which must outlive this view. */
+typedef struct pgt_march_atlas {
+    uint32_t width, height;
+    uint32_t chart_count; /* 1 + the largest chart id */
+    pgt_march_texel *texels;
+    const float *ptr_u, *ptr_v, *rot;
+} pgt_march_atlas;
+
+/* Validates `atlas` against atlas.h and builds the view. Errors (PGT_ERROR_PARSE, messages start
+ * with `what`, e.g. the file name): a missing channel (pgt_atlas_channels_find's message); a
+ * non-integer or out-of-range kind or chart; an inner/indirection/dead-end texel without a chart
+ * or with a non-finite position; an indirection texel whose pointer is not a whole texel inside
+ * the image, does not name an inner texel, or whose rot is not finite; no inner texel at all.
+ * PGT_ERROR_OUT_OF_MEMORY. On failure *out is zeroed. */
+pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, const char *what,
+                                  pgt_error *err);
+
+/* Frees `texels` and zeroes the struct; NULL or a zeroed view is a no-op. */
+void pgt_march_atlas_destroy(pgt_march_atlas *a);
+
+/* External-context condition evaluated at a step's destination (after every jump); return
+ * nonzero to accept the step. */
+typedef int (*pgt_march_condition_fn)(void *ctx, float x, float y, uint32_t chart);
+
+/* Where the turn of the direction at a jump comes from. */
+typedef enum pgt_march_rotation {
+    /* The paper (5.2): rotate by the angle the builder stored in the rot channel. */
+    PGT_MARCH_ROTATION_ATLAS = 0,
+    /* Beyond the paper: d' = J'^+ T J d, the destination texel direction with the same 3D
+     * motion as d (J, J': P's finite-difference Jacobians at the walker's texel and at the
+     * referenced texel; T: the smallest rotation taking the source tangent plane's normal to
+     * the destination's, which unfolds a crease about the crease line). Also right where the
+     * texel metric is anisotropic (non-square charts, non-conformal UVs), which no single angle
+     * can be; falls back to rot where a Jacobian is missing or degenerate. */
+    PGT_MARCH_ROTATION_JACOBIAN = 1
+} pgt_march_rotation;
+
+/* Options; a zero-initialised struct means the paper's marching with no external context. */
+typedef struct pgt_march_options {
+    int no_best_pointer; /* 1: jump through P0 as found (5.1 off) */
+    int no_rotation;     /* 1: keep d at jumps (5.2 off; overrides `rotation`) */
+    pgt_march_rotation rotation;
+    /* Mask in atlas space: width * height floats (row-major, like an image plane); a step whose
+     * destination texel has a value >= mask_threshold is rejected. NULL: no mask. */
+    const float *mask;
+    float mask_threshold;             /* 0: PGT_MARCH_MASK_THRESHOLD */
+    pgt_march_condition_fn condition; /* NULL: none */
+    void *condition_ctx;
+} pgt_march_options;
+
+/* The state of one walker (a kernel keeps it in registers; batches keep it in flat arrays). */
+typedef struct pgt_march_state {
+    float x, y;   /* texel space, inside an inner texel of `chart` */
+    float dx, dy; /* unit direction in texel space */
+    uint32_t chart;
+} pgt_march_state;
+
+/* Why a step stopped (pgt_march_info.stop). */
+typedef enum pgt_march_stop {
+    PGT_MARCH_STOP_NONE = 0,
+    PGT_MARCH_STOP_DEAD_END = 1,       /* the indirection texel reached is a dead end */
+    PGT_MARCH_STOP_NO_INDIRECTION = 2, /* the search found no boundary texel of the chart */
+    PGT_MARCH_STOP_TOO_MANY_JUMPS = 3, /* more than PGT_MARCH_MAX_JUMPS crossings */
+    PGT_MARCH_STOP_REJECTED = 4        /* the mask or the condition rejected the destination */
+} pgt_march_stop;
+
+/* "none", "dead end", "no indirection", "too many jumps", "rejected". */
+const char *pgt_march_stop_name(pgt_march_stop s);
+
+/* Per-step details for tests and the CLI (may be NULL). */
+typedef struct pgt_march_info {
+    uint32_t jumps;        /* chart crossings in this step */
+    uint32_t searches;     /* binary searches in this step */
+    uint32_t last_pointer; /* texel index y * width + x of the last indirection texel jumped
+                              through (after best-pointer selection), or UINT32_MAX */
+    uint32_t last_p0;      /* the P0 of that jump before best-pointer selection */
+    float remaining_src;   /* what was left at the last jump, in source texels */
+    float remaining_dst;   /* that length in destination texels (3D-consistent) */
+    pgt_march_stop stop;   /* why the step stopped (NONE unless the event is STOP) */
+} pgt_march_info;
+
+/* Starts a walker at texel-space (x, y) with direction (dx, dy) (normalised here). Errors
+ * (PGT_ERROR_INVALID_ARGUMENT, naming the values): a non-finite or zero direction, a position
+ * outside the image, or a position on a texel that is not inner. */
+pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx, float dy,
+                           pgt_march_state *out, pgt_error *err);
+
+/* One application of the marching rule: turn the direction by `angle` (radians, the rule's
+ * angle, same sense as rot), then step `length` texels (0 < length <= PGT_MARCH_MAX_LENGTH,
+ * asserted). Updates *s on success; leaves it unchanged on STOP. */
+pgt_march_event pgt_march_step(const pgt_march_atlas *a, const pgt_march_options *o,
+                               pgt_march_state *s, float length, float angle, pgt_march_info *info);
+
+/* The 3D position of a walker at (x, y): P interpolated bilinearly between the four texel
+ * centres around (x, y), over those that are inner texels of the chart of the texel containing
+ * (x, y) (weights renormalised; a GPU kernel does the same with four fetches). At a texel centre
+ * it is that texel's P. (x, y) must be inside an inner texel (asserted). */
+void pgt_march_position(const pgt_march_atlas *a, float x, float y, float out_p[3]);
+
+/* Case 3/4 search (exposed for tests): along the segment from (x0, y0) (inside an inner texel
+ * of `chart`) to (x1, y1), finds by bisection a point whose texel is an indirection or dead-end
+ * texel of `chart`. Returns its texel index (y * width + x) and its segment parameter in
+ * *out_t (0 < t <= 1), or UINT32_MAX when none was found. */
+uint32_t pgt_march_search(const pgt_march_atlas *a, uint32_t chart, float x0, float y0, float x1,
+                          float y1, float *out_t);
+
+/* Best indirection texel (5.1, exposed for tests): given the current position (x, y) in an inner
+ * texel of `chart` and P0 (texel index of an indirection texel of `chart`), returns the texel
+ * index of the chosen indirection texel (P0 when P_near is the current texel or nothing beats
+ * it); *out_near gets P_near's texel index (UINT32_MAX when P0 has no inner neighbour). */
+uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, float y,
+                                uint32_t p0, uint32_t *out_near);
+
+/* A batch of independent walkers, `steps` steps each, in flat arrays of `count` (x, y, dx, dy,
+ * chart: pgt_march_state fields; a walker stops at its first STOP). Walkers are split over
+ * `threads` threads (pgt_parallel_for; 0 = 1); every output is the same for any thread count.
+ * Per walker (each array may be NULL): out_taken the steps taken (a STOP is not a step),
+ * out_sum the sum of the coordinates of every 3D position visited (pgt_march_position after
+ * every step, as a grammar placing geometry would; NULL: positions are not fetched). */
+void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float length,
+                     uint32_t steps, uint32_t count, float *x, float *y, float *dx, float *dy,
+                     uint32_t *chart, uint32_t threads, uint32_t *out_taken, double *out_sum);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

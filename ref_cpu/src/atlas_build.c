@@ -1,0 +1,197 @@
+/* pgt: the atlas builder, driving the stages of paper 000 sections 4 and 5.2 (see
+ * atlas_build.h for the decisions, atlas_internal.h for what the stages exchange). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "atlas_internal.h"
+#include "pgt/parallel.h"
+
+typedef struct rows_ctx {
+    atlas_rows_fn fn;
+    void *ctx;
+    uint32_t width;
+} rows_ctx;
+
+static void rows_trampoline(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const rows_ctx *r = vctx;
+    /* the rows whose first texel lies in [begin, end) */
+    const uint32_t r0 = (begin + r->width - 1u) / r->width, r1 = (end + r->width - 1u) / r->width;
+    if (r0 < r1) r->fn(r->ctx, r0, r1, worker);
+}
+
+void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_rows_fn fn,
+                         void *ctx) {
+    if (!rows) return;
+    if ((uint64_t)rows * width > UINT32_MAX || width == 0) { /* cannot happen below the limits */
+        fn(ctx, 0, rows, 0);
+        return;
+    }
+    rows_ctx r = {fn, ctx, width};
+    pgt_parallel_for(rows * width, threads, rows_trampoline, &r);
+}
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas_options *opt,
+                           pgt_atlas_stats *out_stats, pgt_error *err) {
+    const double t_start = now_ms();
+    static const pgt_atlas_options defaults = {0};
+    if (!opt) opt = &defaults;
+    memset(out, 0, sizeof(*out));
+    const char *what = opt->what ? opt->what : "mesh";
+    const uint32_t W = opt->width ? opt->width : PGT_ATLAS_DEFAULT_RES;
+    const uint32_t H = opt->height ? opt->height : PGT_ATLAS_DEFAULT_RES;
+    const uint32_t band = opt->band > PGT_ATLAS_MIN_BAND ? opt->band : PGT_ATLAS_MIN_BAND;
+    const uint32_t k = opt->k ? opt->k : PGT_ATLAS_DEFAULT_K;
+    const float dead_end = opt->dead_end != 0.0f ? opt->dead_end : PGT_ATLAS_DEFAULT_DEAD_END;
+    const uint32_t threads = opt->threads ? opt->threads : 1u;
+    pgt_atlas_stats st;
+    memset(&st, 0, sizeof(st));
+    if (!mesh) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "pgt_atlas_build: no mesh");
+    if (!mesh->uvs)
+        return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
+                             "%s: no UVs: run a parametrization first (datasets_gen gives "
+                             "UV-less meshes an atlas)",
+                             what);
+    if (mesh->face_count == 0) return pgt_error_set(err, PGT_ERROR_EMPTY, "%s: no faces", what);
+    if (W > PGT_ATLAS_MAX_RES || H > PGT_ATLAS_MAX_RES ||
+        (uint64_t)W * H * PGT_ATLAS_CHANNEL_COUNT > PGT_IMAGE_MAX_VALUES)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "--res: a %ux%u atlas of %u float channels exceeds the image limit "
+                             "(at most %u texels a side and %u values; the largest square atlas "
+                             "is %ux%u)",
+                             W, H, PGT_ATLAS_CHANNEL_COUNT, PGT_ATLAS_MAX_RES,
+                             (unsigned)PGT_IMAGE_MAX_VALUES, PGT_ATLAS_MAX_SQUARE_RES,
+                             PGT_ATLAS_MAX_SQUARE_RES);
+    if (W < PGT_ATLAS_MIN_RES || H < PGT_ATLAS_MIN_RES)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "--res: a %ux%u atlas is too small (at least %u texels a side: one "
+                             "inner texel with a free band of %u on both sides)",
+                             W, H, PGT_ATLAS_MIN_RES, PGT_ATLAS_MIN_BAND);
+    if (band > PGT_ATLAS_MAX_BAND)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "--band: %u is above %u", band,
+                             PGT_ATLAS_MAX_BAND);
+    if (2u * band + 1u > W || 2u * band + 1u > H)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "--band: a band of %u leaves no room in a %ux%u atlas (--res)", band,
+                             W, H);
+    if (k > PGT_ATLAS_MAX_K)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "--k: %u is not in 1..%u", k,
+                             PGT_ATLAS_MAX_K);
+    if (!isfinite(dead_end) || !(dead_end > 0.0f))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "--dead-end: %g is not a positive number of texel sizes",
+                             (double)dead_end);
+    for (uint64_t i = 0; i < 3ull * mesh->vertex_count; ++i)
+        if (!isfinite(mesh->positions[i]))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: vertex %u has a non-finite position", what,
+                                 (uint32_t)(i / 3u));
+    for (uint64_t i = 0; i < 3ull * mesh->face_count; ++i)
+        if (mesh->indices[i] >= mesh->vertex_count)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: face %u names vertex %u of %u", what, (uint32_t)(i / 3u),
+                                 mesh->indices[i], mesh->vertex_count);
+    st.width = W, st.height = H, st.band = band, st.k = k, st.faces = mesh->face_count;
+
+    atlas_charts charts;
+    atlas_layout layout;
+    memset(&layout, 0, sizeof(layout));
+    int32_t *texel_chart = NULL;
+    uint8_t *kind = NULL;
+    float *normals = NULL;
+    double t = now_ms();
+    pgt_result r = atlas_charts_build(&charts, mesh, threads, what, err);
+    if (r != PGT_OK) return r;
+    st.charts = charts.chart_count;
+    st.mirrored_charts = charts.mirrored;
+    st.degenerate_faces = charts.degenerate_faces;
+    st.degenerate_charts = charts.degenerate_charts;
+    st.ms_charts = now_ms() - t;
+
+    texel_chart = malloc(sizeof(int32_t) * (size_t)W * H);
+    kind = malloc((size_t)W * H);
+    if (!texel_chart || !kind) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%ux%u atlas)", what, W,
+                          H);
+        goto done;
+    }
+    t = now_ms();
+    r = atlas_layout_build(&layout, mesh, &charts, W, H, band, opt->force_repack, what, err);
+    if (r != PGT_OK) goto done;
+    if (!layout.repacked && !layout.separated) {
+        /* The input UVs are kept only if their charts keep the band at this resolution: a
+         * coverage raster (no attributes) and the band test decide, as layout time. */
+        atlas_raster_counts cover;
+        r = atlas_raster(mesh, &charts, layout.tex, W, H, NULL, NULL, texel_chart, threads, &cover,
+                         err);
+        if (r != PGT_OK) goto done;
+        st.overlap_texels = cover.overlap;
+        if (cover.overlap || atlas_band_violations(texel_chart, W, H, band, threads)) {
+            r = atlas_layout_repack(&layout, mesh, &charts, W, H, band, what, err);
+            if (r != PGT_OK) goto done;
+        }
+    }
+    st.ms_layout = now_ms() - t;
+
+    t = now_ms();
+    static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
+    r = pgt_image_create(out, W, H, PGT_ATLAS_CHANNEL_COUNT, names, err);
+    if (r != PGT_OK) goto done;
+    r = atlas_vertex_normals(mesh, &normals, err);
+    if (r != PGT_OK) goto done;
+    atlas_raster_counts rc;
+    r = atlas_raster(mesh, &charts, layout.tex, W, H, normals, out, texel_chart, threads, &rc, err);
+    if (r != PGT_OK) goto done;
+    st.repacked = layout.repacked;
+    st.uv_scale = layout.repacked ? layout.scale : 0.0;
+    st.inner_texels = rc.inner;
+    st.fold_over_texels = rc.fold_over;
+    st.packing_efficiency = (double)rc.inner / ((double)W * H);
+    {
+        uint8_t *seen = calloc(charts.chart_count, 1);
+        if (!seen) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
+            goto done;
+        }
+        for (size_t i = 0; i < (size_t)W * H; ++i)
+            if (texel_chart[i] >= 0) seen[texel_chart[i]] = 1;
+        for (uint32_t c = 0; c < charts.chart_count; ++c) st.empty_charts += !seen[c];
+        free(seen);
+    }
+    st.ms_raster = now_ms() - t;
+
+    t = now_ms();
+    atlas_pointer_counts pc;
+    r = atlas_pointers(out, texel_chart, kind, dead_end, threads, &pc, err);
+    if (r != PGT_OK) goto done;
+    st.inner_boundary_texels = pc.inner_boundary;
+    st.indirection_texels = pc.indirection;
+    st.dead_end_texels = pc.dead_end;
+    st.self_seam_pointers = pc.self_seam;
+    st.texel_size = pc.texel_size;
+    st.ms_pointers = now_ms() - t;
+
+    t = now_ms();
+    atlas_angles(out, texel_chart, kind, k, threads);
+    st.ms_angles = now_ms() - t;
+done:
+    free(texel_chart);
+    free(kind);
+    free(normals);
+    atlas_layout_destroy(&layout);
+    atlas_charts_destroy(&charts);
+    if (r != PGT_OK) {
+        pgt_image_destroy(out);
+        return r;
+    }
+    st.ms_total = now_ms() - t_start;
+    if (out_stats) *out_stats = st;
+    return PGT_OK;
+}

@@ -1,0 +1,101 @@
+/* pgt: what the atlas stages pass to each other (atlas_build.c drives them; see atlas_build.h).
+ * Private to ref_cpu/src/atlas_*.c. */
+#ifndef PGT_ATLAS_INTERNAL_H
+#define PGT_ATLAS_INTERNAL_H
+
+#include <stdint.h>
+
+#include "pgt/atlas_build.h"
+#include "pgt/image.h"
+#include "pgt/mesh.h"
+#include "pgt/result.h"
+
+/* Most charts: chart ids travel as float in the atlas, exact up to 2^24. */
+#define PGT_ATLAS_MAX_CHARTS (1u << 24)
+
+/* Step 1 (atlas_charts.c). */
+typedef struct atlas_charts {
+    uint32_t face_count, chart_count;
+    uint32_t *face_chart;    /* face_count: chart id, or PGT_NONE (degenerate UV triangle) */
+    float *uvs;              /* 6 * face_count: the mesh UVs, mirrored charts flipped in u */
+    uint8_t *chart_mirrored; /* chart_count */
+    double *chart_area_uv;   /* chart_count: sum of |UV area| of its rasterized faces */
+    double *chart_area_3d;   /* chart_count: sum of 3D area of the same faces */
+    uint32_t mirrored, degenerate_faces, degenerate_charts;
+} atlas_charts;
+
+pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *mesh, uint32_t threads,
+                              const char *what, pgt_error *err);
+void atlas_charts_destroy(atlas_charts *c);
+
+/* Step 3 (atlas_raster.c): rasterizes the faces with a chart at texel coordinates tex
+ * (6 * face_count floats, x y per corner). Always fills texel_chart (width * height, -1 where no
+ * triangle covers the centre); when atlas is not NULL also its P, N, chart and kind planes (the
+ * other planes are left alone). Ties: the smallest face id wins a texel. */
+typedef struct atlas_raster_counts {
+    uint32_t inner;     /* covered texels */
+    uint32_t fold_over; /* texel centres strictly inside two triangles of one chart */
+    uint32_t overlap;   /* texel centres covered by triangles of two charts */
+} atlas_raster_counts;
+
+pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
+                        uint32_t width, uint32_t height, const float *vertex_normals,
+                        pgt_image *atlas, int32_t *texel_chart, uint32_t threads,
+                        atlas_raster_counts *out_counts, pgt_error *err);
+
+/* Area-weighted vertex normals (3 * vertex_count floats, unit or 0). */
+pgt_result atlas_vertex_normals(const pgt_mesh *mesh, float **out, pgt_error *err);
+
+/* Step 2 (atlas_layout.c): texel coordinates of every corner (6 * face_count floats, malloc'd).
+ * atlas_layout_build keeps the input UVs (x = u W, y = (1 - v) H, repacked = 0) when they lie
+ * `band` texels inside [0,1]^2 and their areas do not add up beyond it (the caller then, unless
+ * `separated`, rasterizes and checks the band with atlas_band_violations), else repacks.
+ * atlas_layout_repack always repacks (into a layout that already holds tex). */
+typedef struct atlas_layout {
+    float *tex;
+    int repacked;
+    int separated; /* kept, and the charts' bounding boxes are more than band apart: no test */
+    double scale;  /* repacked: texels per unit of 3D length */
+} atlas_layout;
+
+pgt_result atlas_layout_build(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *charts,
+                              uint32_t width, uint32_t height, uint32_t band, int force_repack,
+                              const char *what, pgt_error *err);
+pgt_result atlas_layout_repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *charts,
+                               uint32_t width, uint32_t height, uint32_t band, const char *what,
+                               pgt_error *err);
+void atlas_layout_destroy(atlas_layout *l);
+
+/* The number of inner texels that have an inner texel of another chart, or the image border,
+ * within Chebyshev distance band (texel_chart as atlas_raster fills it); PGT_NONE when out of
+ * memory. */
+uint32_t atlas_band_violations(const int32_t *texel_chart, uint32_t width, uint32_t height,
+                               uint32_t band, uint32_t threads);
+
+/* Step 4 (atlas_pointers.c): classifies texels into `kind` (width * height bytes: INNER,
+ * INDIRECTION for every outer-boundary texel, BACKGROUND; bit 0x80 marks an inner-boundary
+ * texel), fills the planes of the outer-boundary texels (P, chart, kind: indirection or dead
+ * end, ptr) and ptr/rot of all others, and measures the texel size. */
+typedef struct atlas_pointer_counts {
+    uint32_t inner_boundary, indirection, dead_end, self_seam;
+    double texel_size;
+} atlas_pointer_counts;
+
+#define ATLAS_KIND_BOUNDARY_BIT 0x80u
+
+pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
+                          float dead_end, uint32_t threads, atlas_pointer_counts *out,
+                          pgt_error *err);
+
+/* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2). */
+void atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind, uint32_t k,
+                  uint32_t threads);
+
+/* Runs fn over the rows [0, height) of a width-wide grid in parallel: pgt_parallel_for hands
+ * out texel ranges (it keeps >= 4096 elements per thread, too many rows), and a row is done by
+ * the range that holds its first texel. rows_per_item groups rows (a raster tile). */
+typedef void (*atlas_rows_fn)(void *ctx, uint32_t row_begin, uint32_t row_end, uint32_t worker);
+void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_rows_fn fn,
+                         void *ctx);
+
+#endif

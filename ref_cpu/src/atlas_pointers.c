@@ -1,0 +1,398 @@
+/* pgt: atlas step 4, indirection pointers (paper 000 section 4, Fig. 2a; after Lefebvre and
+ * Hoppe 2006).
+ *
+ * Classification (atlas.h): an inner texel is inner-boundary when a 4-neighbour is not an inner
+ * texel of its chart (or lies outside the image); a non-inner texel 8-adjacent to inner texels of
+ * exactly one chart c is an outer-boundary texel of c. For each outer-boundary texel, p = the
+ * mean 3D position of its 8-adjacent inner-boundary texels of c ("we compute its closest 3D
+ * surface position p by averaging the adjacent texels lying on the inner-boundary of the
+ * chart"); its pointer is the inner-boundary texel nearest to p in 3D (kd-tree, ties to the
+ * smallest texel index) among the texels of the other charts, and of c itself across a seam
+ * inside c (accept_candidate: the way through the chart much longer than the way through
+ * space). When no candidate lies within dead_end texel sizes of p (the larger of the median
+ * texel size, pgt_atlas_texel_size, and the local one), the texel is a dead end (a mesh border).
+ * Every query is independent: any thread count gives the same bytes. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "atlas_internal.h"
+#include "pgt/kdtree.h"
+
+static const int32_t nb8[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
+                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+
+typedef struct ptr_ctx {
+    pgt_image *atlas;
+    const int32_t *chart;
+    uint8_t *kind;
+    uint32_t W, H;
+    /* inner-boundary texels in row-major order */
+    uint32_t *row_boundary; /* H + 1: per-row counts, then prefix sums */
+    uint32_t *b_texel;
+    int32_t *b_chart;
+    float *b_xyz;
+    pgt_kdtree tree;
+    double texel_size, dead_end;
+    uint32_t *row_counts; /* 4 per row: indirection, dead end, self seam, outer */
+} ptr_ctx;
+
+static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    ptr_ctx *c = vctx;
+    (void)worker;
+    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
+        uint32_t boundary = 0;
+        for (int32_t x = 0; x < W; ++x) {
+            const size_t idx = (size_t)y * (size_t)W + (size_t)x;
+            const int32_t own = c->chart[idx];
+            uint8_t k = PGT_TEXEL_BACKGROUND;
+            if (own >= 0) {
+                k = PGT_TEXEL_INNER;
+                for (uint32_t i = 0; i < 8; i += 2) { /* the 4-neighbours */
+                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+                    if (nx < 0 || ny < 0 || nx >= W || ny >= H ||
+                        c->chart[(size_t)ny * (size_t)W + (size_t)nx] != own) {
+                        k |= ATLAS_KIND_BOUNDARY_BIT;
+                        boundary++;
+                        break;
+                    }
+                }
+            } else {
+                int32_t lo = INT32_MAX, hi = -1;
+                for (uint32_t i = 0; i < 8; ++i) {
+                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                    const int32_t o = c->chart[(size_t)ny * (size_t)W + (size_t)nx];
+                    if (o < 0) continue;
+                    if (o < lo) lo = o;
+                    if (o > hi) hi = o;
+                }
+                /* touching two charts breaks the band contract: left as background */
+                if (hi >= 0 && lo == hi) k = PGT_TEXEL_INDIRECTION;
+            }
+            c->kind[idx] = k;
+        }
+        c->row_boundary[y + 1] = boundary;
+    }
+}
+
+static void gather_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    ptr_ctx *c = vctx;
+    (void)worker;
+    const float *P[3] = {pgt_image_plane(c->atlas, 0), pgt_image_plane(c->atlas, 1),
+                         pgt_image_plane(c->atlas, 2)};
+    for (uint32_t y = y0; y < y1; ++y) {
+        uint32_t j = c->row_boundary[y];
+        for (uint32_t x = 0; x < c->W; ++x) {
+            const size_t idx = (size_t)y * c->W + x;
+            if (!(c->kind[idx] & ATLAS_KIND_BOUNDARY_BIT)) continue;
+            c->b_texel[j] = (uint32_t)idx;
+            c->b_chart[j] = c->chart[idx];
+            for (uint32_t k = 0; k < 3; ++k) c->b_xyz[3u * j + k] = P[k][idx];
+            j++;
+        }
+    }
+}
+
+typedef struct accept_ctx {
+    const ptr_ctx *c;
+    int32_t chart;
+    int32_t x, y;         /* the outer-boundary texel */
+    int32_t sx[8], sy[8]; /* its adjacent inner-boundary texels */
+    uint32_t starts;
+} accept_ctx;
+
+static double dist3(const ptr_ctx *c, size_t i, size_t j) {
+    double e = 0.0;
+    for (uint32_t k = 0; k < 3; ++k) {
+        const float *p = pgt_image_plane(c->atlas, k);
+        const double t = (double)p[j] - p[i];
+        e += t * t;
+    }
+    return sqrt(e);
+}
+
+/* A texel of the source's own chart is a candidate only across a seam inside the chart: the
+ * way through the chart must be much longer than the way through space. The test walks the
+ * texel line from the source's adjacent inner-boundary texel nearest to the candidate (the
+ * start) to the candidate, summing the 3D steps between successive inner texels of the chart,
+ * and one local texel size (the largest 3D step from the start to its 4-neighbours) for every
+ * texel of the line outside the chart. The candidate is accepted when that path is longer than
+ * ATLAS_SELF_SEAM_PATH_RATIO times the 3D distance from the start, and, for a line that stays
+ * inside the chart, when it lies farther than PGT_ATLAS_SELF_SEAM_MIN_TEXELS from the source
+ * texel. So:
+ * - a cylinder cut open inside one chart: the line crosses the chart, the path is the way
+ *   around the cylinder, the distance across the cut about one texel: accepted;
+ * - a slit cut inside a chart (its sides glued, the slit narrower than a few texels): the line
+ *   crosses the slit, the path counts its texels, the sides are at the same 3D place: accepted;
+ * - one side of a mesh border, however squeezed by the parametrization, or across a hole of
+ *   the chart that is not glued: path and distance are about equal: refused. */
+/* Path length / 3D distance above which the two ends are on two sides of a seam: a straight
+ * texel line on one side of a smooth chart has a ratio near 1 (curvature and the rounding of
+ * the texel line add a few percent), while across a seam the distance is about one texel size
+ * and the path several. */
+#define ATLAS_SELF_SEAM_PATH_RATIO 2.0
+
+static int accept_candidate(const void *vctx, uint32_t id) {
+    const accept_ctx *a = vctx;
+    const ptr_ctx *c = a->c;
+    if (c->b_chart[id] != a->chart) return 1;
+    const uint32_t t = c->b_texel[id];
+    const int32_t qx = (int32_t)(t % c->W), qy = (int32_t)(t / c->W);
+    uint32_t best = 0;
+    int64_t best_d = INT64_MAX;
+    for (uint32_t i = 0; i < a->starts; ++i) {
+        const int64_t ex = qx - a->sx[i], ey = qy - a->sy[i], d = ex * ex + ey * ey;
+        if (d < best_d) best_d = d, best = i;
+    }
+    const int32_t x0 = a->sx[best], y0 = a->sy[best];
+    const size_t s0 = (size_t)y0 * c->W + (size_t)x0;
+    double local = 0.0;
+    for (uint32_t i = 0; i < 8; i += 2) {
+        const int32_t nx = x0 + nb8[i][0], ny = y0 + nb8[i][1];
+        if (nx < 0 || ny < 0 || nx >= (int32_t)c->W || ny >= (int32_t)c->H) continue;
+        const size_t j = (size_t)ny * c->W + (size_t)nx;
+        if (c->chart[j] == a->chart) local = fmax(local, dist3(c, s0, j));
+    }
+    const int32_t ex = qx - x0, ey = qy - y0;
+    const int32_t n = abs(ex) > abs(ey) ? abs(ex) : abs(ey);
+    const double dx = (double)qx - a->x, dy = (double)qy - a->y;
+    const int far = dx * dx + dy * dy >
+                    (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS * (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS;
+    const double limit = ATLAS_SELF_SEAM_PATH_RATIO * dist3(c, s0, t);
+    double path = 0.0;
+    size_t prev = s0;
+    uint32_t gaps = 0;
+    int after_gap = 0;
+    for (int32_t i = 1; i <= n; ++i) {
+        const int32_t x = x0 + (int32_t)floor(ex * (double)i / n + 0.5);
+        const int32_t y = y0 + (int32_t)floor(ey * (double)i / n + 0.5);
+        const size_t j = (size_t)y * c->W + (size_t)x;
+        if (c->chart[j] != a->chart) {
+            gaps++, after_gap = 1;
+        } else {
+            if (!after_gap) path += dist3(c, prev, j); /* a gap counts in texels, below */
+            after_gap = 0;
+            prev = j;
+        }
+        /* the path only grows: decided as soon as it passes the limit */
+        if ((far || gaps) && path + gaps * local > limit) return 1;
+    }
+    return 0;
+}
+
+static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    ptr_ctx *c = vctx;
+    (void)worker;
+    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    float *P[3], *N[3];
+    for (uint32_t k = 0; k < 3; ++k)
+        P[k] = pgt_image_plane(c->atlas, k), N[k] = pgt_image_plane(c->atlas, 3u + k);
+    float *chart_plane = pgt_image_plane(c->atlas, 6), *kind_plane = pgt_image_plane(c->atlas, 7);
+    float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9),
+          *rot = pgt_image_plane(c->atlas, 10);
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
+        uint32_t *cnt = &c->row_counts[4u * (uint32_t)y];
+        cnt[0] = cnt[1] = cnt[2] = cnt[3] = 0;
+        for (int32_t x = 0; x < W; ++x) {
+            const size_t idx = (size_t)y * (size_t)W + (size_t)x;
+            pu[idx] = -1.0f, pv[idx] = -1.0f, rot[idx] = 0.0f;
+            if (c->kind[idx] != PGT_TEXEL_INDIRECTION) continue;
+            cnt[3]++;
+            /* the chart, and p: the mean of the adjacent inner-boundary texels */
+            int32_t chart = -1;
+            double p[3] = {0.0, 0.0, 0.0};
+            uint32_t n = 0;
+            accept_ctx a;
+            a.c = c, a.x = x, a.y = y;
+            for (uint32_t i = 0; i < 8; ++i) {
+                const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+                if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
+                if (!(c->kind[j] & ATLAS_KIND_BOUNDARY_BIT)) continue;
+                chart = c->chart[j];
+                for (uint32_t k = 0; k < 3; ++k) p[k] += P[k][j];
+                a.sx[n] = nx, a.sy[n] = ny;
+                n++;
+            }
+            /* n >= 1: an inner texel 8-adjacent to a non-inner texel has a non-inner
+             * 4-neighbour (the texel itself, or one of the two texels between them) */
+            const float q[3] = {(float)(p[0] / n), (float)(p[1] / n), (float)(p[2] / n)};
+            a.chart = chart, a.starts = n;
+            /* the dead-end threshold counts in the larger of the median texel size and the
+             * local one (the largest 3D step from the adjacent inner-boundary texels to their
+             * 4-neighbours in the chart): a chart stretched near its boundary has texels
+             * several median sizes long, and its seam partner lies that far */
+            double local = 0.0;
+            for (uint32_t s = 0; s < n; ++s) {
+                const size_t j = (size_t)a.sy[s] * (size_t)W + (size_t)a.sx[s];
+                for (uint32_t i = 0; i < 8; i += 2) {
+                    const int32_t nx = a.sx[s] + nb8[i][0], ny = a.sy[s] + nb8[i][1];
+                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                    const size_t m = (size_t)ny * (size_t)W + (size_t)nx;
+                    if (c->chart[m] == chart) local = fmax(local, dist3(c, j, m));
+                }
+            }
+            const double reach = c->dead_end * fmax(c->texel_size, local);
+            float d2 = 0.0f;
+            const uint32_t hit =
+                pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a, &d2);
+            chart_plane[idx] = (float)chart;
+            for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
+            if (hit == PGT_NONE) { /* the kind buffer keeps INDIRECTION for every outer texel */
+                kind_plane[idx] = (float)PGT_TEXEL_DEAD_END;
+                for (uint32_t k = 0; k < 3; ++k) P[k][idx] = 0.0f;
+                cnt[1]++;
+                continue;
+            }
+            const uint32_t t = c->b_texel[hit];
+            kind_plane[idx] = (float)PGT_TEXEL_INDIRECTION;
+            for (uint32_t k = 0; k < 3; ++k) P[k][idx] = q[k];
+            pu[idx] = (float)(t % c->W);
+            pv[idx] = (float)(t / c->W);
+            cnt[0]++;
+            if (c->b_chart[hit] == chart) cnt[2]++;
+        }
+    }
+}
+
+/* The k-th smallest (0-based) of the non-negative floats in rows of `v` (row y holds count[y]
+ * values from v + stride * y): their bit patterns sort like the values, so two 16-bit radix
+ * histograms find it exactly (no sort, no recursion). */
+static float select_nonnegative(const float *v, const uint32_t *count, uint32_t rows, size_t stride,
+                                size_t k) {
+    uint32_t *hist = calloc(65536u, sizeof(uint32_t));
+    if (!hist) return 0.0f;
+    uint32_t bits = 0, high, low;
+    for (uint32_t y = 0; y < rows; ++y)
+        for (uint32_t i = 0; i < count[y]; ++i) {
+            memcpy(&bits, &v[stride * y + i], 4);
+            hist[bits >> 16]++;
+        }
+    for (high = 0; high < 65535u && k >= hist[high]; ++high) k -= hist[high];
+    memset(hist, 0, 65536u * sizeof(uint32_t));
+    for (uint32_t y = 0; y < rows; ++y)
+        for (uint32_t i = 0; i < count[y]; ++i) {
+            memcpy(&bits, &v[stride * y + i], 4);
+            if (bits >> 16 == high) hist[bits & 0xFFFFu]++;
+        }
+    for (low = 0; low < 65535u && k >= hist[low]; ++low) k -= hist[low];
+    free(hist);
+    bits = high << 16 | low;
+    float out;
+    memcpy(&out, &bits, 4);
+    return out;
+}
+
+typedef struct size_ctx {
+    const float *P[3], *chart, *kind;
+    uint32_t W, H;
+    float *d;        /* 2 W per row */
+    uint32_t *count; /* per row */
+} size_ctx;
+
+/* Squared 3D distances (double, rounded to float once) to the right and lower neighbours, when
+ * both are inner texels of one chart: the median of the squares is the square of the median,
+ * so no square root per pair. */
+static void size_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    size_ctx *c = vctx;
+    (void)worker;
+    const uint32_t W = c->W;
+    for (uint32_t y = y0; y < y1; ++y) {
+        float *d = &c->d[2u * (size_t)W * y];
+        uint32_t m = 0;
+        for (uint32_t x = 0; x < W; ++x) {
+            const size_t i = (size_t)y * W + x;
+            if (c->kind[i] != (float)PGT_TEXEL_INNER) continue;
+            for (uint32_t s = 0; s < 2; ++s) {
+                if (s == 0 ? x + 1u >= W : y + 1u >= c->H) continue;
+                const size_t j = s == 0 ? i + 1u : i + W;
+                if (c->kind[j] != (float)PGT_TEXEL_INNER || c->chart[j] != c->chart[i]) continue;
+                double e = 0.0;
+                for (uint32_t k = 0; k < 3; ++k) {
+                    const double t = (double)c->P[k][j] - c->P[k][i];
+                    e += t * t;
+                }
+                d[m++] = (float)e;
+            }
+        }
+        c->count[y] = m;
+    }
+}
+
+static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, uint32_t threads) {
+    const uint32_t W = atlas->width, H = atlas->height;
+    size_ctx c = {{pgt_image_plane(atlas, ch->px), pgt_image_plane(atlas, ch->py),
+                   pgt_image_plane(atlas, ch->pz)},
+                  pgt_image_plane(atlas, ch->chart),
+                  pgt_image_plane(atlas, ch->kind),
+                  W,
+                  H,
+                  malloc(sizeof(float) * 2u * (size_t)W * H + 1u),
+                  calloc((size_t)H + 1u, sizeof(uint32_t))};
+    double med = 0.0;
+    if (c.d && c.count) {
+        atlas_parallel_rows(H, W, threads, size_rows, &c);
+        size_t n = 0;
+        for (uint32_t y = 0; y < H; ++y) n += c.count[y];
+        /* the lower median for an even count */
+        if (n)
+            med = sqrt((double)select_nonnegative(c.d, c.count, H, 2u * (size_t)W, (n - 1u) / 2u));
+    }
+    free(c.d);
+    free(c.count);
+    return med;
+}
+
+double pgt_atlas_texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch) {
+    return texel_size(atlas, ch, 1);
+}
+
+pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
+                          float dead_end, uint32_t threads, atlas_pointer_counts *out,
+                          pgt_error *err) {
+    const uint32_t W = atlas->width, H = atlas->height;
+    ptr_ctx c = {0};
+    c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.W = W, c.H = H;
+    c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
+    c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
+    pgt_result r = PGT_OK;
+    memset(out, 0, sizeof(*out));
+    if (!c.row_boundary || !c.row_counts) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
+        goto done;
+    }
+    atlas_parallel_rows(H, W, threads, classify_rows, &c);
+    for (uint32_t y = 0; y < H; ++y) c.row_boundary[y + 1u] += c.row_boundary[y];
+    const uint32_t nb = c.row_boundary[H];
+    c.b_texel = malloc(sizeof(uint32_t) * (nb + 1u));
+    c.b_chart = malloc(sizeof(int32_t) * (nb + 1u));
+    c.b_xyz = malloc(sizeof(float) * 3u * (nb + 1u));
+    if (!c.b_texel || !c.b_chart || !c.b_xyz) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
+        goto done;
+    }
+    atlas_parallel_rows(H, W, threads, gather_rows, &c);
+    r = pgt_kdtree_build(&c.tree, c.b_xyz, nb, err);
+    if (r != PGT_OK) goto done;
+    const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+    out->texel_size = texel_size(atlas, &order, threads);
+    c.texel_size = out->texel_size;
+    c.dead_end = dead_end;
+    atlas_parallel_rows(H, W, threads, pointer_rows, &c);
+    out->inner_boundary = nb;
+    for (uint32_t y = 0; y < H; ++y) {
+        out->indirection += c.row_counts[4u * y];
+        out->dead_end += c.row_counts[4u * y + 1u];
+        out->self_seam += c.row_counts[4u * y + 2u];
+    }
+done:
+    free(c.row_boundary);
+    free(c.row_counts);
+    free(c.b_texel);
+    free(c.b_chart);
+    free(c.b_xyz);
+    pgt_kdtree_destroy(&c.tree);
+    return r;
+}

@@ -1,0 +1,269 @@
+/* pgt: atlas step 3, rasterizing the charts into a geometry image (paper 000 section 4: "A
+ * geometry image is computed by rasterizing the 3D coordinates of the input surface into the
+ * texture plane such that each pixel stores the 3D coordinates of its respective surface
+ * point"; Gu, Gortler and Hoppe 2002).
+ *
+ * A texel is covered when its centre (x + 0.5, y + 0.5) lies inside or on a triangle. Edge
+ * functions are evaluated in double from a canonical vertex order per edge (the
+ * lexicographically smaller end first), so the two triangles of a shared edge compute exactly
+ * opposite values and a centre on the edge is covered by both: no cracks. The smallest face id
+ * wins a texel covered twice. P and N are barycentric (N renormalized); vertex normals are the
+ * area-weighted face normals averaged per vertex index.
+ *
+ * Parallel by tiles of ATLAS_RASTER_TILE_ROWS rows: each face is binned into the tiles its rows
+ * touch (faces in ascending order in every bin), and one worker does a whole tile in bin order,
+ * so the result is the same for any thread count. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "atlas_internal.h"
+#include "pgt/parallel.h"
+
+/* Rows per raster tile: small enough for two threads to balance on a 1024-row atlas (128
+ * tiles), large enough that a triangle of a dense mesh (a few texels tall) mostly sits in one. */
+#define ATLAS_RASTER_TILE_ROWS 8u
+
+/* Most (triangle, tile) pairs: 2^28 entries (1 GiB) is beyond any layout the packer makes; only
+ * an input whose triangles each span the whole atlas can reach it. */
+#define ATLAS_RASTER_MAX_PAIRS (1ull << 28)
+
+/* The bit of a per-tile owner entry that says the owner covers the centre strictly. */
+#define OWNER_STRICT 0x80000000u
+
+pgt_result atlas_vertex_normals(const pgt_mesh *m, float **out, pgt_error *err) {
+    double *acc = calloc(3u * (size_t)m->vertex_count + 1u, sizeof(double));
+    float *n = malloc(sizeof(float) * (3u * (size_t)m->vertex_count + 1u));
+    if (!acc || !n) {
+        free(acc);
+        free(n);
+        *out = NULL;
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (normals)");
+    }
+    for (uint32_t f = 0; f < m->face_count; ++f) {
+        const uint32_t *ix = &m->indices[3u * f];
+        const float *p0 = &m->positions[3u * ix[0]], *p1 = &m->positions[3u * ix[1]],
+                    *p2 = &m->positions[3u * ix[2]];
+        double a[3], b[3];
+        for (int k = 0; k < 3; ++k) a[k] = (double)p1[k] - p0[k], b[k] = (double)p2[k] - p0[k];
+        /* the cross product's length is twice the area: area weighting for free */
+        const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                             a[0] * b[1] - a[1] * b[0]};
+        for (int v = 0; v < 3; ++v)
+            for (int k = 0; k < 3; ++k) acc[3u * ix[v] + (uint32_t)k] += c[k];
+    }
+    for (uint32_t v = 0; v < m->vertex_count; ++v) {
+        const double *a = &acc[3u * v];
+        const double len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        for (int k = 0; k < 3; ++k)
+            n[3u * v + (uint32_t)k] = len > 0.0 ? (float)(a[k] / len) : 0.0f;
+    }
+    free(acc);
+    *out = n;
+    return PGT_OK;
+}
+
+/* One edge function: value sign * cross(d, p - base). */
+typedef struct edge_fn {
+    double bx, by, dx, dy, sign;
+} edge_fn;
+
+static edge_fn edge_make(const float *a, const float *b) {
+    const int a_first = a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
+    const float *s = a_first ? a : b, *t = a_first ? b : a;
+    return (edge_fn){s[0], s[1], (double)t[0] - s[0], (double)t[1] - s[1], a_first ? 1.0 : -1.0};
+}
+
+static double edge_eval(const edge_fn *e, double px, double py) {
+    return e->sign * (e->dx * (py - e->by) - e->dy * (px - e->bx));
+}
+
+typedef struct raster_ctx {
+    const pgt_mesh *mesh;
+    const atlas_charts *charts;
+    const float *tex, *normals;
+    uint32_t width, height, tiles;
+    const uint32_t *bin_begin, *bin_faces;
+    const int32_t *rows; /* 4 per face: row0, row1, col0, col1 */
+    pgt_image *atlas;
+    int32_t *texel_chart;
+    uint32_t *owner;                  /* per worker: TILE_ROWS * width */
+    atlas_raster_counts *tile_counts; /* per tile */
+} raster_ctx;
+
+static void raster_tiles(void *vctx, uint32_t t_begin, uint32_t t_end, uint32_t worker) {
+    raster_ctx *c = vctx;
+    const uint32_t W = c->width, H = c->height;
+    uint32_t *owner = c->owner + (size_t)worker * ATLAS_RASTER_TILE_ROWS * W;
+    float *P[3] = {NULL, NULL, NULL}, *N[3] = {NULL, NULL, NULL}, *chart_plane = NULL,
+          *kind_plane = NULL;
+    if (c->atlas)
+        for (uint32_t k = 0; k < 3; ++k)
+            P[k] = pgt_image_plane(c->atlas, k), N[k] = pgt_image_plane(c->atlas, 3u + k);
+    if (c->atlas)
+        chart_plane = pgt_image_plane(c->atlas, 6), kind_plane = pgt_image_plane(c->atlas, 7);
+    for (uint32_t t = t_begin; t < t_end; ++t) {
+        const uint32_t y0 = t * ATLAS_RASTER_TILE_ROWS;
+        const uint32_t y1 = y0 + ATLAS_RASTER_TILE_ROWS < H ? y0 + ATLAS_RASTER_TILE_ROWS : H;
+        atlas_raster_counts cnt = {0, 0, 0};
+        for (uint32_t i = 0; i < (y1 - y0) * W; ++i) owner[i] = PGT_NONE;
+        for (uint32_t y = y0; y < y1; ++y) {
+            int32_t *tc = &c->texel_chart[(size_t)y * W];
+            for (uint32_t x = 0; x < W; ++x) tc[x] = -1;
+        }
+        for (uint32_t b = c->bin_begin[t]; b < c->bin_begin[t + 1u]; ++b) {
+            const uint32_t f = c->bin_faces[b];
+            const int32_t *rc = &c->rows[4u * f];
+            const uint32_t chart = c->charts->face_chart[f];
+            const float *v0 = &c->tex[6u * f], *v1 = v0 + 2, *v2 = v0 + 4;
+            const edge_fn e12 = edge_make(v1, v2), e20 = edge_make(v2, v0), e01 = edge_make(v0, v1);
+            const double orient = edge_eval(&e01, v2[0], v2[1]) >= 0.0 ? 1.0 : -1.0;
+            /* the corners' positions and normals, loaded once (the output planes are float
+             * too, so the compiler cannot keep them in registers across the stores) */
+            double vp[3][3] = {{0.0}}, vn[3][3] = {{0.0}};
+            if (c->atlas) {
+                const uint32_t *ix = &c->mesh->indices[3u * f];
+                for (uint32_t v = 0; v < 3; ++v)
+                    for (uint32_t k = 0; k < 3; ++k) {
+                        vp[v][k] = c->mesh->positions[3u * ix[v] + k];
+                        vn[v][k] = c->normals[3u * ix[v] + k];
+                    }
+            }
+            const uint32_t ra = (uint32_t)rc[0] > y0 ? (uint32_t)rc[0] : y0;
+            const uint32_t rb = (uint32_t)rc[1] + 1u < y1 ? (uint32_t)rc[1] + 1u : y1;
+            for (uint32_t y = ra; y < rb; ++y) {
+                const double py = y + 0.5;
+                for (uint32_t x = (uint32_t)rc[2]; x <= (uint32_t)rc[3]; ++x) {
+                    const double px = x + 0.5;
+                    const double w0 = orient * edge_eval(&e12, px, py);
+                    if (w0 < 0.0) continue;
+                    const double w1 = orient * edge_eval(&e20, px, py);
+                    if (w1 < 0.0) continue;
+                    const double w2 = orient * edge_eval(&e01, px, py);
+                    if (w2 < 0.0) continue;
+                    const double sum = w0 + w1 + w2;
+                    if (!(sum > 0.0)) continue; /* a triangle of zero texel area */
+                    const int strict = w0 > 0.0 && w1 > 0.0 && w2 > 0.0;
+                    uint32_t *o = &owner[(y - y0) * W + x];
+                    if (*o != PGT_NONE) {
+                        const uint32_t of = *o & ~OWNER_STRICT;
+                        if (c->charts->face_chart[of] != chart)
+                            cnt.overlap++;
+                        else if (strict && (*o & OWNER_STRICT))
+                            cnt.fold_over++;
+                        continue;
+                    }
+                    *o = f | (strict ? OWNER_STRICT : 0u);
+                    const size_t idx = (size_t)y * W + x;
+                    c->texel_chart[idx] = (int32_t)chart;
+                    cnt.inner++;
+                    if (!c->atlas) continue;
+                    const double inv = 1.0 / sum, l0 = w0 * inv, l1 = w1 * inv, l2 = w2 * inv;
+                    double n[3];
+                    for (uint32_t k = 0; k < 3; ++k) {
+                        P[k][idx] = (float)(l0 * vp[0][k] + l1 * vp[1][k] + l2 * vp[2][k]);
+                        n[k] = l0 * vn[0][k] + l1 * vn[1][k] + l2 * vn[2][k];
+                    }
+                    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+                    const double inv_len = len > 0.0 ? 1.0 / len : 0.0;
+                    for (uint32_t k = 0; k < 3; ++k) N[k][idx] = (float)(n[k] * inv_len);
+                    chart_plane[idx] = (float)chart;
+                    kind_plane[idx] = (float)PGT_TEXEL_INNER;
+                }
+            }
+        }
+        if (c->atlas)
+            for (uint32_t y = y0; y < y1; ++y)
+                for (uint32_t x = 0; x < W; ++x) {
+                    const size_t idx = (size_t)y * W + x;
+                    if (c->texel_chart[idx] >= 0) continue;
+                    for (uint32_t k = 0; k < 3; ++k) P[k][idx] = 0.0f, N[k][idx] = 0.0f;
+                    chart_plane[idx] = -1.0f;
+                    kind_plane[idx] = (float)PGT_TEXEL_BACKGROUND;
+                }
+        c->tile_counts[t] = cnt;
+    }
+}
+
+pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
+                        uint32_t W, uint32_t H, const float *vertex_normals, pgt_image *atlas,
+                        int32_t *texel_chart, uint32_t threads, atlas_raster_counts *out_counts,
+                        pgt_error *err) {
+    const uint32_t F = mesh->face_count;
+    const uint32_t tiles = (H + ATLAS_RASTER_TILE_ROWS - 1u) / ATLAS_RASTER_TILE_ROWS;
+    if (threads == 0) threads = 1;
+    if (threads > PGT_MAX_THREADS) threads = PGT_MAX_THREADS;
+    int32_t *rows = malloc(sizeof(int32_t) * 4u * (F ? F : 1u));
+    uint32_t *bin_begin = calloc((size_t)tiles + 1u, sizeof(uint32_t));
+    atlas_raster_counts *tile_counts = calloc(tiles, sizeof(atlas_raster_counts));
+    uint32_t *owner = malloc(sizeof(uint32_t) * (size_t)threads * ATLAS_RASTER_TILE_ROWS * W);
+    uint32_t *bin_faces = NULL;
+    pgt_result r = PGT_OK;
+    if (!rows || !bin_begin || !tile_counts || !owner) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (raster)");
+        goto done;
+    }
+    uint64_t pairs = 0;
+    for (uint32_t f = 0; f < F; ++f) {
+        int32_t *rc = &rows[4u * f];
+        rc[0] = 1, rc[1] = 0;
+        if (charts->face_chart[f] == PGT_NONE) continue;
+        const float *v = &tex[6u * f];
+        double xmin = v[0], xmax = v[0], ymin = v[1], ymax = v[1];
+        for (uint32_t k = 1; k < 3; ++k) {
+            xmin = fmin(xmin, v[2u * k]), xmax = fmax(xmax, v[2u * k]);
+            ymin = fmin(ymin, v[2u * k + 1u]), ymax = fmax(ymax, v[2u * k + 1u]);
+        }
+        /* texel x is covered only if xmin <= x + 0.5 <= xmax */
+        const double c0 = fmax(0.0, ceil(xmin - 0.5)), c1 = fmin(W - 1.0, floor(xmax - 0.5));
+        const double r0 = fmax(0.0, ceil(ymin - 0.5)), r1 = fmin(H - 1.0, floor(ymax - 0.5));
+        if (!(c0 <= c1) || !(r0 <= r1)) continue;
+        rc[0] = (int32_t)r0, rc[1] = (int32_t)r1, rc[2] = (int32_t)c0, rc[3] = (int32_t)c1;
+        const uint32_t t0 = (uint32_t)rc[0] / ATLAS_RASTER_TILE_ROWS,
+                       t1 = (uint32_t)rc[1] / ATLAS_RASTER_TILE_ROWS;
+        pairs += t1 - t0 + 1u;
+        if (pairs > ATLAS_RASTER_MAX_PAIRS) {
+            r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                              "atlas: the UV triangles span more than %llu (triangle, tile) "
+                              "pairs; the layout is unreasonable",
+                              (unsigned long long)ATLAS_RASTER_MAX_PAIRS);
+            goto done;
+        }
+        for (uint32_t t = t0; t <= t1; ++t) bin_begin[t + 1u]++;
+    }
+    for (uint32_t t = 0; t < tiles; ++t) bin_begin[t + 1u] += bin_begin[t];
+    bin_faces = malloc(sizeof(uint32_t) * (pairs ? pairs : 1u));
+    uint32_t *fill = malloc(sizeof(uint32_t) * tiles);
+    if (!bin_faces || !fill) {
+        free(fill);
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (raster bins)");
+        goto done;
+    }
+    memcpy(fill, bin_begin, sizeof(uint32_t) * tiles);
+    for (uint32_t f = 0; f < F; ++f) {
+        const int32_t *rc = &rows[4u * f];
+        if (rc[0] > rc[1]) continue;
+        for (uint32_t t = (uint32_t)rc[0] / ATLAS_RASTER_TILE_ROWS;
+             t <= (uint32_t)rc[1] / ATLAS_RASTER_TILE_ROWS; ++t)
+            bin_faces[fill[t]++] = f;
+    }
+    free(fill);
+    raster_ctx ctx = {mesh,      charts,    tex,  vertex_normals, W,           H,     tiles,
+                      bin_begin, bin_faces, rows, atlas,          texel_chart, owner, tile_counts};
+    /* a tile costs about TILE_ROWS * W texels: hand tiles out as rows of that width */
+    atlas_parallel_rows(tiles, ATLAS_RASTER_TILE_ROWS * W, threads, raster_tiles, &ctx);
+    atlas_raster_counts sum = {0, 0, 0};
+    for (uint32_t t = 0; t < tiles; ++t) {
+        sum.inner += tile_counts[t].inner;
+        sum.fold_over += tile_counts[t].fold_over;
+        sum.overlap += tile_counts[t].overlap;
+    }
+    if (out_counts) *out_counts = sum;
+done:
+    free(rows);
+    free(bin_begin);
+    free(bin_faces);
+    free(tile_counts);
+    free(owner);
+    return r;
+}

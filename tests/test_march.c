@@ -1,0 +1,1208 @@
+/* Tests of the marcher (ref_cpu/src/march.c; paper 000, sec. 5).
+ *
+ * Part 1: synthetic atlases built here by hand with the exact atlas.h contract and analytic
+ * answers: a plane split into two charts (the second rotated by 90 degrees in texel space, so
+ * rot matters), three charts in a row (one step crosses two charts), a cylinder cut open inside
+ * one chart (a chart seamed to itself). Pointers come from a brute-force version of the paper's
+ * rule (mean of the adjacent inner texels, nearest inner-boundary texel of another chart, or of
+ * the same chart far away in texture space) and rot from the charts' known texel frames.
+ *
+ * Part 2: real atlases from the builder (pgt_atlas_build): the cube-sphere's great circle, and
+ * random marches on every UV mesh of the shared folder. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "gen.h"
+#include "pgt/atlas.h"
+#include "pgt/atlas_build.h"
+#include "pgt/image.h"
+#include "pgt/march.h"
+#include "pgt/mesh_io.h"
+#include "pgt/rng.h"
+#include "test_util.h"
+
+#define PI_F 3.14159265358979f
+#define NONE UINT32_MAX
+
+/* ---- synthetic atlases ----------------------------------------------------------------------
+ * A chart is a rectangle of inner texels [x0, x0+w) x [y0, y0+h) with local surface coordinates
+ * (s, t) in texel units: orient 0 keeps (s, t) = (a, b) = (x - x0, y - y0); orient 1 stores the
+ * chart turned by 90 degrees: (s, t) = (b, w - a) (a rotation, det +1: no mirroring). A plane
+ * chart maps (s, t) to 3D ((s0 + s) SYN_H, (t0 + t) SYN_H, 0); a cylinder chart of
+ * circumference w texels maps it to (R cos(2 pi s / w), R sin(2 pi s / w), t SYN_H). */
+
+#define SYN_H 0.01f /* texel size in 3D */
+
+/* Dead-end threshold of the brute-force pointers, in texel sizes: across the synthetic seams the
+ * nearest candidate is 1 to 1.6 texels away (the band's texel plus the mean's offset), across
+ * open borders it is far; 2.5 separates the two. */
+#define SYN_DEAD_END 2.5f
+
+/* A candidate in the source texel's own chart must be this far in texture space (atlas_build.h
+ * PGT_ATLAS_SELF_SEAM_MIN_TEXELS). */
+#define SYN_SELF_MIN 4.0f
+
+enum { SYN_PLANE = 0, SYN_CYLINDER = 1 };
+
+typedef struct syn_chart {
+    int x0, y0, w, h, orient, shape;
+    float s0, t0;
+    float scale; /* plane: 3D size of a texel in units of SYN_H (0: 1) */
+} syn_chart;
+
+typedef struct syn_atlas {
+    pgt_image img;
+    pgt_atlas_channels ch;
+    uint32_t w, h;
+    const syn_chart *charts;
+    int chart_count;
+} syn_atlas;
+
+static void syn_local(const syn_chart *c, float x, float y, float *s, float *t) {
+    const float a = x - (float)c->x0, b = y - (float)c->y0;
+    if (c->orient == 0)
+        *s = a, *t = b;
+    else
+        *s = b, *t = (float)c->w - a;
+}
+
+/* 3D point of local (s, t) of chart c (extended analytically beyond the chart). */
+static void syn_map(const syn_chart *c, float s, float t, float p[3]) {
+    if (c->shape == SYN_PLANE) {
+        const float k = c->scale > 0.0f ? c->scale : 1.0f;
+        p[0] = (c->s0 + k * s) * SYN_H, p[1] = (c->t0 + k * t) * SYN_H, p[2] = 0.0f;
+    } else {
+        const float r = (float)c->w * SYN_H / (2.0f * PI_F), a = 2.0f * PI_F * s / (float)c->w;
+        p[0] = r * cosf(a), p[1] = r * sinf(a), p[2] = t * SYN_H;
+    }
+}
+
+/* The 3D point of texel-space (x, y) of chart c. */
+static void syn_point(const syn_chart *c, float x, float y, float p[3]) {
+    float s, t;
+    syn_local(c, x, y, &s, &t);
+    syn_map(c, s, t, p);
+}
+
+/* Local (s, t) direction of a texel direction: the chart's texel frame J (2 x 2). */
+static void syn_frame(const syn_chart *c, float j[2][2]) {
+    if (c->orient == 0)
+        j[0][0] = 1, j[0][1] = 0, j[1][0] = 0, j[1][1] = 1;
+    else /* ds = db, dt = -da */
+        j[0][0] = 0, j[0][1] = 1, j[1][0] = -1, j[1][1] = 0;
+}
+
+static float *syn_plane(syn_atlas *s, uint32_t c) { return pgt_image_plane(&s->img, c); }
+
+static int syn_inner_chart(const syn_atlas *s, int x, int y) {
+    if (x < 0 || y < 0 || x >= (int)s->w || y >= (int)s->h) return -1;
+    const float *kind = pgt_image_plane(&s->img, s->ch.kind),
+                *chart = pgt_image_plane(&s->img, s->ch.chart);
+    const size_t i = (size_t)y * s->w + (size_t)x;
+    return kind[i] == PGT_TEXEL_INNER ? (int)chart[i] : -1;
+}
+
+/* Builds the atlas: inner texels from the charts, then every outer-boundary texel's pointer by
+ * brute force (the paper's rule), its rot from the two charts' frames, or a dead end. */
+static int syn_build(syn_atlas *s, uint32_t w, uint32_t h, const syn_chart *charts, int n) {
+    static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
+    memset(s, 0, sizeof(*s));
+    if (pgt_image_create(&s->img, w, h, PGT_ATLAS_CHANNEL_COUNT, names, NULL) != PGT_OK) return 0;
+    if (pgt_atlas_channels_find(&s->img, "syn", &s->ch, NULL) != PGT_OK) return 0;
+    s->w = w, s->h = h, s->charts = charts, s->chart_count = n;
+    float *P[3] = {syn_plane(s, s->ch.px), syn_plane(s, s->ch.py), syn_plane(s, s->ch.pz)};
+    float *N[3] = {syn_plane(s, s->ch.nx), syn_plane(s, s->ch.ny), syn_plane(s, s->ch.nz)};
+    float *chart = syn_plane(s, s->ch.chart), *kind = syn_plane(s, s->ch.kind),
+          *pu = syn_plane(s, s->ch.ptr_u), *pv = syn_plane(s, s->ch.ptr_v),
+          *rot = syn_plane(s, s->ch.rot);
+    for (size_t i = 0; i < (size_t)w * h; ++i) chart[i] = -1.0f, pu[i] = pv[i] = -1.0f;
+    for (int c = 0; c < n; ++c)
+        for (int y = charts[c].y0; y < charts[c].y0 + charts[c].h; ++y)
+            for (int x = charts[c].x0; x < charts[c].x0 + charts[c].w; ++x) {
+                const size_t i = (size_t)y * w + (size_t)x;
+                float p[3];
+                syn_point(&charts[c], (float)x + 0.5f, (float)y + 0.5f, p);
+                for (int k = 0; k < 3; ++k) P[k][i] = p[k];
+                if (charts[c].shape == SYN_PLANE) {
+                    N[2][i] = 1.0f;
+                } else {
+                    const float r = sqrtf(p[0] * p[0] + p[1] * p[1]);
+                    N[0][i] = p[0] / r, N[1][i] = p[1] / r;
+                }
+                chart[i] = (float)c, kind[i] = PGT_TEXEL_INNER;
+            }
+    /* inner-boundary texels: inner with a 4-neighbour that is not an inner texel of its chart */
+    uint8_t *ib = calloc((size_t)w * h, 1);
+    if (!ib) return 0;
+    for (int y = 0; y < (int)h; ++y)
+        for (int x = 0; x < (int)w; ++x) {
+            const int c = syn_inner_chart(s, x, y);
+            if (c < 0) continue;
+            ib[(size_t)y * w + (size_t)x] =
+                syn_inner_chart(s, x + 1, y) != c || syn_inner_chart(s, x - 1, y) != c ||
+                syn_inner_chart(s, x, y + 1) != c || syn_inner_chart(s, x, y - 1) != c;
+        }
+    for (int y = 0; y < (int)h; ++y)
+        for (int x = 0; x < (int)w; ++x) {
+            const size_t i = (size_t)y * w + (size_t)x;
+            if (kind[i] == PGT_TEXEL_INNER) continue;
+            int c = -1, two = 0, cnt = 0;
+            float p[3] = {0, 0, 0};
+            for (int j = -1; j <= 1; ++j)
+                for (int k = -1; k <= 1; ++k) {
+                    const int cc = syn_inner_chart(s, x + k, y + j);
+                    if (cc < 0) continue;
+                    if (c >= 0 && cc != c) two = 1;
+                    c = cc;
+                }
+            if (c < 0 || two) continue;
+            for (int j = -1; j <= 1; ++j)
+                for (int k = -1; k <= 1; ++k) {
+                    const int xx = x + k, yy = y + j;
+                    if (syn_inner_chart(s, xx, yy) != c || !ib[(size_t)yy * w + (size_t)xx])
+                        continue;
+                    const size_t q = (size_t)yy * w + (size_t)xx;
+                    for (int e = 0; e < 3; ++e) p[e] += P[e][q];
+                    cnt++;
+                }
+            for (int e = 0; e < 3; ++e) P[e][i] = p[e] / (float)cnt, p[e] /= (float)cnt;
+            chart[i] = (float)c;
+            float best = INFINITY;
+            int bx = -1, by = -1;
+            for (int yy = 0; yy < (int)h; ++yy)
+                for (int xx = 0; xx < (int)w; ++xx) {
+                    const size_t q = (size_t)yy * w + (size_t)xx;
+                    const int cc = syn_inner_chart(s, xx, yy);
+                    if (cc < 0 || !ib[q]) continue;
+                    const float tdx = (float)(xx - x), tdy = (float)(yy - y);
+                    if (cc == c && tdx * tdx + tdy * tdy <= SYN_SELF_MIN * SYN_SELF_MIN) continue;
+                    const float d0 = P[0][q] - p[0], d1 = P[1][q] - p[1], d2 = P[2][q] - p[2];
+                    const float d = d0 * d0 + d1 * d1 + d2 * d2;
+                    if (d < best) best = d, bx = xx, by = yy;
+                }
+            if (bx < 0 || sqrtf(best) > SYN_DEAD_END * SYN_H) {
+                kind[i] = PGT_TEXEL_DEAD_END;
+                continue;
+            }
+            kind[i] = PGT_TEXEL_INDIRECTION;
+            pu[i] = (float)bx, pv[i] = (float)by;
+            /* rot: R = J_B^-1 J_A maps a source texel direction to the destination texel
+             * direction with the same local (s, t) direction (the charts share the plane's or
+             * the cylinder's (s, t) frame). */
+            const int cb = syn_inner_chart(s, bx, by);
+            float ja[2][2], jb[2][2];
+            syn_frame(&charts[c], ja);
+            syn_frame(&charts[cb], jb);
+            /* J_B is a rotation: its inverse is its transpose. */
+            const float r00 = jb[0][0] * ja[0][0] + jb[1][0] * ja[1][0];
+            const float r10 = jb[0][1] * ja[0][0] + jb[1][1] * ja[1][0];
+            rot[i] = atan2f(r10, r00);
+        }
+    free(ib);
+    return 1;
+}
+
+static void syn_destroy(syn_atlas *s) { pgt_image_destroy(&s->img); }
+
+static uint32_t syn_index(const syn_atlas *s, int x, int y) {
+    return (uint32_t)y * s->w + (uint32_t)x;
+}
+
+/* Plane split in two: A (orient 0) covers global s in [0, 12), B (orient 1, turned by 90
+ * degrees in texel space) covers s in [12, 24); both t in [0, 12). A's right outer column x = 15
+ * points to B's first row: A(15, y) -> B(34 - y, 3), rot +pi/2; B's row y = 2 points back. */
+static const syn_chart plane2_charts[2] = {
+    {3, 3, 12, 12, 0, SYN_PLANE, 0.0f, 0.0f, 1.0f},
+    {20, 3, 12, 12, 1, SYN_PLANE, 12.0f, 0.0f, 1.0f},
+};
+
+/* Three charts in a row, all orient 0: A s in [0, 12), B s in [12, 14) (two texels wide), C s
+ * in [14, 26). */
+static const syn_chart plane3_charts[3] = {
+    {3, 3, 12, 12, 0, SYN_PLANE, 0.0f, 0.0f, 1.0f},
+    {19, 3, 2, 12, 0, SYN_PLANE, 12.0f, 0.0f, 1.0f},
+    {25, 3, 12, 12, 0, SYN_PLANE, 14.0f, 0.0f, 1.0f},
+};
+
+/* A cylinder of circumference 32 texels cut open inside one chart: the outer columns x = 2 and
+ * x = 35 point to the chart's own inner columns 34 and 3. */
+static const syn_chart cylinder_charts[1] = {
+    {3, 3, 32, 10, 0, SYN_CYLINDER, 0.0f, 0.0f, 1.0f},
+};
+
+static int plane2(syn_atlas *s) { return syn_build(s, 40, 20, plane2_charts, 2); }
+
+/* Marching helpers ---------------------------------------------------------------------------- */
+
+static int view(pgt_march_atlas *v, const syn_atlas *s) {
+    pgt_error err = {0};
+    pgt_result r = pgt_march_atlas_create(v, &s->img, "syn", &err);
+    if (r != PGT_OK) fprintf(stderr, "  %s\n", err.message);
+    return r == PGT_OK;
+}
+
+static int near_f(float a, float b, float tol) { return fabsf(a - b) <= tol; }
+
+/* Positions of the marcher are exact sums of small binary fractions here; 1e-4 texel covers
+ * the float rounding of a handful of additions at coordinates below 64. */
+#define POS_TOL 1e-4f
+
+/* ---- part 1: cases ------------------------------------------------------------------------- */
+
+static void test_view_and_start(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    CHECK(v.width == 40 && v.height == 20 && v.chart_count == 2);
+    /* A's right outer column points into B's first row with rot +pi/2 (analytic, see above) */
+    const uint32_t i = syn_index(&s, 15, 8);
+    CHECK((v.texels[i].code & 3u) == PGT_TEXEL_INDIRECTION && (v.texels[i].code >> 2) == 1u);
+    CHECK(v.ptr_u[i] == 26.0f && v.ptr_v[i] == 3.0f);
+    CHECK(near_f(v.rot[i], 0.5f * PI_F, 1e-6f));
+    CHECK((v.texels[syn_index(&s, 2, 8)].code & 3u) == PGT_TEXEL_DEAD_END);
+    pgt_march_state st;
+    pgt_error err = {0};
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, 3.0f, 4.0f, &st, &err) == PGT_OK);
+    CHECK(st.chart == 0 && near_f(st.dx, 0.6f, 1e-6f) && near_f(st.dy, 0.8f, 1e-6f));
+    CHECK(pgt_march_start(&v, 17.5f, 8.5f, 1.0f, 0.0f, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(err.message, "background") != NULL);
+    CHECK(pgt_march_start(&v, 15.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(pgt_march_start(&v, -0.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(pgt_march_start(&v, 40.0f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, 0.0f, 0.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, NAN, 1.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(pgt_march_start(&v, NAN, 8.5f, 1.0f, 1.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
+    pgt_march_atlas_destroy(&v);
+    pgt_march_atlas_destroy(&v); /* a zeroed view is a no-op */
+    pgt_march_atlas_destroy(NULL);
+    syn_destroy(&s);
+}
+
+/* Case 1: the destination is an inner texel of the same chart. */
+static void test_case1_inner(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 6.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 2.0f, 0.0f, &info) == PGT_MARCH_INNER);
+    CHECK(near_f(st.x, 8.5f, POS_TOL) && near_f(st.y, 8.5f, POS_TOL) && st.chart == 0);
+    CHECK(info.jumps == 0 && info.searches == 0 && info.stop == PGT_MARCH_STOP_NONE);
+    /* the rule's own angle: turn by +pi/2 (towards +y) and step 3 */
+    CHECK(pgt_march_step(&v, NULL, &st, 3.0f, 0.5f * PI_F, NULL) == PGT_MARCH_INNER);
+    CHECK(near_f(st.x, 8.5f, POS_TOL) && near_f(st.y, 11.5f, POS_TOL));
+    CHECK(near_f(st.dx, 0.0f, 1e-6f) && near_f(st.dy, 1.0f, 1e-6f));
+    float p[3];
+    pgt_march_position(&v, st.x, st.y, p);
+    float es[3];
+    syn_point(&plane2_charts[0], 8.5f, 11.5f, es);
+    CHECK(near_f(p[0], es[0], 1e-6f) && near_f(p[1], es[1], 1e-6f) && p[2] == 0.0f);
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Case 2: the destination is an indirection texel of the chart: jump to the referenced texel's
+ * centre, nothing remains, the direction turns by rot (+pi/2 into B) and keeps its 3D course. */
+static void test_case2_jump(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 13.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 2.0f, 0.0f, &info) == PGT_MARCH_JUMP);
+    CHECK(near_f(st.x, 26.5f, POS_TOL) && near_f(st.y, 3.5f, POS_TOL) && st.chart == 1);
+    CHECK(near_f(st.dx, 0.0f, 1e-6f) && near_f(st.dy, 1.0f, 1e-6f));
+    CHECK(info.jumps == 1 && info.searches == 0 && info.remaining_src == 0.0f);
+    CHECK(info.last_p0 == syn_index(&s, 15, 8) && info.last_pointer == info.last_p0);
+    /* a destination past P0's centre: the pointer's target stands for the inner boundary
+     * next to P0 (global s = 12.5 here, 3 texels from s = 9.5), so 0.2 of the 3.2 texels
+     * remain and are walked in B: the walker ends at s = 12.7 */
+    pgt_march_state st2;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st2, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, NULL, &st2, 3.2f, 0.0f, &info) == PGT_MARCH_JUMP);
+    CHECK(near_f(info.remaining_dst, 0.2f, 1e-3f));
+    CHECK(st2.chart == 1 && near_f(st2.x, 26.5f, POS_TOL) && near_f(st2.y, 3.7f, 1e-3f));
+    /* next step in B: 2 texels along +s in 3D, as in A */
+    float p0[3], p1[3];
+    pgt_march_position(&v, st.x, st.y, p0);
+    CHECK(pgt_march_step(&v, NULL, &st, 2.0f, 0.0f, NULL) == PGT_MARCH_INNER);
+    pgt_march_position(&v, st.x, st.y, p1);
+    CHECK(near_f((p1[0] - p0[0]) / SYN_H, 2.0f, 1e-3f) && near_f(p1[1], p0[1], 1e-6f));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Case 3: background at the destination: the search finds A's indirection texel (15, 8); the
+ * step is 4.5 texels, 3 of them to the centre of (15, 8), so 1.5 remain in B (same texel size)
+ * and the walker ends where the straight plane line ends: global s = 9.5 + 4.5 = 14. */
+static void test_case3_search(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 4.5f, 0.0f, &info) == PGT_MARCH_SEARCH);
+    CHECK(info.jumps == 1 && info.searches == 1);
+    CHECK(near_f(info.remaining_src, 1.5f, POS_TOL) && near_f(info.remaining_dst, 1.5f, 1e-3f));
+    CHECK(st.chart == 1 && near_f(st.x, 26.5f, POS_TOL) && near_f(st.y, 5.0f, 1e-3f));
+    float gs, gt;
+    syn_local(&plane2_charts[1], st.x, st.y, &gs, &gt);
+    CHECK(near_f(plane2_charts[1].s0 + gs, 14.0f, 1e-3f) && near_f(gt, 5.5f, 1e-3f));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Case 4: the destination is an inner texel (or an indirection texel) of another chart: treated
+ * as background; 9 texels from s = 9.5 end at s = 18.5 in B. */
+static void test_case4_other_chart(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    const float lengths[2] = {9.0f, 7.0f}; /* onto B's inner (21, 8); onto B's outer (19, 8) */
+    for (int k = 0; k < 2; ++k) {
+        pgt_march_state st;
+        REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+        const uint32_t dest = (uint32_t)(12.5f + lengths[k]);
+        CHECK((v.texels[syn_index(&s, (int)dest, 8)].code >> 2) == 2u); /* B's texel */
+        pgt_march_info info;
+        CHECK(pgt_march_step(&v, NULL, &st, lengths[k], 0.0f, &info) == PGT_MARCH_SEARCH);
+        CHECK(info.last_p0 == syn_index(&s, 15, 8));
+        float gs, gt;
+        syn_local(&plane2_charts[1], st.x, st.y, &gs, &gt);
+        CHECK_MSG(st.chart == 1 && near_f(plane2_charts[1].s0 + gs, 9.5f + lengths[k], 1e-3f) &&
+                      near_f(gt, 5.5f, 1e-3f),
+                  "length %g: at (%g, %g) chart %u, s %g", (double)lengths[k], (double)st.x,
+                  (double)st.y, st.chart, (double)(plane2_charts[1].s0 + gs));
+    }
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* The remaining length is carried over in 3D: B's texels are half as large as A's (24 texels
+ * over global s in [12, 24)). A step of 4.5 A-texels from (s, t) = (9.5, 5.5) jumps to B's first
+ * texel centre (12.25, 5.5 +- 0.25): it covered the 3D distance hypot(2.75, 0.25), and what is
+ * left of 4.5 goes on in B at two B-texels per unit: it ends at s = 12.25 + 4.5 - hypot(...),
+ * within 0.012 of the straight line's 14. */
+static void test_remaining_length_3d(void) {
+    static const syn_chart charts[2] = {
+        {3, 3, 12, 12, 0, SYN_PLANE, 0.0f, 0.0f, 1.0f},
+        {20, 3, 24, 24, 0, SYN_PLANE, 12.0f, 0.0f, 0.5f},
+    };
+    syn_atlas s;
+    REQUIRE(syn_build(&s, 50, 30, charts, 2));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    /* A's row 8 (t = 5.5) meets B's rows 13 and 14 (t = 5.25, 5.75): the pointer takes one */
+    const float pv = v.ptr_v[syn_index(&s, 15, 8)];
+    CHECK(v.ptr_u[syn_index(&s, 15, 8)] == 20.0f && (pv == 13.0f || pv == 14.0f));
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 4.5f, 0.0f, &info) == PGT_MARCH_SEARCH);
+    const float left = 4.5f - hypotf(2.75f, 0.25f);
+    CHECK(near_f(info.remaining_src, left, 1e-3f) &&
+          near_f(info.remaining_dst, 2.0f * left, 1e-3f));
+    float p[3];
+    pgt_march_position(&v, st.x, st.y, p);
+    CHECK_MSG(st.chart == 1 && near_f(p[0] / SYN_H, 12.25f + left, 1e-3f), "at s = %g",
+              (double)(p[0] / SYN_H));
+    /* then 2 B-texels per step: 1 unit of s, half of A's */
+    const float s0 = p[0];
+    CHECK(pgt_march_step(&v, NULL, &st, 2.0f, 0.0f, NULL) == PGT_MARCH_INNER);
+    pgt_march_position(&v, st.x, st.y, p);
+    CHECK(near_f((p[0] - s0) / SYN_H, 1.0f, 1e-3f));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* One step crossing two charts (A -> the 2-texel chart B -> C): 6 texels from s = 9.5 land at
+ * s = 15.5 in C after two searches. */
+static void test_multi_jump(void) {
+    syn_atlas s;
+    REQUIRE(syn_build(&s, 42, 18, plane3_charts, 3));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 6.0f, 0.0f, &info) == PGT_MARCH_SEARCH);
+    CHECK(info.jumps == 2 && info.searches == 2);
+    CHECK_MSG(st.chart == 2 && near_f(st.x, 26.5f, POS_TOL) && near_f(st.y, 8.5f, POS_TOL),
+              "at (%g, %g) chart %u", (double)st.x, (double)st.y, st.chart);
+    /* and back: 6 texels from C's s = 15.5 to A's s = 9.5 */
+    st.dx = -1.0f;
+    CHECK(pgt_march_step(&v, NULL, &st, 6.0f, 0.0f, &info) == PGT_MARCH_SEARCH);
+    CHECK(info.jumps == 2);
+    CHECK(st.chart == 0 && near_f(st.x, 12.5f, POS_TOL) && near_f(st.y, 8.5f, POS_TOL));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Dead ends stop the march (directly and through a search), the image is never left, and a
+ * stopped step leaves the state as it was. */
+static void test_dead_end_and_image_border(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    const float lengths[3] = {3.0f, 5.0f, 1000.0f}; /* onto (2, 8); background; far outside */
+    for (int k = 0; k < 3; ++k) {
+        pgt_march_state st, before;
+        REQUIRE(pgt_march_start(&v, 5.5f, 8.5f, -1.0f, 0.0f, &st, NULL) == PGT_OK);
+        before = st;
+        pgt_march_info info;
+        CHECK(pgt_march_step(&v, NULL, &st, lengths[k], 0.0f, &info) == PGT_MARCH_STOP);
+        CHECK(info.stop == PGT_MARCH_STOP_DEAD_END);
+        CHECK(memcmp(&st, &before, sizeof st) == 0);
+    }
+    CHECK(strcmp(pgt_march_stop_name(PGT_MARCH_STOP_DEAD_END), "dead end") == 0);
+    CHECK(strcmp(pgt_march_event_name(PGT_MARCH_SEARCH), "search") == 0);
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* The search along ]P_cur, P_dest_hat[: the indirection texel and its parameter; a diagonal
+ * exit through a chart corner finds the corner's outer texel; a segment that never leaves the
+ * chart finds nothing. */
+static void test_binary_search(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    float t = -1.0f;
+    CHECK(pgt_march_search(&v, 0, 12.5f, 8.5f, 17.0f, 8.5f, &t) == syn_index(&s, 15, 8));
+    /* the point found lies inside texel 15: x in [15, 16) */
+    CHECK(12.5f + 4.5f * t >= 15.0f && 12.5f + 4.5f * t < 16.0f);
+    for (int k = 1; k <= 40; ++k) { /* every length past the boundary, long ones too */
+        const float len = 3.0f + 0.75f * (float)k * (float)k;
+        CHECK(pgt_march_search(&v, 0, 12.5f, 8.5f, 12.5f + len, 8.5f, &t) == syn_index(&s, 15, 8));
+    }
+    const uint32_t corner = pgt_march_search(&v, 0, 10.5f, 10.5f, 18.5f, 18.5f, &t);
+    CHECK(corner == syn_index(&s, 15, 15));
+    CHECK(pgt_march_search(&v, 0, 5.5f, 5.5f, 8.5f, 9.5f, &t) == NONE && t == 0.0f);
+    /* B's chart id: from a B texel upward onto its row-2 boundary (indirection into A) */
+    CHECK(pgt_march_search(&v, 1, 26.5f, 6.5f, 26.5f, -3.0f, &t) == syn_index(&s, 26, 2));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* 5.1: with P0's pointer (and its lower neighbour's) sent far away, the one-ring of P_near
+ * offers (15, 7) whose target continues the 3D course; without best-pointer selection the
+ * walker follows P0; with P_near == P_cur P0 is kept. */
+static void test_best_pointer(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    float *pu = syn_plane(&s, s.ch.ptr_u), *pv = syn_plane(&s, s.ch.ptr_v);
+    pu[syn_index(&s, 15, 8)] = 22.0f, pv[syn_index(&s, 15, 8)] = 3.0f; /* global t 9.5 */
+    pu[syn_index(&s, 15, 9)] = 23.0f, pv[syn_index(&s, 15, 9)] = 3.0f; /* global t 8.5 */
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    uint32_t near = 0;
+    /* from (6, 8): r = +s; c(15,7) = (9, -1), c(15,8) = (9, 4), c(15,9) = (9, 3) in texels */
+    CHECK(pgt_march_best_pointer(&v, 0, 6.5f, 8.5f, syn_index(&s, 15, 8), &near) ==
+          syn_index(&s, 15, 7));
+    CHECK(near == syn_index(&s, 14, 8));
+    CHECK(pgt_march_best_pointer(&v, 0, 14.5f, 8.5f, syn_index(&s, 15, 8), &near) ==
+          syn_index(&s, 15, 8));
+    CHECK(near == syn_index(&s, 14, 8));
+
+    pgt_march_options with = {0}, without = {0};
+    without.no_best_pointer = 1;
+    pgt_march_state st;
+    pgt_march_info info;
+    REQUIRE(pgt_march_start(&v, 6.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, &with, &st, 9.0f, 0.0f, &info) == PGT_MARCH_JUMP);
+    CHECK(info.last_p0 == syn_index(&s, 15, 8) && info.last_pointer == syn_index(&s, 15, 7));
+    CHECK(near_f(st.x, 27.5f, POS_TOL) && near_f(st.y, 3.5f, POS_TOL));
+    REQUIRE(pgt_march_start(&v, 6.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, &without, &st, 9.0f, 0.0f, &info) == PGT_MARCH_JUMP);
+    CHECK(info.last_pointer == syn_index(&s, 15, 8));
+    CHECK(near_f(st.x, 22.5f, POS_TOL) && near_f(st.y, 3.5f, POS_TOL));
+    REQUIRE(pgt_march_start(&v, 14.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, &with, &st, 1.0f, 0.0f, &info) == PGT_MARCH_JUMP);
+    CHECK(near_f(st.x, 22.5f, POS_TOL) && near_f(st.y, 3.5f, POS_TOL));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Angle (degrees) between two 3D vectors. */
+static double angle_deg(const double a[3], const double b[3]) {
+    const double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    const double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]),
+                 lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
+    double c = d / (la * lb);
+    c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+    return acos(c) * 180.0 / 3.14159265358979323846;
+}
+
+/* 5.2: through the 90-degree-turned chart the 3D course is kept (straight lines in the plane at
+ * several headings); with --no-rotation it turns by 90 degrees. */
+static void test_rotation_keeps_3d_direction(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    const float headings[4] = {0.0f, 0.3f, -0.45f, 0.55f}; /* radians from +x */
+    for (int mode = 0; mode < 3; ++mode) /* atlas rot, Jacobian rotation, no rotation */
+        for (int k = 0; k < 4; ++k) {
+            const int norot = mode == 2;
+            /* without rotation a heading with dy < 0 keeps dy < 0 in B, i.e. heads back to
+             * B's row 2 and into A: only the others are followed there */
+            if (norot && headings[k] < 0.0f) continue;
+            pgt_march_options o = {0};
+            o.no_rotation = norot;
+            o.rotation = mode == 1 ? PGT_MARCH_ROTATION_JACOBIAN : PGT_MARCH_ROTATION_ATLAS;
+            pgt_march_state st;
+            /* start so that the line meets A's right border (x = 15) near y = 8.5 */
+            const float y0 = 8.5f - 5.5f * tanf(headings[k]);
+            REQUIRE(pgt_march_start(&v, 9.5f, y0, cosf(headings[k]), sinf(headings[k]), &st,
+                                    NULL) == PGT_OK);
+            float start[3];
+            pgt_march_position(&v, st.x, st.y, start);
+            uint32_t crossed = 0, n = 0;
+            float last[3];
+            /* 3D heading of the 4 steps after the jump vs the heading before */
+            for (; n < 30; ++n) {
+                pgt_march_info info;
+                const pgt_march_event e = pgt_march_step(&v, &o, &st, 1.0f, 0.0f, &info);
+                if (e == PGT_MARCH_STOP) break;
+                if (st.chart == 1)
+                    crossed++;
+                else
+                    CHECK_MSG(crossed == 0, "heading %g: back in chart %u after the jump",
+                              (double)headings[k], st.chart);
+                if (crossed == 1) pgt_march_position(&v, st.x, st.y, last);
+                if (crossed == 5) break;
+            }
+            REQUIRE(crossed == 5);
+            float end[3];
+            pgt_march_position(&v, st.x, st.y, end);
+            const double before[3] = {cos(headings[k]), sin(headings[k]), 0.0};
+            const double after[3] = {end[0] - last[0], end[1] - last[1], end[2] - last[2]};
+            const double a = angle_deg(before, after);
+            /* bilinear positions on a plane chart are exact up to float rounding (~1e-7 of a
+             * 0.04 baseline): 0.01 degree is ~1e-4 rad */
+            if (!norot)
+                CHECK_MSG(a < 0.01, "mode %d heading %g: turned by %.4f degrees", mode,
+                          (double)headings[k], a);
+            else
+                CHECK_MSG(a > 60.0, "heading %g, no rotation: turned by only %.1f degrees",
+                          (double)headings[k], a);
+        }
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* A chart seamed to itself: around the cylinder (32 texels) and back to the start, through
+ * case 2 (step 1) and case 3 (step 4), both ways; every 3D point on the cylinder.
+ *
+ * The jump measures the length it covers in 3D along the chord of the last texel before the
+ * seam, 2 pi / 32 = 11 degrees away from the tangent there: it leaves (1 - cos 11 deg) ~ 0.02 of
+ * a texel too much or too little, measured 0.01 to 0.04. A real atlas turns by far less per
+ * texel (the cube-sphere at 1024^2: 0.2 degree). */
+#define CYLINDER_RETURN_TOL 0.05f
+static void test_cylinder_self_seam(void) {
+    syn_atlas s;
+    REQUIRE(syn_build(&s, 40, 16, cylinder_charts, 1));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    CHECK(v.ptr_u[syn_index(&s, 35, 7)] == 3.0f && v.ptr_u[syn_index(&s, 2, 7)] == 34.0f);
+    const float radius = 32.0f * SYN_H / (2.0f * PI_F);
+    const float steps[2] = {1.0f, 4.0f}, dirs[2] = {1.0f, -1.0f};
+    for (int k = 0; k < 2; ++k)
+        for (int d = 0; d < 2; ++d) {
+            pgt_march_state st;
+            REQUIRE(pgt_march_start(&v, 5.5f, 7.5f, dirs[d], 0.0f, &st, NULL) == PGT_OK);
+            const uint32_t n = (uint32_t)(32.0f / steps[k]);
+            uint32_t jumps = 0;
+            for (uint32_t i = 0; i < n; ++i) {
+                pgt_march_info info;
+                const pgt_march_event e = pgt_march_step(&v, NULL, &st, steps[k], 0.0f, &info);
+                CHECK(e != PGT_MARCH_STOP);
+                CHECK(e == PGT_MARCH_INNER || e == (k == 0 ? PGT_MARCH_JUMP : PGT_MARCH_SEARCH));
+                jumps += info.jumps;
+                float p[3];
+                pgt_march_position(&v, st.x, st.y, p);
+                /* bilinear positions lie on the chords between texel centres: inside the
+                 * circle by at most the sagitta R (1 - cos(pi / 32)) */
+                const float r = sqrtf(p[0] * p[0] + p[1] * p[1]);
+                CHECK(r <= radius + 1e-6f && r >= radius * cosf(PI_F / 32.0f) - 1e-6f);
+                CHECK(near_f(p[2], 4.5f * SYN_H, 1e-6f));
+            }
+            CHECK(jumps == 1 && st.chart == 0);
+            CHECK_MSG(near_f(st.x, 5.5f, CYLINDER_RETURN_TOL) && near_f(st.y, 7.5f, POS_TOL),
+                      "step %g dir %g: back at (%g, %g)", (double)steps[k], (double)dirs[d],
+                      (double)st.x, (double)st.y);
+        }
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* External contexts: a mask >= the threshold at the destination rejects the step (state
+ * unchanged); below it the step goes on; a condition callback rejects chart 1. */
+static int not_chart_1(void *ctx, float x, float y, uint32_t chart) {
+    (void)x, (void)y;
+    (*(int *)ctx)++;
+    return chart != 1;
+}
+
+static void test_mask_and_condition(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    float *mask = calloc((size_t)s.w * s.h, sizeof(float));
+    REQUIRE(mask);
+    mask[syn_index(&s, 8, 8)] = 1.0f;
+    mask[syn_index(&s, 10, 8)] = 0.49f;
+    pgt_march_options o = {0};
+    o.mask = mask;
+    pgt_march_state st, before;
+    pgt_march_info info;
+    REQUIRE(pgt_march_start(&v, 6.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    before = st;
+    CHECK(pgt_march_step(&v, &o, &st, 2.0f, 0.0f, &info) == PGT_MARCH_STOP);
+    CHECK(info.stop == PGT_MARCH_STOP_REJECTED && memcmp(&st, &before, sizeof st) == 0);
+    CHECK(pgt_march_step(&v, &o, &st, 4.0f, 0.0f, &info) == PGT_MARCH_INNER); /* 0.49 < 0.5 */
+    o.mask_threshold = 0.4f;
+    REQUIRE(pgt_march_start(&v, 6.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, &o, &st, 4.0f, 0.0f, &info) == PGT_MARCH_STOP);
+    int calls = 0;
+    pgt_march_options c = {0};
+    c.condition = not_chart_1;
+    c.condition_ctx = &calls;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, &c, &st, 1.0f, 0.0f, &info) == PGT_MARCH_INNER);
+    CHECK(pgt_march_step(&v, &c, &st, 4.5f, 0.0f, &info) == PGT_MARCH_STOP);
+    CHECK(info.stop == PGT_MARCH_STOP_REJECTED && st.chart == 0 && calls == 2);
+    free(mask);
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* A broken pointer pair that turns every walker around (rot = pi both ways) bounces a long step
+ * between A and B until PGT_MARCH_MAX_JUMPS stops it. */
+static void test_too_many_jumps(void) {
+    static const syn_chart charts[2] = {
+        {3, 3, 12, 12, 0, SYN_PLANE, 0.0f, 0.0f, 1.0f},
+        {20, 3, 12, 12, 0, SYN_PLANE, 12.0f, 0.0f, 1.0f},
+    };
+    syn_atlas s;
+    REQUIRE(syn_build(&s, 40, 20, charts, 2));
+    float *rot = syn_plane(&s, s.ch.rot), *kind = syn_plane(&s, s.ch.kind);
+    for (size_t i = 0; i < (size_t)s.w * s.h; ++i)
+        if (kind[i] == PGT_TEXEL_INDIRECTION) rot[i] = PI_F;
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    pgt_march_state st, before;
+    REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    before = st;
+    pgt_march_info info;
+    CHECK(pgt_march_step(&v, NULL, &st, 100.0f, 0.0f, &info) == PGT_MARCH_STOP);
+    CHECK(info.stop == PGT_MARCH_STOP_TOO_MANY_JUMPS && info.jumps == PGT_MARCH_MAX_JUMPS);
+    CHECK(memcmp(&st, &before, sizeof st) == 0);
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
+/* Invalid atlases are refused with PGT_ERROR_PARSE and a message naming the texel. */
+static void test_invalid_atlases(void) {
+    typedef struct {
+        const char *name, *expect;
+        int x, y;
+        int channel; /* 0 kind, 1 chart, 2 ptr.u, 3 P.x, 4 rot, 5 drop channel "rot" */
+        float value;
+    } bad_case;
+    const bad_case cases[] = {
+        {"kind 5", "kind 5", 6, 6, 0, 5.0f},
+        {"kind 1.5", "kind 1.5", 6, 6, 0, 1.5f},
+        {"inner without chart", "chart -1", 6, 6, 1, -1.0f},
+        {"pointer outside", "is not a texel", 15, 8, 2, 40.0f},
+        {"pointer to background", "not an inner texel", 15, 8, 2, 17.0f},
+        {"pointer not whole", "is not a texel", 15, 8, 2, 26.5f},
+        {"position NaN", "not finite", 6, 6, 3, NAN},
+        {"rot infinite", "rot is not finite", 15, 8, 4, INFINITY},
+        {"missing channel", "no channel 'rot'", 0, 0, 5, 0.0f},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
+        syn_atlas s;
+        REQUIRE(plane2(&s));
+        const uint32_t chans[5] = {s.ch.kind, s.ch.chart, s.ch.ptr_u, s.ch.px, s.ch.rot};
+        if (cases[k].channel < 5)
+            syn_plane(&s, chans[cases[k].channel])[syn_index(&s, cases[k].x, cases[k].y)] =
+                cases[k].value;
+        else
+            snprintf(s.img.names[s.ch.rot], PGT_IMAGE_NAME_SIZE, "%s", "rotation");
+        pgt_march_atlas v;
+        pgt_error err = {0};
+        CHECK_MSG(pgt_march_atlas_create(&v, &s.img, "bad.exr", &err) == PGT_ERROR_PARSE, "%s",
+                  cases[k].name);
+        CHECK_MSG(strstr(err.message, cases[k].expect) && strstr(err.message, "bad.exr"),
+                  "%s: message '%s'", cases[k].name, err.message);
+        CHECK(v.texels == NULL && v.width == 0);
+        syn_destroy(&s);
+    }
+    /* no inner texel at all */
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    float *kind = syn_plane(&s, s.ch.kind);
+    for (size_t i = 0; i < (size_t)s.w * s.h; ++i) kind[i] = 0.0f;
+    pgt_march_atlas v;
+    pgt_error err = {0};
+    CHECK(pgt_march_atlas_create(&v, &s.img, "empty", &err) == PGT_ERROR_PARSE);
+    CHECK(strstr(err.message, "no inner texel") != NULL);
+    syn_destroy(&s);
+}
+
+/* Many random walkers on the synthetic atlases: never off the image, never off an inner texel
+ * of their chart, and the batch gives the same bytes on 1 and 2 threads. */
+static void test_random_walks_synthetic(void) {
+    syn_atlas atlases[3];
+    REQUIRE(plane2(&atlases[0]));
+    REQUIRE(syn_build(&atlases[1], 42, 18, plane3_charts, 3));
+    REQUIRE(syn_build(&atlases[2], 40, 16, cylinder_charts, 1));
+    enum { WALKERS = 300, STEPS = 60 };
+    for (int k = 0; k < 3; ++k) {
+        pgt_march_atlas v;
+        REQUIRE(view(&v, &atlases[k]));
+        float x[2][WALKERS], y[2][WALKERS], dx[2][WALKERS], dy[2][WALKERS];
+        uint32_t chart[2][WALKERS], taken[2][WALKERS];
+        double sum[2][WALKERS];
+        uint32_t bad = 0;
+        for (uint32_t i = 0; i < WALKERS; ++i) {
+            /* a random inner start texel and heading, from the counter-based generator */
+            pgt_march_state st;
+            uint32_t tries = 0;
+            do {
+                const float rx = pgt_rng_float(7, (uint32_t)k, 4ull * i + 4096ull * tries) *
+                                 (float)v.width,
+                            ry = pgt_rng_float(7, (uint32_t)k, 4ull * i + 4096ull * tries + 1) *
+                                 (float)v.height;
+                const float a = 2.0f * PI_F * pgt_rng_float(7, (uint32_t)k, 4ull * i + 2);
+                tries++;
+                if (pgt_march_start(&v, rx, ry, cosf(a), sinf(a), &st, NULL) == PGT_OK) break;
+            } while (tries < 1000);
+            REQUIRE(tries < 1000);
+            const float len = 0.5f + 3.0f * pgt_rng_float(7, (uint32_t)k, 4ull * i + 3);
+            for (int t = 0; t < 2; ++t)
+                x[t][i] = st.x, y[t][i] = st.y, dx[t][i] = st.dx, dy[t][i] = st.dy,
+                chart[t][i] = st.chart;
+            for (uint32_t n = 0; n < STEPS; ++n) {
+                if (pgt_march_step(&v, NULL, &st, len, 0.0f, NULL) == PGT_MARCH_STOP) break;
+                const int inside =
+                    st.x >= 0.0f && st.y >= 0.0f && st.x < (float)v.width && st.y < (float)v.height;
+                if (!inside || v.texels[(uint32_t)st.y * v.width + (uint32_t)st.x].code !=
+                                   PGT_MARCH_CODE(PGT_TEXEL_INNER, st.chart))
+                    bad++;
+            }
+        }
+        CHECK_MSG(bad == 0, "atlas %d: %u steps off an inner texel of their chart", k, bad);
+        for (int t = 0; t < 2; ++t)
+            pgt_march_batch(&v, NULL, 1.75f, STEPS, WALKERS, x[t], y[t], dx[t], dy[t], chart[t],
+                            (uint32_t)t + 1u, taken[t], sum[t]);
+        CHECK(memcmp(x[0], x[1], sizeof x[0]) == 0 && memcmp(y[0], y[1], sizeof y[0]) == 0);
+        CHECK(memcmp(chart[0], chart[1], sizeof chart[0]) == 0);
+        CHECK(memcmp(taken[0], taken[1], sizeof taken[0]) == 0);
+        CHECK(memcmp(sum[0], sum[1], sizeof sum[0]) == 0);
+        pgt_march_atlas_destroy(&v);
+    }
+    for (int k = 0; k < 3; ++k) syn_destroy(&atlases[k]);
+}
+
+/* ---- part 2: real atlases from the builder ------------------------------------------------ */
+
+/* Builds the default atlas (1024^2, the builder's defaults) of a mesh and its marching view. */
+static int real_atlas(const pgt_mesh *m, const char *what, pgt_image *img, pgt_atlas_stats *st,
+                      pgt_march_atlas *v) {
+    pgt_atlas_options o = {0};
+    o.threads = 2;
+    o.what = what;
+    pgt_error err = {0};
+    if (pgt_atlas_build(img, m, &o, st, &err) != PGT_OK) {
+        fprintf(stderr, "  %s: pgt_atlas_build: %s\n", what, err.message);
+        return 0;
+    }
+    if (pgt_march_atlas_create(v, img, what, &err) != PGT_OK) {
+        fprintf(stderr, "  %s: %s\n", what, err.message);
+        pgt_image_destroy(img);
+        return 0;
+    }
+    return 1;
+}
+
+static int walker_ok(const pgt_march_atlas *v, const pgt_march_state *st) {
+    if (!(st->x >= 0.0f && st->y >= 0.0f && st->x < (float)v->width && st->y < (float)v->height))
+        return 0;
+    return v->texels[(uint32_t)st->y * v->width + (uint32_t)st->x].code ==
+           PGT_MARCH_CODE(PGT_TEXEL_INNER, st->chart);
+}
+
+/* Cube-sphere: the great circle z = 0 runs along texel rows/columns through the charts of +x,
+ * +y, -x, -y (gen.c's cube_faces: u = y on +x, v = x on +y, v = y on -x, u = x on -y). Its
+ * texel length is the sum of the four charts' extents along it, 2 (1/3 - 2 g) W + 2 (1/2 - 2 g)
+ * H with g the gutter (the charts keep their input UVs: no repacking). The step S ~ 2 texels is
+ * that length over a whole number N of steps (the jumps carry the remainder over in 3D units,
+ * consistent with each chart's own texel length, so the texel lengths add up). After N steps
+ * the walker is back at its start within 2 texels; every point lies within one texel size of
+ * the unit sphere.
+ *
+ * n = 32: the flat triangles of the cube-sphere deviate from the sphere by up to ~(pi/2/n)^2/8 of
+ * the radius (a chord's sagitta): 6e-3 at n = 8, above the 3.7e-3 texel size at 1024^2; 4e-4
+ * at n = 32. */
+#define GREAT_CIRCLE_TEXELS 2.0 /* at most this far from the start after N steps (the issue) */
+static void test_real_cube_sphere_great_circle(void) {
+    pgt_mesh m;
+    REQUIRE(pgt_gen_cube_sphere(&m, 32, NULL) == PGT_OK);
+    pgt_image img;
+    pgt_atlas_stats st;
+    pgt_march_atlas v;
+    REQUIRE(real_atlas(&m, "cube_sphere_32", &img, &st, &v));
+    CHECK(st.charts == 6 && !st.repacked && st.dead_end_texels == 0);
+    const double g = PGT_GEN_CUBE_SPHERE_GUTTER;
+    const double total = 2.0 * (1.0 / 3.0 - 2.0 * g) * v.width + 2.0 * (0.5 - 2.0 * g) * v.height;
+    const uint32_t n = (uint32_t)lround(total / 2.0);
+    const float step = (float)(total / n);
+    /* start on +x (chart cell (0, 0): u in [g, 1/3 - g], v in [g, 1/2 - g]) at its centre, on
+     * z = 0 (v at the middle of the chart), heading +u (towards +y) */
+    const float x0 = (float)(v.width / 6.0), y0 = (float)((1.0 - 0.25) * v.height);
+    const double texel = st.texel_size;
+    for (int mode = 0; mode < 3; ++mode) { /* no best pointer; best pointer; and Jacobian */
+        const int best = mode > 0;
+        pgt_march_options o = {0};
+        o.no_best_pointer = !best;
+        o.rotation = mode == 2 ? PGT_MARCH_ROTATION_JACOBIAN : PGT_MARCH_ROTATION_ATLAS;
+        pgt_march_state s;
+        REQUIRE(pgt_march_start(&v, x0, y0, 1.0f, 0.0f, &s, NULL) == PGT_OK);
+        float p[3];
+        pgt_march_position(&v, s.x, s.y, p);
+        CHECK(fabsf(p[0] - 1.0f) < 1e-3f && fabsf(p[2]) < 2.0f * (float)texel);
+        uint32_t jumps = 0, stops = 0, bad = 0;
+        double worst_r = 0.0, worst_z = 0.0;
+        for (uint32_t i = 0; i < n; ++i) {
+            pgt_march_info info;
+            if (pgt_march_step(&v, &o, &s, step, 0.0f, &info) == PGT_MARCH_STOP) {
+                stops++;
+                break;
+            }
+            jumps += info.jumps;
+            bad += !walker_ok(&v, &s);
+            pgt_march_position(&v, s.x, s.y, p);
+            const double r = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);
+            if (fabs(r - 1.0) > worst_r) worst_r = fabs(r - 1.0);
+            if (fabs(p[2]) > worst_z) worst_z = fabs(p[2]);
+        }
+        const double dist = hypot(s.x - x0, s.y - y0);
+        static const char *const names[3] = {"no-best-pointer", "best-pointer",
+                                             "best-pointer, jacobian"};
+        printf("  cube_sphere_32 %s: N = %u steps of %.4f texels, %u jumps, back within %.2f "
+               "texels; max |r - 1| = %.2e, max |z| = %.2e (texel %.2e)\n",
+               names[mode], n, (double)step, jumps, dist, worst_r, worst_z, texel);
+        CHECK(stops == 0 && bad == 0 && jumps == 4 && s.chart == 0);
+        CHECK_MSG(dist <= GREAT_CIRCLE_TEXELS, "%.2f texels from the start", dist);
+        CHECK_MSG(worst_r <= texel, "a point %.2e off the unit sphere", worst_r);
+        /* and it stayed on the great circle (z = 0): each jump lands on a texel centre, up to
+         * half a texel across the path, and the pointers themselves are texel-quantised. Not
+         * with the Jacobian rotation: the cube's rot is exactly a multiple of 90 degrees, while
+         * finite differences at the seam (one-sided, across the gnomonic map's steepest part)
+         * turn the path by ~0.5 degree, 3 texels off z = 0 after a face (measured 1.1e-2) */
+        if (mode < 2)
+            CHECK_MSG(worst_z <= 2.0 * texel, "a point %.2e off the plane z = 0", worst_z);
+    }
+    pgt_march_atlas_destroy(&v);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median_of(double *v, size_t n) {
+    if (!n) return 0.0;
+    qsort(v, n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Angle (degrees) between a and b after removing their components along the unit normal nrm:
+ * the turn within the tangent plane (the normal curvature of the surface is not a turn). */
+static double tangent_turn_deg(const double a[3], const double b[3], const float nrm[3]) {
+    double pa[3], pb[3];
+    const double da = a[0] * nrm[0] + a[1] * nrm[1] + a[2] * nrm[2],
+                 db = b[0] * nrm[0] + b[1] * nrm[1] + b[2] * nrm[2];
+    for (int k = 0; k < 3; ++k) pa[k] = a[k] - da * nrm[k], pb[k] = b[k] - db * nrm[k];
+    return angle_deg(pa, pb);
+}
+
+/* Random marches: RANDOM_MARCHES walkers from seeded random inner texels and headings, steps of
+ * RANDOM_STEP_TEXELS. 4 texels: a pointer is quantised to a texel, so shorter steps measure
+ * mostly that quantisation (at 2 texels the median turn at pizza's jumps is 10.3 degrees, at 4
+ * it is 8.3); the paper's Fig. 4 steps are several texels long too. */
+#define RANDOM_MARCHES 3000u
+#define RANDOM_STEPS 100u
+#define RANDOM_STEP_TEXELS 4.0f
+
+/* A jump step is compared with the median of up to this many inner steps before it (same
+ * march): they are in the chart the step starts from, whose texel size sets its 3D length.
+ * The steps after it lie in the destination chart, whose texels may be several times larger
+ * or smaller in 3D (spot's seams join texels 3 to 6 times apart in size): marching in image
+ * space changes the 3D step there, by design. */
+#define JUMP_NEIGHBOURS 3u
+
+/* Jump-step checks need this many jumps to mean anything (ogre is one chart with no seam). */
+#define MIN_JUMPS_CHECKED 100u
+
+/* Jump steps whose 3D length is within [0.5, 2] x the median of the inner steps before them.
+ * Not all: a pointer names the nearest inner-boundary texel to the outer texel's 3D point and
+ * may miss by up to the dead-end threshold (4 texel sizes, atlas_build.h), which is a step's
+ * length; pizza's 4740 charts include ~2000 of a few texels each. Measured with 3000 x 100
+ * steps of 4 texels, best pointer, either rotation: spot 94.3 to 95.1 %, bob 99.4 to 99.8 %,
+ * human 98.7 to 99.3 %, pizza 93.0 to 94.2 % (89 % with an earlier atlas builder); 0.85 leaves
+ * room for atlas-builder changes. */
+#define JUMP_LENGTH_MIN_FRACTION 0.85
+
+/* The issue's bound on the median turn at jumps. */
+#define JUMP_TURN_MEDIAN_DEG 10.0
+
+typedef struct walk_result {
+    uint32_t marches, steps, stops, bad, jump_steps, len_out;
+    double median_turn_jump, median_turn_inner;
+    uint32_t turn_count;
+    /* jumps where best-pointer selection picked another texel than P0: the turn with the
+     * selection and, replayed from the same state, without it (a paired comparison; the
+     * marches themselves diverge after the first differing jump) */
+    uint32_t pairs;
+    double median_pair_best, median_pair_without;
+} walk_result;
+
+/* Replays one step from state s (then one more, for the heading after it) and returns the
+ * tangent-plane turn against d_in; -1 when either step is not a plain one. */
+static double replay_turn(const pgt_march_atlas *v, const float *const nrm_planes[3],
+                          const pgt_march_options *o, pgt_march_state s, float step,
+                          const double d_in[3]) {
+    float p1[3], p2[3];
+    if (pgt_march_step(v, o, &s, step, 0.0f, NULL) == PGT_MARCH_STOP) return -1.0;
+    pgt_march_position(v, s.x, s.y, p1);
+    const uint32_t t = (uint32_t)s.y * v->width + (uint32_t)s.x;
+    if (pgt_march_step(v, o, &s, step, 0.0f, NULL) != PGT_MARCH_INNER) return -1.0;
+    pgt_march_position(v, s.x, s.y, p2);
+    const double b[3] = {p2[0] - p1[0], p2[1] - p1[1], p2[2] - p1[2]};
+    const float nrm[3] = {nrm_planes[0][t], nrm_planes[1][t], nrm_planes[2][t]};
+    return tangent_turn_deg(d_in, b, nrm);
+}
+
+/* Statistics of RANDOM_MARCHES marches with options o: invariants at every step, 3D length of
+ * jump steps, turn at jumps (the inner step before against the inner step after, in the tangent
+ * plane) and elsewhere, and the paired best-pointer comparison. */
+static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pgt_march_options *o,
+                        uint32_t seed, walk_result *res) {
+    pgt_atlas_channels ch;
+    memset(res, 0, sizeof(*res));
+    if (pgt_atlas_channels_find(img, "atlas", &ch, NULL) != PGT_OK) return 0;
+    const float *const nrm_planes[3] = {pgt_image_plane(img, ch.nx), pgt_image_plane(img, ch.ny),
+                                        pgt_image_plane(img, ch.nz)};
+    const size_t cap = (size_t)RANDOM_MARCHES * RANDOM_STEPS;
+    double *turns = malloc(cap * sizeof(double)), *inner_turns = malloc(cap * sizeof(double)),
+           *pair_best = malloc(cap * sizeof(double)), *pair_without = malloc(cap * sizeof(double));
+    double(*p)[3] = malloc((RANDOM_STEPS + 1) * sizeof(*p));
+    double *len = malloc((RANDOM_STEPS + 1) * sizeof(double));
+    pgt_march_event *ev = malloc((RANDOM_STEPS + 1) * sizeof(pgt_march_event));
+    uint32_t *texel_of = malloc((RANDOM_STEPS + 1) * sizeof(uint32_t));
+    int ok = turns && inner_turns && pair_best && pair_without && p && len && ev && texel_of;
+    pgt_march_options without = *o;
+    without.no_best_pointer = 1;
+    uint32_t inner_count = 0;
+    for (uint32_t m = 0; ok && m < RANDOM_MARCHES; ++m) {
+        pgt_march_state st;
+        uint32_t tries = 0;
+        for (; tries < 100000; ++tries) {
+            const uint64_t c = 3ull * ((uint64_t)m * 100000u + tries);
+            const float rx = pgt_rng_float(seed, 1, c) * (float)v->width,
+                        ry = pgt_rng_float(seed, 1, c + 1) * (float)v->height,
+                        a = 2.0f * PI_F * pgt_rng_float(seed, 1, c + 2);
+            if (pgt_march_start(v, rx, ry, cosf(a), sinf(a), &st, NULL) == PGT_OK) break;
+        }
+        if (tries == 100000) continue;
+        res->marches++;
+        uint32_t n = 0;
+        float q[3];
+        pgt_march_position(v, st.x, st.y, q);
+        for (int k = 0; k < 3; ++k) p[0][k] = q[k];
+        texel_of[0] = (uint32_t)st.y * v->width + (uint32_t)st.x;
+        ev[0] = PGT_MARCH_INNER;
+        for (; n < RANDOM_STEPS; ++n) {
+            const pgt_march_state before = st;
+            pgt_march_info info;
+            const pgt_march_event e = pgt_march_step(v, o, &st, RANDOM_STEP_TEXELS, 0.0f, &info);
+            if (e == PGT_MARCH_STOP) {
+                res->stops++;
+                break;
+            }
+            if (!o->no_best_pointer && info.jumps == 1 && info.last_pointer != info.last_p0 &&
+                n >= 1 && ev[n] == PGT_MARCH_INNER) {
+                const double d_in[3] = {p[n][0] - p[n - 1][0], p[n][1] - p[n - 1][1],
+                                        p[n][2] - p[n - 1][2]};
+                const double tb = replay_turn(v, nrm_planes, o, before, RANDOM_STEP_TEXELS, d_in);
+                const double tw =
+                    replay_turn(v, nrm_planes, &without, before, RANDOM_STEP_TEXELS, d_in);
+                if (tb >= 0.0 && tw >= 0.0) {
+                    pair_best[res->pairs] = tb, pair_without[res->pairs] = tw;
+                    res->pairs++;
+                }
+            }
+            res->bad += !walker_ok(v, &st);
+            pgt_march_position(v, st.x, st.y, q);
+            for (int k = 0; k < 3; ++k) p[n + 1][k] = q[k];
+            ev[n + 1] = e;
+            texel_of[n + 1] = (uint32_t)st.y * v->width + (uint32_t)st.x;
+            const double d0 = p[n + 1][0] - p[n][0], d1 = p[n + 1][1] - p[n][1],
+                         d2 = p[n + 1][2] - p[n][2];
+            len[n + 1] = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+        }
+        res->steps += n;
+        for (uint32_t i = 1; i <= n; ++i) {
+            const int jump = ev[i] != PGT_MARCH_INNER;
+            if (jump) {
+                double before[JUMP_NEIGHBOURS];
+                uint32_t nb = 0;
+                for (uint32_t j = i > JUMP_NEIGHBOURS ? i - JUMP_NEIGHBOURS : 1; j < i; ++j)
+                    if (ev[j] == PGT_MARCH_INNER) before[nb++] = len[j];
+                if (nb) {
+                    const double med = median_of(before, nb);
+                    res->jump_steps++;
+                    if (!(len[i] >= 0.5 * med && len[i] <= 2.0 * med)) res->len_out++;
+                }
+            }
+            if (i < 2 || i + 1 > n || ev[i - 1] != PGT_MARCH_INNER || ev[i + 1] != PGT_MARCH_INNER)
+                continue;
+            double a[3], b[3];
+            for (int k = 0; k < 3; ++k)
+                a[k] = p[i - 1][k] - p[i - 2][k], b[k] = p[i + 1][k] - p[i][k];
+            const uint32_t t = texel_of[i];
+            const float nrm[3] = {nrm_planes[0][t], nrm_planes[1][t], nrm_planes[2][t]};
+            const double turn = tangent_turn_deg(a, b, nrm);
+            if (jump)
+                turns[res->turn_count++] = turn;
+            else
+                inner_turns[inner_count++] = turn;
+        }
+    }
+    if (ok) {
+        res->median_turn_jump = median_of(turns, res->turn_count);
+        res->median_turn_inner = median_of(inner_turns, inner_count);
+        res->median_pair_best = median_of(pair_best, res->pairs);
+        res->median_pair_without = median_of(pair_without, res->pairs);
+    }
+    free(turns), free(inner_turns), free(pair_best), free(pair_without);
+    free(p), free(len), free(ev), free(texel_of);
+    return ok;
+}
+
+/* Every UV mesh of the shared folder, thousands of seeded random marches: no step leaves the
+ * image or stands off an inner texel of its chart; jump steps keep their 3D length (see
+ * JUMP_LENGTH_MIN_FRACTION); with the Jacobian rotation the median turn at jumps is under 10
+ * degrees, and where best-pointer selection picks another texel the turn is lower than without
+ * it. With the atlas's rot (the paper's 5.2, the default) the numbers are printed: the builder's
+ * angles leave median turns of 11 to 38 degrees (see the report), which is the builder's. */
+static void test_real_random_marches(void) {
+    uint32_t meshes = 0;
+    for (uint32_t k = 0; k < pgt_cli_shared_mesh_count; ++k) {
+        const char *name = pgt_cli_shared_meshes[k];
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, name);
+        pgt_mesh m;
+        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+        if (pgt_mesh_read(&m, path, &ro, NULL) != PGT_OK) {
+            printf("  SKIP %s: cannot read it\n", path);
+            continue;
+        }
+        if (!m.uvs) { /* nefertiti, mountain: no UVs */
+            pgt_mesh_destroy(&m);
+            continue;
+        }
+        pgt_image img;
+        pgt_atlas_stats st;
+        pgt_march_atlas v;
+        const int built = real_atlas(&m, name, &img, &st, &v);
+        CHECK_MSG(built, "%s: no atlas", name);
+        pgt_mesh_destroy(&m);
+        if (!built) continue;
+        meshes++;
+        for (int rot = 0; rot < 2; ++rot) {
+            walk_result r[2];
+            for (int best = 0; best < 2; ++best) {
+                pgt_march_options o = {0};
+                o.no_best_pointer = !best;
+                o.rotation = rot ? PGT_MARCH_ROTATION_JACOBIAN : PGT_MARCH_ROTATION_ATLAS;
+                REQUIRE(random_walks(&v, &img, &o, 11u + k, &r[best]));
+                const walk_result *w = &r[best];
+                printf("  %-17s %-8s %-15s %4u charts: %u steps, %u stops, %u jump steps, "
+                       "%.1f %% within [0.5, 2] x median, turn median %.2f deg at jumps, %.2f "
+                       "elsewhere\n",
+                       name, rot ? "jacobian" : "atlas", best ? "best-pointer" : "no-best",
+                       st.charts, w->steps, w->stops, w->jump_steps,
+                       w->jump_steps ? 100.0 - 100.0 * w->len_out / w->jump_steps : 100.0,
+                       w->median_turn_jump, w->median_turn_inner);
+                CHECK_MSG(w->bad == 0, "%s: %u steps off an inner texel of their chart", name,
+                          w->bad);
+                CHECK(w->marches == RANDOM_MARCHES);
+                if (w->jump_steps < MIN_JUMPS_CHECKED) continue;
+                CHECK_MSG(w->len_out <= (1.0 - JUMP_LENGTH_MIN_FRACTION) * w->jump_steps,
+                          "%s: %u of %u jump steps outside [0.5, 2] x median", name, w->len_out,
+                          w->jump_steps);
+            }
+            printf("  %-17s %-8s best-pointer picked another texel at %u jumps: turn median "
+                   "%.2f deg with, %.2f without\n",
+                   name, rot ? "jacobian" : "atlas", r[1].pairs, r[1].median_pair_best,
+                   r[1].median_pair_without);
+            if (r[1].jump_steps < MIN_JUMPS_CHECKED) {
+                printf("  %s: %u jump steps, too few for the turn checks\n", name, r[1].jump_steps);
+                continue;
+            }
+            if (!rot) continue;
+            CHECK_MSG(r[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG, "%s: median turn %.2f deg",
+                      name, r[1].median_turn_jump);
+            CHECK_MSG(r[1].pairs > 0 && r[1].median_pair_best < r[1].median_pair_without,
+                      "%s: best-pointer median turn %.2f deg, without %.2f deg", name,
+                      r[1].median_pair_best, r[1].median_pair_without);
+        }
+        pgt_march_atlas_destroy(&v);
+        pgt_image_destroy(&img);
+    }
+    if (!meshes) printf("  SKIP: no UV mesh in %s\n", PGT_SHARED_MESH_DIR);
+}
+
+static const pgt_test_case cases[] = {
+    {"view_and_start", test_view_and_start},
+    {"case1_inner", test_case1_inner},
+    {"case2_jump", test_case2_jump},
+    {"case3_search", test_case3_search},
+    {"case4_other_chart", test_case4_other_chart},
+    {"remaining_length_3d", test_remaining_length_3d},
+    {"multi_jump", test_multi_jump},
+    {"dead_end_and_image_border", test_dead_end_and_image_border},
+    {"binary_search", test_binary_search},
+    {"best_pointer", test_best_pointer},
+    {"rotation_keeps_3d_direction", test_rotation_keeps_3d_direction},
+    {"cylinder_self_seam", test_cylinder_self_seam},
+    {"mask_and_condition", test_mask_and_condition},
+    {"too_many_jumps", test_too_many_jumps},
+    {"invalid_atlases", test_invalid_atlases},
+    {"random_walks_synthetic", test_random_walks_synthetic},
+    {"real_cube_sphere_great_circle", test_real_cube_sphere_great_circle},
+    {"real_random_marches", test_real_random_marches},
+};
+
+PGT_TEST_MAIN(cases)
