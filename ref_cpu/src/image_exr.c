@@ -622,6 +622,14 @@ static pgt_result write_fail(exr_stream *s, exr_result_t rv, const char *what, p
         if (rv_ != EXR_ERR_SUCCESS) return write_fail(s, rv_, what, err);                          \
     } while (0)
 
+/* zlib level of the ZIP chunks we write. Level 1 writes a 1024^2 11-channel atlas several times
+ * faster than the library's default and the files stay readable by every EXR reader (the level
+ * is not stored: decoding is the same inflate); spot.obj's atlas: 2.0 s -> 0.57 s, 14.7 -> 14.9 MB.
+ */
+#ifndef PGT_EXR_ZIP_LEVEL
+#define PGT_EXR_ZIP_LEVEL 1
+#endif
+
 static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_image *img,
                                exr_encode_pipeline_t *enc, int *enc_live, pgt_error *err) {
     int part = 0;
@@ -629,6 +637,7 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
     WRITE_CALL(exr_initialize_required_attr_simple(ctxt, part, (int32_t)img->width,
                                                    (int32_t)img->height, EXR_COMPRESSION_ZIP),
                "header");
+    WRITE_CALL(exr_set_zip_compression_level(ctxt, part, PGT_EXR_ZIP_LEVEL), "header");
     for (uint32_t c = 0; c < img->channel_count; ++c)
         WRITE_CALL(exr_add_channel(ctxt, part, img->names[c], EXR_PIXEL_FLOAT,
                                    EXR_PERCEPTUALLY_LINEAR, 1, 1),
