@@ -46,22 +46,6 @@ static float from_bits(uint32_t u) {
     return f;
 }
 
-static unsigned char *load_file(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 4096, len = 0;
-    unsigned char *data = malloc(cap);
-    for (;;) {
-        len += fread(data + len, 1, cap - len, f);
-        if (len < cap) break;
-        cap *= 2;
-        data = realloc(data, cap);
-    }
-    fclose(f);
-    *size = len;
-    return data;
-}
-
 static int save_file(const char *path, const void *data, size_t size) {
     FILE *f = fopen(path, "wb");
     if (!f) return -1;

@@ -24,22 +24,6 @@
 
 static const pgt_mesh_read_options quiet_opts = {PGT_FORMAT_AUTO, 1};
 
-static char *load_file(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 4096, len = 0;
-    char *data = malloc(cap);
-    for (;;) {
-        len += fread(data + len, 1, cap - len, f);
-        if (len < cap) break;
-        cap *= 2;
-        data = realloc(data, cap);
-    }
-    fclose(f);
-    *size = len;
-    return data;
-}
-
 static int mesh_is_zero(const pgt_mesh *m) {
     static const pgt_mesh zero;
     return memcmp(m, &zero, sizeof(zero)) == 0;

@@ -1,5 +1,5 @@
-/* pgt tests: a scratch folder for files a case writes, made per case and removed with its
- * contents at the end (one copy for every test program that writes files). */
+/* pgt tests: file helpers every test program that reads or writes files shares: a scratch
+ * folder made per case and removed with its contents at the end, and whole-file reading. */
 #ifndef PGT_TEST_SCRATCH_H
 #define PGT_TEST_SCRATCH_H
 
@@ -47,6 +47,24 @@ static inline void scratch_remove(void) {
     }
     closedir(d);
     rmdir(scratch);
+}
+
+/* The whole file at path (NULL when it cannot be read); *size gets its length. Free with free(). */
+static inline void *load_file(const char *path, size_t *size) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 4096, len = 0;
+    unsigned char *data = malloc(cap);
+    while (data) {
+        len += fread(data + len, 1, cap - len, f);
+        if (len < cap) break;
+        unsigned char *grown = realloc(data, cap *= 2);
+        if (!grown) free(data);
+        data = grown;
+    }
+    fclose(f);
+    *size = len;
+    return data;
 }
 
 #endif

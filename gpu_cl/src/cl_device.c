@@ -103,13 +103,16 @@ pgt_result pgt_cl_fail(pgt_error *err, const char *file, int line, const char *c
                          base ? base + 1 : file, line, call, cl_error_name(code), (int)code);
 }
 
-/* String queries: the size first, so a long name is truncated to `cap`, never an error. */
-static cl_int cl_platform_string(cl_platform_id p, cl_platform_info what, char *dst, size_t cap) {
+/* String queries: the size first, so a long name is truncated to `cap`, never an error. One
+ * helper for platform and device strings: `query` is clGetPlatformInfo or clGetDeviceInfo. */
+typedef cl_int (*cl_info_fn)(void *object, cl_uint what, size_t size, void *value, size_t *ret);
+
+static cl_int cl_info_string(cl_info_fn query, void *object, cl_uint what, char *dst, size_t cap) {
     size_t n = 0;
-    cl_int rc = clGetPlatformInfo(p, what, 0, NULL, &n);
+    cl_int rc = query(object, what, 0, NULL, &n);
     char *s = rc == CL_SUCCESS ? malloc(n + 1) : NULL;
     if (rc == CL_SUCCESS && !s) rc = CL_OUT_OF_HOST_MEMORY;
-    if (rc == CL_SUCCESS) rc = clGetPlatformInfo(p, what, n, s, NULL);
+    if (rc == CL_SUCCESS) rc = query(object, what, n, s, NULL);
     if (rc == CL_SUCCESS) {
         s[n] = '\0';
         snprintf(dst, cap, "%s", s);
@@ -118,18 +121,20 @@ static cl_int cl_platform_string(cl_platform_id p, cl_platform_info what, char *
     return rc;
 }
 
+static cl_int platform_info(void *p, cl_uint what, size_t size, void *value, size_t *ret) {
+    return clGetPlatformInfo((cl_platform_id)p, what, size, value, ret);
+}
+
+static cl_int device_info(void *d, cl_uint what, size_t size, void *value, size_t *ret) {
+    return clGetDeviceInfo((cl_device_id)d, what, size, value, ret);
+}
+
+static cl_int cl_platform_string(cl_platform_id p, cl_platform_info what, char *dst, size_t cap) {
+    return cl_info_string(platform_info, p, what, dst, cap);
+}
+
 static cl_int cl_device_string(cl_device_id d, cl_device_info what, char *dst, size_t cap) {
-    size_t n = 0;
-    cl_int rc = clGetDeviceInfo(d, what, 0, NULL, &n);
-    char *s = rc == CL_SUCCESS ? malloc(n + 1) : NULL;
-    if (rc == CL_SUCCESS && !s) rc = CL_OUT_OF_HOST_MEMORY;
-    if (rc == CL_SUCCESS) rc = clGetDeviceInfo(d, what, n, s, NULL);
-    if (rc == CL_SUCCESS) {
-        s[n] = '\0';
-        snprintf(dst, cap, "%s", s);
-    }
-    free(s);
-    return rc;
+    return cl_info_string(device_info, d, what, dst, cap);
 }
 
 /* Every device of every platform, platform by platform (at most PGT_GPU_MAX_DEVICES). No ICD
