@@ -30,10 +30,12 @@
  *   angle from t1 to t2 in texel coordinates, measured from +x towards +y (x right, y down). A
  *   marcher applies it to a direction (dx, dy) in texel units as
  *       dx' = cos(rot) dx - sin(rot) dy,   dy' = sin(rot) dx + cos(rot) dy.
- *   Both tangents are oriented so that the same side in 3D lies on the same side of them: t1
- *   walks the source chart's outer ring with the source chart on its right (y down: clockwise
- *   on screen), t2 walks the destination chart's inner boundary with the destination chart on
- *   its left. A direction leaving the source chart thus enters the destination chart.
+ *   t1 sums the steps of a walk of K texels both ways along the source chart's outer ring,
+ *   t2 the steps between the pointers of the same texels (those that point into the
+ *   destination chart), so both describe the same piece of the seam with the same
+ *   orientation, and a direction leaving the source chart enters the destination chart
+ *   (atlas_angles.c: how and why this differs from the paper's two independent one-way
+ *   walks, which remain the fallback).
  *
  * Everything is deterministic for any thread count. */
 #ifndef PGT_ATLAS_BUILD_H
