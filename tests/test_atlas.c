@@ -394,9 +394,16 @@ static void test_kdtree_brute_force(void) {
     for (uint32_t i = 0; i < 3u * n; ++i)
         /* a coarse grid of values, so that ties in distance happen */
         xyz[i] = (float)(pgt_rng_u64(7, 1, i) % 64u) / 8.0f;
-    pgt_kdtree t;
+    pgt_kdtree t, t1;
     pgt_error err = {0};
-    REQUIRE(pgt_kdtree_build(&t, xyz, n, &err) == PGT_OK);
+    REQUIRE(pgt_kdtree_build(&t, xyz, n, 2, &err) == PGT_OK);
+    /* the subtrees built in parallel give the tree of a serial build */
+    REQUIRE(pgt_kdtree_build(&t1, xyz, n, 1, &err) == PGT_OK);
+    CHECK(t.node_count == t1.node_count &&
+          !memcmp(t.nodes, t1.nodes, sizeof(pgt_kdtree_node) * t.node_count) &&
+          !memcmp(t.ids, t1.ids, sizeof(uint32_t) * n) &&
+          !memcmp(t.xyz, t1.xyz, sizeof(float) * 3u * n));
+    pgt_kdtree_destroy(&t1);
     uint32_t mismatches = 0, found = 0;
     for (uint32_t q = 0; q < queries; ++q) {
         float p[3];
@@ -422,7 +429,7 @@ static void test_kdtree_brute_force(void) {
     CHECK(found > queries / 2u && found < queries); /* both outcomes were exercised */
     pgt_kdtree_destroy(&t);
     /* an empty tree answers nothing */
-    REQUIRE(pgt_kdtree_build(&t, xyz, 0, &err) == PGT_OK);
+    REQUIRE(pgt_kdtree_build(&t, xyz, 0, 2, &err) == PGT_OK);
     const float o[3] = {0, 0, 0};
     CHECK(pgt_kdtree_nearest(&t, o, 1e30f, NULL, NULL, NULL) == PGT_NONE);
     pgt_kdtree_destroy(&t);

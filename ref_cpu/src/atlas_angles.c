@@ -31,8 +31,15 @@
  * walk came from; a step goes to the first path texel whose predecessor in that order is empty.
  * Forward walks every boundary with its own chart on the right (clockwise on screen).
  * rot = atan2(t1 x t2, t1 . t2) in texel coordinates (x right, y down); see atlas_build.h for
- * how a marcher applies it. */
+ * how a marcher applies it.
+ *
+ * Speed: every outer-boundary texel is a step of about 2 K walks, so its hits for each
+ * direction (from the classes of its 8 neighbours relative to its own chart, the only chart an
+ * outer walk through it can have) and the chart its pointer points into are computed once; an
+ * outer walk step is a few bit operations, and the rarer inner walks classify on the fly. Same
+ * walks, same texels. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "atlas_internal.h"
 
@@ -46,6 +53,11 @@ typedef struct angle_ctx {
     const float *outer_chart; /* the chart plane: the chart of an outer-boundary texel */
     int32_t W, H;
     uint32_t k;
+    /* outer-boundary texels only (step_rows): */
+    uint16_t *outer_hits; /* bit j set when scan position j holds a path texel whose
+                           * predecessor in the scan is empty: forward scan in the low byte,
+                           * backward in the high byte */
+    int32_t *ptr_chart;   /* the chart the pointer points into, -1 for a dead end */
 } angle_ctx;
 
 enum { WALK_OUTER = 0, WALK_INNER = 1 };
@@ -98,6 +110,67 @@ static uint32_t walk(const angle_ctx *c, int mode, int32_t chart, int32_t x0, in
     return n;
 }
 
+/* The index of the lowest set bit of an 8-bit mask m != 0: (m & -m) * 0x17 puts a distinct
+ * 3-bit code in bits 5..7 for each of the 8 single bits (a de Bruijn sequence). */
+static uint32_t lowest_bit8(uint32_t m) {
+    static const uint8_t index[8] = {0, 1, 2, 4, 7, 3, 6, 5};
+    return index[((m & (0u - m)) * 0x17u) >> 5 & 7u];
+}
+
+/* walk(c, WALK_OUTER, ...) through outer_hits: the same scan, the same texels. */
+static uint32_t walk_outer(const angle_ctx *c, int32_t x0, int32_t y0, int dir, int32_t *px,
+                           int32_t *py) {
+    int32_t x = x0, y = y0;
+    uint32_t start = 0; /* scan position to start at: after the texel the walk came from */
+    const uint32_t shift = dir > 0 ? 0u : 8u;
+    uint32_t n = 0;
+    for (uint32_t s = 0; s < c->k; ++s) {
+        const uint32_t hit = c->outer_hits[(size_t)y * (size_t)c->W + (size_t)x] >> shift & 0xFFu;
+        if (!hit) break;
+        /* the first hit at or after start, cyclically */
+        const uint32_t found =
+            (start + lowest_bit8((hit >> start | hit << (8u - start)) & 0xFFu)) & 7u;
+        const uint32_t i = dir > 0 ? found : (8u - found) & 7u;
+        x += ring[i][0], y += ring[i][1];
+        start = (found + 5u) & 7u; /* back = found + 4, start = back + 1 */
+        if (x == x0 && y == y0) break;
+        px[n] = x, py[n] = y, n++;
+    }
+    return n;
+}
+
+/* outer_hits and ptr_chart of the outer-boundary texels of rows [y0, y1). */
+static void step_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    angle_ctx *c = vctx;
+    (void)worker;
+    const float *kind_plane = pgt_image_plane(c->atlas, 7);
+    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y)
+        for (int32_t x = 0; x < c->W; ++x) {
+            const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
+            const uint8_t k = c->kind[i] & (uint8_t)~ATLAS_KIND_BOUNDARY_BIT;
+            if (k != PGT_TEXEL_INDIRECTION && k != PGT_TEXEL_DEAD_END) continue;
+            c->ptr_chart[i] = kind_plane[i] == (float)PGT_TEXEL_INDIRECTION
+                                  ? c->chart[(size_t)pv[i] * (size_t)c->W + (size_t)pu[i]]
+                                  : -1;
+            /* the classes relative to the texel's own outer chart: the only chart an outer
+             * walk through it can have */
+            const int32_t a = (int32_t)c->outer_chart[i];
+            int cls[8];
+            for (int r = 0; r < 8; ++r)
+                cls[r] = texel_class(c, WALK_OUTER, a, x + ring[r][0], y + ring[r][1]);
+            /* hits in scan order: scan j is ring j forward, ring -j (mod 8) backward; a hit is
+             * a path texel whose predecessor in the scan is empty */
+            uint32_t hits = 0;
+            for (uint32_t j = 0; j < 8; ++j) {
+                const uint32_t b = (8u - j) & 7u;
+                if (cls[j] == 1 && cls[(j + 7u) & 7u] == 0) hits |= 1u << j;
+                if (cls[b] == 1 && cls[(b + 1u) & 7u] == 0) hits |= 0x100u << j;
+            }
+            c->outer_hits[i] = (uint16_t)hits;
+        }
+}
+
 static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     angle_ctx *c = vctx;
     (void)worker;
@@ -109,17 +182,15 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
             if (kind_plane[i] != (float)PGT_TEXEL_INDIRECTION) continue; /* not a dead end */
             const int32_t qx = (int32_t)pu[i], qy = (int32_t)pv[i];
-            const int32_t a = (int32_t)c->outer_chart[i];
             const int32_t b = c->chart[(size_t)qy * (size_t)c->W + (size_t)qx];
             int32_t wx[PGT_ATLAS_MAX_K], wy[PGT_ATLAS_MAX_K];
             double t1x = 0.0, t1y = 0.0, t2x = 0.0, t2y = 0.0;
             for (int dir = -1; dir <= 1; dir += 2) {
-                const uint32_t n = walk(c, WALK_OUTER, a, x, y, dir, wx, wy);
+                const uint32_t n = walk_outer(c, x, y, dir, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) {
                     const size_t j = (size_t)wy[s] * (size_t)c->W + (size_t)wx[s];
-                    if (kind_plane[j] != (float)PGT_TEXEL_INDIRECTION) continue;
+                    if (c->ptr_chart[j] != b) continue; /* b >= 0: not a dead end */
                     const int32_t rx = (int32_t)pu[j], ry = (int32_t)pv[j];
-                    if (c->chart[(size_t)ry * (size_t)c->W + (size_t)rx] != b) continue;
                     t1x += dir * (wx[s] - x), t1y += dir * (wy[s] - y);
                     t2x += dir * (rx - qx), t2y += dir * (ry - qy);
                 }
@@ -127,7 +198,7 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             if (((t1x == 0.0 && t1y == 0.0) || (t2x == 0.0 && t2y == 0.0))) {
                 /* the paper's walks: A's forward, B's forward reversed */
                 t1x = t1y = t2x = t2y = 0.0;
-                uint32_t n = walk(c, WALK_OUTER, a, x, y, 1, wx, wy);
+                uint32_t n = walk_outer(c, x, y, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t1x += wx[s] - x, t1y += wy[s] - y;
                 n = walk(c, WALK_INNER, b, qx, qy, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t2x -= wx[s] - qx, t2y -= wy[s] - qy;
@@ -140,14 +211,25 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
         }
 }
 
-void atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind, uint32_t k,
-                  uint32_t threads) {
+pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
+                        uint32_t k, uint32_t threads, pgt_error *err) {
     angle_ctx c = {atlas,
                    texel_chart,
                    kind,
                    pgt_image_plane(atlas, 6),
                    (int32_t)atlas->width,
                    (int32_t)atlas->height,
-                   k};
-    atlas_parallel_rows(atlas->height, atlas->width, threads, angle_rows, &c);
+                   k,
+                   malloc(sizeof(uint16_t) * (size_t)atlas->width * atlas->height),
+                   malloc(sizeof(int32_t) * (size_t)atlas->width * atlas->height)};
+    pgt_result r = PGT_OK;
+    if (c.outer_hits && c.ptr_chart) {
+        atlas_parallel_rows(atlas->height, atlas->width, threads, step_rows, &c);
+        atlas_parallel_rows(atlas->height, atlas->width, threads, angle_rows, &c);
+    } else {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (angles)");
+    }
+    free(c.outer_hits);
+    free(c.ptr_chart);
+    return r;
 }

@@ -8,28 +8,9 @@
 #include "atlas_internal.h"
 #include "pgt/parallel.h"
 
-typedef struct rows_ctx {
-    atlas_rows_fn fn;
-    void *ctx;
-    uint32_t width;
-} rows_ctx;
-
-static void rows_trampoline(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
-    const rows_ctx *r = vctx;
-    /* the rows whose first texel lies in [begin, end) */
-    const uint32_t r0 = (begin + r->width - 1u) / r->width, r1 = (end + r->width - 1u) / r->width;
-    if (r0 < r1) r->fn(r->ctx, r0, r1, worker);
-}
-
 void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_rows_fn fn,
                          void *ctx) {
-    if (!rows) return;
-    if ((uint64_t)rows * width > UINT32_MAX || width == 0) { /* cannot happen below the limits */
-        fn(ctx, 0, rows, 0);
-        return;
-    }
-    rows_ctx r = {fn, ctx, width};
-    pgt_parallel_for(rows * width, threads, rows_trampoline, &r);
+    pgt_parallel_for_items(rows, width, threads, fn, ctx);
 }
 
 static double now_ms(void) {
@@ -123,7 +104,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         goto done;
     }
     t = now_ms();
-    r = atlas_layout_build(&layout, mesh, &charts, W, H, band, opt->force_repack, what, err);
+    r = atlas_layout_build(&layout, mesh, &charts, W, H, band, opt->force_repack, threads, what,
+                           err);
     if (r != PGT_OK) goto done;
     if (!layout.repacked && !layout.separated) {
         /* The input UVs are kept only if their charts keep the band at this resolution: a
@@ -134,7 +116,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         if (r != PGT_OK) goto done;
         st.overlap_texels = cover.overlap;
         if (cover.overlap || atlas_band_violations(texel_chart, W, H, band, threads)) {
-            r = atlas_layout_repack(&layout, mesh, &charts, W, H, band, what, err);
+            r = atlas_layout_repack(&layout, mesh, &charts, W, H, band, threads, what, err);
             if (r != PGT_OK) goto done;
         }
     }
@@ -179,7 +161,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.ms_pointers = now_ms() - t;
 
     t = now_ms();
-    atlas_angles(out, texel_chart, kind, k, threads);
+    r = atlas_angles(out, texel_chart, kind, k, threads, err);
+    if (r != PGT_OK) goto done;
     st.ms_angles = now_ms() - t;
 done:
     free(texel_chart);

@@ -60,10 +60,10 @@ typedef struct atlas_layout {
 
 pgt_result atlas_layout_build(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *charts,
                               uint32_t width, uint32_t height, uint32_t band, int force_repack,
-                              const char *what, pgt_error *err);
+                              uint32_t threads, const char *what, pgt_error *err);
 pgt_result atlas_layout_repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *charts,
-                               uint32_t width, uint32_t height, uint32_t band, const char *what,
-                               pgt_error *err);
+                               uint32_t width, uint32_t height, uint32_t band, uint32_t threads,
+                               const char *what, pgt_error *err);
 void atlas_layout_destroy(atlas_layout *l);
 
 /* The number of inner texels that have an inner texel of another chart, or the image border,
@@ -88,12 +88,12 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
                           pgt_error *err);
 
 /* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2). */
-void atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind, uint32_t k,
-                  uint32_t threads);
+pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
+                        uint32_t k, uint32_t threads, pgt_error *err);
 
-/* Runs fn over the rows [0, height) of a width-wide grid in parallel: pgt_parallel_for hands
- * out texel ranges (it keeps >= 4096 elements per thread, too many rows), and a row is done by
- * the range that holds its first texel. rows_per_item groups rows (a raster tile). */
+/* Runs fn over the rows [0, rows) of a width-wide grid in parallel (pgt_parallel_for_items
+ * with a row weighing `width` texels); callers pass other items with their weight too (raster
+ * tiles, charts). */
 typedef void (*atlas_rows_fn)(void *ctx, uint32_t row_begin, uint32_t row_end, uint32_t worker);
 void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_rows_fn fn,
                          void *ctx);

@@ -283,14 +283,50 @@ static int order_less(const void *a, const void *b) {
     return p->c < q->c ? -1 : (p->c > q->c);
 }
 
+/* The charts' boxes, in parallel: chart c takes its points and hull from the slots of its faces
+ * (pts from 3 begin[c], hull from 6 begin[c] + 2 c), so charts share no scratch. */
+typedef struct box_ctx {
+    const atlas_charts *ch;
+    const uint32_t *begin, *faces;
+    pt2 *pts, *hull;
+    chart_box *box;
+} box_ctx;
+
+/* Weight of one chart for atlas_parallel_rows (which keeps >= 4096 texels per thread): a few
+ * charts of many faces still spread over the threads. */
+#define ATLAS_LAYOUT_CHART_WEIGHT 1024u
+
+static void box_range(void *vctx, uint32_t c0, uint32_t c1, uint32_t worker) {
+    const box_ctx *b = vctx;
+    (void)worker;
+    for (uint32_t c = c0; c < c1; ++c) {
+        pt2 *pts = b->pts + 3u * (size_t)b->begin[c];
+        pt2 *hull = b->hull + 6u * (size_t)b->begin[c] + 2u * (size_t)c;
+        uint32_t n = 0;
+        for (uint32_t i = b->begin[c]; i < b->begin[c + 1u]; ++i)
+            for (uint32_t k = 0; k < 3; ++k) {
+                const float *uv = &b->ch->uvs[6u * b->faces[i] + 2u * k];
+                pts[n++] = (pt2){uv[0], uv[1]};
+            }
+        const uint32_t h = convex_hull(pts, n, hull);
+        /* 3D length per UV unit; a chart of zero 3D area keeps a tiny size instead of 0 */
+        double s = b->ch->chart_area_uv[c] > 0.0
+                       ? sqrt(b->ch->chart_area_3d[c] / b->ch->chart_area_uv[c])
+                       : 0.0;
+        if (!(s > 0.0) || !isfinite(s)) s = 1e-30;
+        b->box[c] = chart_box_make(hull, h, s);
+    }
+}
+
 static pgt_result repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *ch,
-                         uint32_t W, uint32_t H, uint32_t band, const char *what, pgt_error *err) {
+                         uint32_t W, uint32_t H, uint32_t band, uint32_t threads, const char *what,
+                         pgt_error *err) {
     const uint32_t F = mesh->face_count, C = ch->chart_count;
     pgt_result r = PGT_OK;
     uint32_t *begin = calloc((size_t)C + 1u, sizeof(uint32_t));
     uint32_t *faces = malloc(sizeof(uint32_t) * (F ? F : 1u));
     pt2 *pts = malloc(sizeof(pt2) * 3u * (F ? F : 1u));
-    pt2 *hull = malloc(sizeof(pt2) * (6u * (size_t)F + 2u));
+    pt2 *hull = malloc(sizeof(pt2) * (6u * (size_t)F + 2u * (size_t)C + 2u));
     chart_box *box = malloc(sizeof(chart_box) * C);
     order_key *keys = malloc(sizeof(order_key) * C);
     uint32_t *order = malloc(sizeof(uint32_t) * C);
@@ -316,20 +352,10 @@ static pgt_result repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_ch
             if (ch->face_chart[f] != PGT_NONE) faces[fill[ch->face_chart[f]]++] = f;
         free(fill);
     }
+    box_ctx bc = {ch, begin, faces, pts, hull, box};
+    atlas_parallel_rows(C, ATLAS_LAYOUT_CHART_WEIGHT, threads, box_range, &bc);
     double sum_area = 0.0, max_w = 0.0, max_h = 0.0;
-    for (uint32_t c = 0; c < C; ++c) {
-        uint32_t n = 0;
-        for (uint32_t i = begin[c]; i < begin[c + 1u]; ++i)
-            for (uint32_t k = 0; k < 3; ++k) {
-                const float *uv = &ch->uvs[6u * faces[i] + 2u * k];
-                pts[n++] = (pt2){uv[0], uv[1]};
-            }
-        const uint32_t h = convex_hull(pts, n, hull);
-        /* 3D length per UV unit; a chart of zero 3D area keeps a tiny size instead of 0 */
-        double s =
-            ch->chart_area_uv[c] > 0.0 ? sqrt(ch->chart_area_3d[c] / ch->chart_area_uv[c]) : 0.0;
-        if (!(s > 0.0) || !isfinite(s)) s = 1e-30;
-        box[c] = chart_box_make(hull, h, s);
+    for (uint32_t c = 0; c < C; ++c) { /* in chart order: the same sums for any thread count */
         keys[c] = (order_key){box[c].h, c};
         sum_area += box[c].w * box[c].h;
         max_w = fmax(max_w, box[c].w), max_h = fmax(max_h, box[c].h);
@@ -459,7 +485,7 @@ static int charts_separated(const float *tex, const atlas_charts *ch, uint32_t b
 
 pgt_result atlas_layout_build(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *ch,
                               uint32_t W, uint32_t H, uint32_t band, int force_repack,
-                              const char *what, pgt_error *err) {
+                              uint32_t threads, const char *what, pgt_error *err) {
     memset(out, 0, sizeof(*out));
     const uint32_t F = mesh->face_count;
     out->tex = malloc(sizeof(float) * 6u * (F ? F : 1u));
@@ -489,13 +515,13 @@ pgt_result atlas_layout_build(atlas_layout *out, const pgt_mesh *mesh, const atl
         out->separated = charts_separated(out->tex, ch, band);
         return PGT_OK;
     }
-    return atlas_layout_repack(out, mesh, ch, W, H, band, what, err);
+    return atlas_layout_repack(out, mesh, ch, W, H, band, threads, what, err);
 }
 
 pgt_result atlas_layout_repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_charts *ch,
-                               uint32_t W, uint32_t H, uint32_t band, const char *what,
-                               pgt_error *err) {
-    pgt_result r = repack(out, mesh, ch, W, H, band, what, err);
+                               uint32_t W, uint32_t H, uint32_t band, uint32_t threads,
+                               const char *what, pgt_error *err) {
+    pgt_result r = repack(out, mesh, ch, W, H, band, threads, what, err);
     if (r != PGT_OK) atlas_layout_destroy(out);
     return r;
 }

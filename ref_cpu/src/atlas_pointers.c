@@ -33,6 +33,7 @@ typedef struct ptr_ctx {
     int32_t *b_chart;
     float *b_xyz;
     pgt_kdtree tree;
+    const float *P[3]; /* the position planes */
     double texel_size, dead_end;
     uint32_t *row_counts; /* 4 per row: indirection, dead end, self seam, outer */
 } ptr_ctx;
@@ -43,10 +44,34 @@ static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker)
     const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
         uint32_t boundary = 0;
+        const int32_t *row = &c->chart[(size_t)y * (size_t)W];
         for (int32_t x = 0; x < W; ++x) {
             const size_t idx = (size_t)y * (size_t)W + (size_t)x;
             const int32_t own = c->chart[idx];
             uint8_t k = PGT_TEXEL_BACKGROUND;
+            if (y > 0 && y + 1 < H && x > 0 && x + 1 < W) {
+                /* inside the image: the same tests without the image-border checks */
+                const int32_t *up = row - W, *down = row + W;
+                if (own >= 0) {
+                    k = PGT_TEXEL_INNER;
+                    if (row[x + 1] != own || down[x] != own || row[x - 1] != own || up[x] != own) {
+                        k |= ATLAS_KIND_BOUNDARY_BIT;
+                        boundary++;
+                    }
+                } else {
+                    const int32_t o[8] = {row[x + 1], down[x + 1], down[x], down[x - 1],
+                                          row[x - 1], up[x - 1],   up[x],   up[x + 1]};
+                    int32_t lo = INT32_MAX, hi = -1;
+                    for (uint32_t i = 0; i < 8; ++i) {
+                        if (o[i] < 0) continue;
+                        if (o[i] < lo) lo = o[i];
+                        if (o[i] > hi) hi = o[i];
+                    }
+                    if (hi >= 0 && lo == hi) k = PGT_TEXEL_INDIRECTION;
+                }
+                c->kind[idx] = k;
+                continue;
+            }
             if (own >= 0) {
                 k = PGT_TEXEL_INNER;
                 for (uint32_t i = 0; i < 8; i += 2) { /* the 4-neighbours */
@@ -100,15 +125,34 @@ typedef struct accept_ctx {
     int32_t chart;
     int32_t x, y;         /* the outer-boundary texel */
     int32_t sx[8], sy[8]; /* its adjacent inner-boundary texels */
+    double local[8];      /* per start: the largest 3D step to its 4-neighbours in the chart */
     uint32_t starts;
 } accept_ctx;
 
-static double dist3(const ptr_ctx *c, size_t i, size_t j) {
+/* Squared 3D distance between texels i and j (double). */
+static double dist3_sq(const ptr_ctx *c, size_t i, size_t j) {
     double e = 0.0;
     for (uint32_t k = 0; k < 3; ++k) {
-        const float *p = pgt_image_plane(c->atlas, k);
-        const double t = (double)p[j] - p[i];
+        const double t = (double)c->P[k][j] - c->P[k][i];
         e += t * t;
+    }
+    return e;
+}
+
+static double dist3(const ptr_ctx *c, size_t i, size_t j) { return sqrt(dist3_sq(c, i, j)); }
+
+/* The largest 3D step from texel (x, y) to its 4-neighbours in `chart` (0 when none): the
+ * square root of the largest square, which is the largest root (sqrt is monotonic). */
+static double local_step(const ptr_ctx *c, int32_t x, int32_t y, int32_t chart) {
+    const size_t s = (size_t)y * c->W + (size_t)x;
+    double e = 0.0;
+    for (uint32_t i = 0; i < 8; i += 2) {
+        const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+        if (nx < 0 || ny < 0 || nx >= (int32_t)c->W || ny >= (int32_t)c->H) continue;
+        const size_t j = (size_t)ny * c->W + (size_t)nx;
+        if (c->chart[j] != chart) continue;
+        const double d = dist3_sq(c, s, j);
+        if (d > e) e = d;
     }
     return sqrt(e);
 }
@@ -148,18 +192,25 @@ static int accept_candidate(const void *vctx, uint32_t id) {
     }
     const int32_t x0 = a->sx[best], y0 = a->sy[best];
     const size_t s0 = (size_t)y0 * c->W + (size_t)x0;
-    double local = 0.0;
-    for (uint32_t i = 0; i < 8; i += 2) {
-        const int32_t nx = x0 + nb8[i][0], ny = y0 + nb8[i][1];
-        if (nx < 0 || ny < 0 || nx >= (int32_t)c->W || ny >= (int32_t)c->H) continue;
-        const size_t j = (size_t)ny * c->W + (size_t)nx;
-        if (c->chart[j] == a->chart) local = fmax(local, dist3(c, s0, j));
-    }
     const int32_t ex = qx - x0, ey = qy - y0;
     const int32_t n = abs(ex) > abs(ey) ? abs(ex) : abs(ey);
+    /* the nearest kd-tree points are mostly the starts themselves (an empty line) and their
+     * neighbours along the boundary (a line inside the chart, near the source): both are
+     * refused below without a 3D step, so they are refused here first */
+    if (n == 0) return 0;
     const double dx = (double)qx - a->x, dy = (double)qy - a->y;
     const int far = dx * dx + dy * dy >
                     (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS * (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS;
+    if (!far) { /* only a line that leaves the chart can be accepted */
+        int32_t i = 1;
+        for (; i <= n; ++i) {
+            const int32_t x = x0 + (int32_t)floor(ex * (double)i / n + 0.5);
+            const int32_t y = y0 + (int32_t)floor(ey * (double)i / n + 0.5);
+            if (c->chart[(size_t)y * c->W + (size_t)x] != a->chart) break;
+        }
+        if (i > n) return 0;
+    }
+    const double local = a->local[best];
     const double limit = ATLAS_SELF_SEAM_PATH_RATIO * dist3(c, s0, t);
     double path = 0.0;
     size_t prev = s0;
@@ -181,6 +232,11 @@ static int accept_candidate(const void *vctx, uint32_t id) {
     }
     return 0;
 }
+
+/* The first search radius, as a fraction of the dead-end reach: on pizza.obj (4740 charts)
+ * 94 % of the pointers lie within 0.3 of the reach and 98 % within 0.4; a miss costs a second,
+ * full search. */
+#define ATLAS_POINTER_NEAR_REACH 0.4
 
 static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
@@ -226,18 +282,19 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
              * several median sizes long, and its seam partner lies that far */
             double local = 0.0;
             for (uint32_t s = 0; s < n; ++s) {
-                const size_t j = (size_t)a.sy[s] * (size_t)W + (size_t)a.sx[s];
-                for (uint32_t i = 0; i < 8; i += 2) {
-                    const int32_t nx = a.sx[s] + nb8[i][0], ny = a.sy[s] + nb8[i][1];
-                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-                    const size_t m = (size_t)ny * (size_t)W + (size_t)nx;
-                    if (c->chart[m] == chart) local = fmax(local, dist3(c, j, m));
-                }
+                a.local[s] = local_step(c, a.sx[s], a.sy[s], chart);
+                if (a.local[s] > local) local = a.local[s];
             }
             const double reach = c->dead_end * fmax(c->texel_size, local);
             float d2 = 0.0f;
-            const uint32_t hit =
-                pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a, &d2);
+            /* the nearest accepted point within reach: first within a smaller ball, which
+             * prunes most of the tree (the same answer when it holds one), else the whole */
+            const double near = ATLAS_POINTER_NEAR_REACH * reach;
+            uint32_t hit =
+                pgt_kdtree_nearest(&c->tree, q, (float)(near * near), accept_candidate, &a, &d2);
+            if (hit == PGT_NONE)
+                hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a,
+                                         &d2);
             chart_plane[idx] = (float)chart;
             for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
             if (hit == PGT_NONE) { /* the kind buffer keeps INDIRECTION for every outer texel */
@@ -288,13 +345,21 @@ static float select_nonnegative(const float *v, const uint32_t *count, uint32_t 
 typedef struct size_ctx {
     const float *P[3], *chart, *kind;
     uint32_t W, H;
-    float *d;        /* 2 W per row */
-    uint32_t *count; /* per row */
+    float *d;                   /* 2 W per row */
+    uint32_t *count;            /* per row */
+    const int32_t *texel_chart; /* not NULL: the chart and kind planes as atlas_raster left
+                                 * them (inner iff texel_chart >= 0), read from here instead */
 } size_ctx;
 
 /* Squared 3D distances (double, rounded to float once) to the right and lower neighbours, when
  * both are inner texels of one chart: the median of the squares is the square of the median,
  * so no square root per pair. */
+/* The chart of texel i when it is an inner texel, else -1. */
+static inline int32_t size_owner(const size_ctx *c, size_t i) {
+    if (c->texel_chart) return c->texel_chart[i];
+    return c->kind[i] == (float)PGT_TEXEL_INNER ? (int32_t)c->chart[i] : -1;
+}
+
 static void size_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     size_ctx *c = vctx;
     (void)worker;
@@ -304,11 +369,12 @@ static void size_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
         uint32_t m = 0;
         for (uint32_t x = 0; x < W; ++x) {
             const size_t i = (size_t)y * W + x;
-            if (c->kind[i] != (float)PGT_TEXEL_INNER) continue;
+            const int32_t own = size_owner(c, i);
+            if (own < 0) continue;
             for (uint32_t s = 0; s < 2; ++s) {
                 if (s == 0 ? x + 1u >= W : y + 1u >= c->H) continue;
                 const size_t j = s == 0 ? i + 1u : i + W;
-                if (c->kind[j] != (float)PGT_TEXEL_INNER || c->chart[j] != c->chart[i]) continue;
+                if (size_owner(c, j) != own) continue;
                 double e = 0.0;
                 for (uint32_t k = 0; k < 3; ++k) {
                     const double t = (double)c->P[k][j] - c->P[k][i];
@@ -321,7 +387,8 @@ static void size_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     }
 }
 
-static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, uint32_t threads) {
+static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, uint32_t threads,
+                         const int32_t *texel_chart) {
     const uint32_t W = atlas->width, H = atlas->height;
     size_ctx c = {{pgt_image_plane(atlas, ch->px), pgt_image_plane(atlas, ch->py),
                    pgt_image_plane(atlas, ch->pz)},
@@ -330,7 +397,8 @@ static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, u
                   W,
                   H,
                   malloc(sizeof(float) * 2u * (size_t)W * H + 1u),
-                  calloc((size_t)H + 1u, sizeof(uint32_t))};
+                  calloc((size_t)H + 1u, sizeof(uint32_t)),
+                  texel_chart};
     double med = 0.0;
     if (c.d && c.count) {
         atlas_parallel_rows(H, W, threads, size_rows, &c);
@@ -346,7 +414,7 @@ static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, u
 }
 
 double pgt_atlas_texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch) {
-    return texel_size(atlas, ch, 1);
+    return texel_size(atlas, ch, 1, NULL);
 }
 
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
@@ -355,6 +423,7 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     const uint32_t W = atlas->width, H = atlas->height;
     ptr_ctx c = {0};
     c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.W = W, c.H = H;
+    for (uint32_t k = 0; k < 3; ++k) c.P[k] = pgt_image_plane(atlas, k);
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
     pgt_result r = PGT_OK;
@@ -374,10 +443,10 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
         goto done;
     }
     atlas_parallel_rows(H, W, threads, gather_rows, &c);
-    r = pgt_kdtree_build(&c.tree, c.b_xyz, nb, err);
+    r = pgt_kdtree_build(&c.tree, c.b_xyz, nb, threads, err);
     if (r != PGT_OK) goto done;
     const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
-    out->texel_size = texel_size(atlas, &order, threads);
+    out->texel_size = texel_size(atlas, &order, threads, texel_chart);
     c.texel_size = out->texel_size;
     c.dead_end = dead_end;
     atlas_parallel_rows(H, W, threads, pointer_rows, &c);

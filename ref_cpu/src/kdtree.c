@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "pgt/mesh.h"
+#include "pgt/parallel.h"
 
 /* A point with its caller index, partitioned in place while building (contiguous, so the
  * selection scans memory in order). */
@@ -60,41 +61,32 @@ static void select_kth(kd_point *v, uint32_t lo, uint32_t hi, uint32_t k, uint32
 }
 
 typedef struct kd_build_item {
-    uint32_t node, begin, end;
+    uint32_t node, begin, end, depth;
 } kd_build_item;
 
-pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, pgt_error *err) {
-    memset(out, 0, sizeof(*out));
-    if (count > PGT_MESH_MAX_ELEMENTS)
-        return pgt_error_set(err, PGT_ERROR_LIMIT, "pgt_kdtree_build: %u points", count);
-    /* median splits: at most 2 * ceil(count / (LEAF/2)) nodes; 2 * count + 1 bounds it simply */
-    const uint32_t max_nodes = 2u * count + 1u;
-    out->nodes = malloc(sizeof(pgt_kdtree_node) * max_nodes);
-    out->ids = malloc(sizeof(uint32_t) * (count ? count : 1u));
-    out->xyz = malloc(sizeof(float) * 3u * (count ? count : 1u));
-    if (!out->nodes || !out->ids || !out->xyz) {
-        pgt_kdtree_destroy(out);
-        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
-    }
-    out->point_count = count;
-    kd_point *v = malloc(sizeof(kd_point) * (count ? count : 1u));
-    if (!v) {
-        pgt_kdtree_destroy(out);
-        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
-    }
-    for (uint32_t i = 0; i < count; ++i) {
-        memcpy(v[i].p, &xyz[3u * (size_t)i], 3u * sizeof(float));
-        v[i].id = i;
-    }
+/* Depth of the serial top of the tree: its (at most) 2^KD_SERIAL_DEPTH subtrees below are built
+ * in parallel. Fixed, so the tree is the same for any thread count; 16 subtrees balance a few
+ * threads, and the 4 serial levels are under a third of a 100k-point build (14 levels). */
+#define KD_SERIAL_DEPTH 4u
+
+/* Builds the subtree of points v[begin, end) at nodes[root] (depth `depth`), numbering new nodes
+ * from *next in pairs. With `pending`, a node at depth KD_SERIAL_DEPTH that would split is left
+ * to the caller: its item is appended to pending (the node stays unwritten). */
+static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root, uint32_t *next,
+                        kd_build_item *pending, uint32_t *n_pending) {
     kd_build_item stack[PGT_KDTREE_MAX_DEPTH + 2u];
-    uint32_t top = 0, nodes = 1;
-    stack[top++] = (kd_build_item){0, 0, count};
+    uint32_t top = 0;
+    stack[top++] = root;
     while (top) {
         const kd_build_item it = stack[--top];
-        pgt_kdtree_node *n = &out->nodes[it.node];
+        pgt_kdtree_node *n = &nodes[it.node];
         const uint32_t b = it.begin, e = it.end;
         if (e - b <= PGT_KDTREE_LEAF_SIZE || top + 2u > PGT_KDTREE_MAX_DEPTH) {
             *n = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, b, e};
+            continue;
+        }
+        if (pending && it.depth == KD_SERIAL_DEPTH) {
+            pending[(*n_pending)++] = it;
             continue;
         }
         float lo[3], hi[3];
@@ -109,19 +101,97 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, p
             if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
         const uint32_t mid = b + (e - b) / 2u;
         select_kth(v, b, e, mid, axis);
-        const uint32_t left = nodes, right = nodes + 1u;
-        nodes += 2u;
+        const uint32_t left = *next, right = *next + 1u;
+        *next += 2u;
         *n = (pgt_kdtree_node){v[mid].p[axis], axis, left, right};
-        stack[top++] = (kd_build_item){right, mid, e};
-        stack[top++] = (kd_build_item){left, b, mid};
+        stack[top++] = (kd_build_item){right, mid, e, it.depth + 1u};
+        stack[top++] = (kd_build_item){left, b, mid, it.depth + 1u};
+    }
+}
+
+/* The subtrees below the serial top, each built into its own node array (local node 0 is its
+ * root), then copied into the tree. */
+typedef struct kd_subtrees {
+    kd_point *v;
+    const kd_build_item *items;
+    pgt_kdtree_node **nodes;
+    uint32_t *counts;
+} kd_subtrees;
+
+/* The weight of a subtree for pgt_parallel_for_items: each one is a thread's worth of work. */
+#define KD_SUBTREE_WEIGHT 4096u
+
+static void build_subtrees(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const kd_subtrees *s = vctx;
+    (void)worker;
+    for (uint32_t i = begin; i < end; ++i) {
+        kd_build_item root = s->items[i];
+        root.node = 0;
+        uint32_t next = 1;
+        build_nodes(s->nodes[i], s->v, root, &next, NULL, NULL);
+        s->counts[i] = next;
+    }
+}
+
+pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, uint32_t threads,
+                            pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    if (count > PGT_MESH_MAX_ELEMENTS)
+        return pgt_error_set(err, PGT_ERROR_LIMIT, "pgt_kdtree_build: %u points", count);
+    /* median splits: at most 2 * ceil(count / (LEAF/2)) nodes; 2 * count + 1 bounds it simply */
+    const uint32_t max_nodes = 2u * count + 1u;
+    out->nodes = malloc(sizeof(pgt_kdtree_node) * max_nodes);
+    out->ids = malloc(sizeof(uint32_t) * (count ? count : 1u));
+    out->xyz = malloc(sizeof(float) * 3u * (count ? count : 1u));
+    if (!out->nodes || !out->ids || !out->xyz) {
+        pgt_kdtree_destroy(out);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
+    }
+    out->point_count = count;
+    kd_point *v = malloc(sizeof(kd_point) * (count ? count : 1u));
+    kd_build_item pending[1u << KD_SERIAL_DEPTH];
+    pgt_kdtree_node *sub_nodes[1u << KD_SERIAL_DEPTH] = {NULL};
+    uint32_t sub_counts[1u << KD_SERIAL_DEPTH], n_pending = 0, nodes = 1;
+    pgt_result r = PGT_OK;
+    if (!v) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
+        goto done;
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+        memcpy(v[i].p, &xyz[3u * (size_t)i], 3u * sizeof(float));
+        v[i].id = i;
+    }
+    build_nodes(out->nodes, v, (kd_build_item){0, 0, count, 0}, &nodes, pending, &n_pending);
+    for (uint32_t i = 0; i < n_pending; ++i) {
+        sub_nodes[i] =
+            malloc(sizeof(pgt_kdtree_node) * (2u * (pending[i].end - pending[i].begin) + 1u));
+        if (!sub_nodes[i]) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
+            goto done;
+        }
+    }
+    kd_subtrees s = {v, pending, sub_nodes, sub_counts};
+    pgt_parallel_for_items(n_pending, KD_SUBTREE_WEIGHT, threads, build_subtrees, &s);
+    /* subtree i's local node k is node pending[i].node (k = 0) or nodes + k - 1 */
+    for (uint32_t i = 0; i < n_pending; ++i) {
+        const pgt_kdtree_node *sn = sub_nodes[i];
+        for (uint32_t k = 0; k < sub_counts[i]; ++k) {
+            pgt_kdtree_node n = sn[k];
+            if (n.axis != PGT_KDTREE_LEAF) n.a += nodes - 1u, n.b += nodes - 1u;
+            out->nodes[k ? nodes + k - 1u : pending[i].node] = n;
+        }
+        nodes += sub_counts[i] - 1u;
     }
     out->node_count = nodes;
     for (uint32_t i = 0; i < count; ++i) {
         memcpy(&out->xyz[3u * (size_t)i], v[i].p, 3u * sizeof(float));
         out->ids[i] = v[i].id;
     }
+done:
+    for (uint32_t i = 0; i < n_pending; ++i) free(sub_nodes[i]);
     free(v);
-    return PGT_OK;
+    if (r != PGT_OK) pgt_kdtree_destroy(out);
+    return r;
 }
 
 void pgt_kdtree_destroy(pgt_kdtree *tree) {
@@ -146,29 +216,30 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
     stack[top++].bound = 0.0f;
     while (top) {
         --top;
-        if (stack[top].bound > best) continue;
+        const float bound = stack[top].bound;
+        if (bound > best) continue;
+        /* down to a leaf along the near sides, the far sides on the stack */
         const pgt_kdtree_node *n = &tree->nodes[stack[top].node];
-        if (n->axis == PGT_KDTREE_LEAF) {
-            for (uint32_t i = n->a; i < n->b; ++i) {
-                const float dx = tree->xyz[3u * i] - q[0], dy = tree->xyz[3u * i + 1u] - q[1],
-                            dz = tree->xyz[3u * i + 2u] - q[2];
-                const float d2 = dx * dx + dy * dy + dz * dz;
-                const uint32_t id = tree->ids[i];
-                if (d2 > best || (d2 == best && id >= best_id)) continue;
-                if (accept && !accept(ctx, id)) continue;
-                best = d2;
-                best_id = id;
+        while (n->axis != PGT_KDTREE_LEAF) {
+            const float diff = q[n->axis] - n->split, plane = diff * diff;
+            const float far_bound = plane > bound ? plane : bound;
+            /* a far side beyond the best distance so far would only be popped and skipped */
+            if (far_bound <= best) {
+                stack[top].node = diff <= 0.0f ? n->b : n->a;
+                stack[top++].bound = far_bound;
             }
-            continue;
+            n = &tree->nodes[diff <= 0.0f ? n->a : n->b];
         }
-        const float diff = q[n->axis] - n->split, plane = diff * diff;
-        const uint32_t near = diff <= 0.0f ? n->a : n->b, far = diff <= 0.0f ? n->b : n->a;
-        const float parent = stack[top].bound;
-        /* the far side first on the stack, so the near side is searched first */
-        stack[top].node = far;
-        stack[top++].bound = plane > parent ? plane : parent;
-        stack[top].node = near;
-        stack[top++].bound = parent;
+        for (uint32_t i = n->a; i < n->b; ++i) {
+            const float dx = tree->xyz[3u * i] - q[0], dy = tree->xyz[3u * i + 1u] - q[1],
+                        dz = tree->xyz[3u * i + 2u] - q[2];
+            const float d2 = dx * dx + dy * dy + dz * dz;
+            const uint32_t id = tree->ids[i];
+            if (d2 > best || (d2 == best && id >= best_id)) continue;
+            if (accept && !accept(ctx, id)) continue;
+            best = d2;
+            best_id = id;
+        }
     }
     if (best_id != PGT_NONE && out_dist2) *out_dist2 = best;
     return best_id;

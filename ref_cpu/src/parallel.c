@@ -59,3 +59,28 @@ void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *c
     for (uint32_t t = 1; t < threads; ++t)
         if (started[t]) pthread_join(tids[t], NULL);
 }
+
+typedef struct pgt_items_job {
+    pgt_range_fn fn;
+    void *ctx;
+    uint32_t weight;
+} pgt_items_job;
+
+static void pgt_items_trampoline(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const pgt_items_job *j = vctx;
+    /* the items whose first element lies in [begin, end) */
+    const uint32_t i0 = (begin + j->weight - 1u) / j->weight,
+                   i1 = (end + j->weight - 1u) / j->weight;
+    if (i0 < i1) j->fn(j->ctx, i0, i1, worker);
+}
+
+void pgt_parallel_for_items(uint32_t count, uint32_t weight, uint32_t threads, pgt_range_fn fn,
+                            void *ctx) {
+    if (!count) return;
+    if (weight == 0 || (uint64_t)count * weight > UINT32_MAX) {
+        fn(ctx, 0, count, 0);
+        return;
+    }
+    pgt_items_job j = {fn, ctx, weight};
+    pgt_parallel_for(count * weight, threads, pgt_items_trampoline, &j);
+}

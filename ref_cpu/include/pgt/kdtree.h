@@ -39,8 +39,11 @@ typedef struct pgt_kdtree {
     uint32_t *ids;          /* point_count: the caller's index of each point in leaf order */
 } pgt_kdtree;
 
-/* Builds a tree over count points xyz[3*i .. 3*i+2] (finite). count may be 0. */
-pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, pgt_error *err);
+/* Builds a tree over count points xyz[3*i .. 3*i+2] (finite). count may be 0. The top levels
+ * are built serially and the subtrees below them on up to `threads` threads (0 means 1); the
+ * tree is the same for any thread count. */
+pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, uint32_t threads,
+                            pgt_error *err);
 
 /* Frees and zeroes; NULL or zeroed is a no-op. */
 void pgt_kdtree_destroy(pgt_kdtree *tree);

@@ -24,6 +24,13 @@ typedef void (*pgt_range_fn)(void *ctx, uint32_t begin, uint32_t end, uint32_t w
  * threads (the caller's among them). Falls back to running inline when a thread cannot start. */
 void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *ctx);
 
+/* The same over `count` items that each cost about `weight` elements (rows of an image, charts,
+ * subtrees): pgt_parallel_for keeps thousands of elements per thread, too many items when they
+ * are big. fn receives item ranges; an item is done by the range that holds its first element.
+ * Falls back to one inline call when count * weight does not fit 32 bits. */
+void pgt_parallel_for_items(uint32_t count, uint32_t weight, uint32_t threads, pgt_range_fn fn,
+                            void *ctx);
+
 #ifdef __cplusplus
 }
 #endif
