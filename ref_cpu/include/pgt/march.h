@@ -53,8 +53,12 @@
  * i.e. it turns from +x towards +y (+y is down in the image, so on screen this turns clockwise).
  *
  * Layout: pgt_march_atlas_create validates the atlas once (so the inner loop needs no checks)
- * and interleaves P with a packed kind-and-chart code, 16 bytes per texel; jumps read the ptr
- * and rot planes of the image. Walkers of a batch are flat arrays (SoA). float32 throughout. */
+ * and builds three texel-indexed arrays, as a GPU kernel would bind three textures: the packed
+ * kind-and-chart codes alone, 4 bytes per texel (the case tests and the search read only these,
+ * so a step without the position touches a quarter of the memory), P interleaved with the code,
+ * 16 bytes per texel (the bilinear position), and one 8-byte jump record per texel (the
+ * indirection texels' pointer and rot, which a jump reads in one place instead of three image
+ * planes). Walkers of a batch are flat arrays (SoA). float32 throughout. */
 #ifndef PGT_MARCH_H
 #define PGT_MARCH_H
 
@@ -101,20 +105,31 @@ const char *pgt_march_event_name(pgt_march_event e);
 #define PGT_MARCH_MAX_CHARTS (1u << 29)
 
 /* One texel as the marcher reads it: P and the packed code in 16 bytes, so a step's bilinear
- * position and case test touch one cache line per texel row instead of four (the image's
- * planar layout: measured 4.2 -> see the report's steps/s), the layout of one RGBA32 texture. */
+ * position touches one cache line per texel row instead of four (the image's planar layout:
+ * measured 4.2 -> see the report's steps/s), the layout of one RGBA32 texture. */
 typedef struct pgt_march_texel {
     float x, y, z;
     uint32_t code; /* PGT_MARCH_CODE(kind, chart) */
 } pgt_march_texel;
 
-/* A validated atlas ready for marching. `texels` (width * height, row-major) is owned; ptr_u,
- * ptr_v and rot point into the image, which must outlive this view. */
+/* The jump data of an indirection texel (zero elsewhere): the inner texel its pointer names,
+ * as texel coordinates (ptr.u, ptr.v; an image side is at most PGT_IMAGE_MAX_SIDE, 16384, so
+ * 16 bits hold them), and its rot, in the 8 bytes of one RG32 texel. */
+typedef struct pgt_march_jump {
+    uint16_t u, v;
+    float rot;
+} pgt_march_jump;
+
+/* A validated atlas ready for marching. `texels`, `codes` and `jumps` (width * height each,
+ * row-major) are owned; codes[i] == texels[i].code. ptr_u, ptr_v and rot point into the image,
+ * which must outlive this view (the marcher itself reads `jumps`). */
 typedef struct pgt_march_atlas {
     uint32_t width, height;
     uint32_t chart_count; /* 1 + the largest chart id */
     pgt_march_texel *texels;
     const float *ptr_u, *ptr_v, *rot;
+    uint32_t *codes;       /* the codes alone: what the case tests and the search read */
+    pgt_march_jump *jumps; /* per texel; meaningful on indirection texels */
 } pgt_march_atlas;
 
 /* Validates `atlas` against atlas.h and builds the view. Errors (PGT_ERROR_PARSE, messages start
@@ -122,7 +137,8 @@ typedef struct pgt_march_atlas {
  * non-integer or out-of-range kind or chart; an inner/indirection/dead-end texel without a chart
  * or with a non-finite position; an indirection texel whose pointer is not a whole texel inside
  * the image, does not name an inner texel, or whose rot is not finite; no inner texel at all.
- * PGT_ERROR_OUT_OF_MEMORY. On failure *out is zeroed. */
+ * PGT_ERROR_LIMIT: a side above PGT_IMAGE_MAX_SIDE. PGT_ERROR_OUT_OF_MEMORY. On failure *out is
+ * zeroed. */
 pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, const char *what,
                                   pgt_error *err);
 
