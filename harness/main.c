@@ -15,6 +15,7 @@ static const char *usage =
     "  devices    the OpenCL and Vulkan devices (the N of --device N)\n"
     "  atlas      multi-chart geometry-image atlas with indirection pointers (paper 000, sec. 4)\n"
     "  march      marching on an atlas across charts (paper 000, sec. 5)\n"
+    "  grammar    compile a grammar (ivy, facades) and list its rule table (paper 000, sec. 7)\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
@@ -45,6 +46,7 @@ int main(int argc, char **argv) {
     if (!strcmp(verb, "devices")) return pgt_cmd_devices(argc - 1, argv + 1);
     if (!strcmp(verb, "atlas")) return pgt_cmd_atlas(argc - 1, argv + 1);
     if (!strcmp(verb, "march")) return pgt_cmd_march(argc - 1, argv + 1);
+    if (!strcmp(verb, "grammar")) return pgt_cmd_grammar(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

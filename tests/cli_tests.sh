@@ -97,6 +97,23 @@ expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --s
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
 head -1 p.csv | grep -q "^step,u,v,chart,x,y,z,event" && ok march_csv_header || bad march_csv_header "$(head -1 p.csv)"
 
+# pgt grammar (the language is test_grammar's)
+expect grammar_help 0 "$pgt" grammar --help
+for flag in --dump --param; do
+  grep -q -- "$flag" out.txt && ok "grammar_help_documents_$flag" || bad "grammar_help_documents_$flag" "missing"
+done
+expect grammar_ivy 0 "$pgt" grammar "$src/grammars/ivy.grammar"
+grep -q "maxMainSteps" out.txt && ok grammar_ivy_lists_params || bad grammar_ivy_lists_params "$(cat out.txt)"
+expect grammar_param 0 "$pgt" grammar "$src/grammars/ivy.grammar" --param maxMainSteps=20
+grep -q "maxMainSteps=20" out.txt && ok grammar_param_applied || bad grammar_param_applied "$(cat out.txt)"
+expect grammar_unknown_param 2 "$pgt" grammar "$src/grammars/ivy.grammar" --param nope=1
+one_line grammar_unknown_param_one_line "nope"
+printf 'A --> Marching(1, 0, 1) { B }\nB --> NIL\n' >bad.grammar
+expect grammar_bad 2 "$pgt" grammar bad.grammar
+one_line grammar_bad_names_file_line_col "bad.grammar:1:"
+"$pgt" grammar "$src/grammars/ivy.grammar" --dump >dump.grammar 2>err.txt
+expect grammar_dump_compiles 0 "$pgt" grammar dump.grammar
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 

@@ -1,0 +1,285 @@
+/* pgt: the grammar's expression stack machine, and params overridden after compilation (paper
+ * 000 sec. 7: the rule expander evaluates the compiled rule map per seed; sec. 8: rand and the
+ * external contexts of the ivy grammar).
+ *
+ * One expression is a postfix program over float32 with an explicit stack of
+ * PGT_GRAMMAR_VM_STACK floats and no recursion, so a GPU kernel can run the same loop. Every
+ * random draw is pgt_rng_float(seed, stream, counter++) (rng.h): deterministic per seed whatever
+ * the evaluation order of the seeds. */
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "grammar_internal.h"
+#include "pgt/rng.h"
+
+const pgt_grammar_fn pgt_grammar_fns[] = {
+    {"sin", PGT_GRAMMAR_OP_SIN, 1},     {"cos", PGT_GRAMMAR_OP_COS, 1},
+    {"tan", PGT_GRAMMAR_OP_TAN, 1},     {"asin", PGT_GRAMMAR_OP_ASIN, 1},
+    {"acos", PGT_GRAMMAR_OP_ACOS, 1},   {"atan", PGT_GRAMMAR_OP_ATAN, 1},
+    {"atan2", PGT_GRAMMAR_OP_ATAN2, 2}, {"sqrt", PGT_GRAMMAR_OP_SQRT, 1},
+    {"abs", PGT_GRAMMAR_OP_ABS, 1},     {"floor", PGT_GRAMMAR_OP_FLOOR, 1},
+    {"ceil", PGT_GRAMMAR_OP_CEIL, 1},   {"min", PGT_GRAMMAR_OP_MIN, 2},
+    {"max", PGT_GRAMMAR_OP_MAX, 2},     {"pow", PGT_GRAMMAR_OP_POW, 2},
+    {"exp", PGT_GRAMMAR_OP_EXP, 1},     {"log", PGT_GRAMMAR_OP_LOG, 1},
+    {"clamp", PGT_GRAMMAR_OP_CLAMP, 3}, {"rand", PGT_GRAMMAR_OP_RAND, 2},
+};
+const uint32_t pgt_grammar_fn_count = sizeof pgt_grammar_fns / sizeof pgt_grammar_fns[0];
+
+static const char *const op_names[PGT_GRAMMAR_OP_COUNT] = {
+    "const", "param", "arg", "neg",  "!",    "+",    "-",     "*",    "/",    "%",
+    "<",     "<=",    ">",   ">=",   "==",   "!=",   "&&",    "||",   "rand", "context",
+    "sin",   "cos",   "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs",  "floor",
+    "ceil",  "min",   "max", "pow",  "exp",  "log",  "clamp",
+};
+
+const char *pgt_grammar_op_name(uint32_t op) {
+    return op < PGT_GRAMMAR_OP_COUNT ? op_names[op] : "?";
+}
+
+const char *pgt_grammar_terminal_name(uint32_t terminal) {
+    static const char *const names[PGT_GRAMMAR_TERMINAL_COUNT] = {"Bark", "Leaves"};
+    return terminal < PGT_GRAMMAR_TERMINAL_COUNT ? names[terminal] : "?";
+}
+
+const char *pgt_grammar_context_name(uint32_t context_id) {
+    static const char *const names[PGT_GRAMMAR_CONTEXT_COUNT] = {"mask", "density"};
+    return context_id < PGT_GRAMMAR_CONTEXT_COUNT ? names[context_id] : "?";
+}
+
+const char *pgt_grammar_smoothness_name(uint32_t smoothness) {
+    static const char *const names[] = {"discontinuous", "C0", "C1"};
+    return smoothness < 3 ? names[smoothness] : "?";
+}
+
+int pgt_grammar_op_effect(uint32_t op) {
+    switch (op) {
+    case PGT_GRAMMAR_OP_CONST:
+    case PGT_GRAMMAR_OP_PARAM:
+    case PGT_GRAMMAR_OP_ARG:
+    case PGT_GRAMMAR_OP_CONTEXT:
+        return 1;
+    case PGT_GRAMMAR_OP_NEG:
+    case PGT_GRAMMAR_OP_NOT:
+        return 0;
+    default:
+        break;
+    }
+    for (uint32_t k = 0; k < pgt_grammar_fn_count; ++k)
+        if (pgt_grammar_fns[k].op == op) return 1 - (int)pgt_grammar_fns[k].arity;
+    return -1; /* the binary operators */
+}
+
+static float unary_fn(uint32_t op, float a) {
+    switch (op) {
+    case PGT_GRAMMAR_OP_NEG:
+        return -a;
+    case PGT_GRAMMAR_OP_NOT:
+        return a == 0.0f ? 1.0f : 0.0f;
+    case PGT_GRAMMAR_OP_SIN:
+        return sinf(a);
+    case PGT_GRAMMAR_OP_COS:
+        return cosf(a);
+    case PGT_GRAMMAR_OP_TAN:
+        return tanf(a);
+    case PGT_GRAMMAR_OP_ASIN:
+        return asinf(a);
+    case PGT_GRAMMAR_OP_ACOS:
+        return acosf(a);
+    case PGT_GRAMMAR_OP_ATAN:
+        return atanf(a);
+    case PGT_GRAMMAR_OP_SQRT:
+        return sqrtf(a);
+    case PGT_GRAMMAR_OP_ABS:
+        return fabsf(a);
+    case PGT_GRAMMAR_OP_FLOOR:
+        return floorf(a);
+    case PGT_GRAMMAR_OP_CEIL:
+        return ceilf(a);
+    case PGT_GRAMMAR_OP_EXP:
+        return expf(a);
+    default:
+        assert(op == PGT_GRAMMAR_OP_LOG);
+        return logf(a);
+    }
+}
+
+static float binary_fn(uint32_t op, float a, float b) {
+    switch (op) {
+    case PGT_GRAMMAR_OP_ADD:
+        return a + b;
+    case PGT_GRAMMAR_OP_SUB:
+        return a - b;
+    case PGT_GRAMMAR_OP_MUL:
+        return a * b;
+    case PGT_GRAMMAR_OP_DIV:
+        return a / b;
+    case PGT_GRAMMAR_OP_MOD:
+        return fmodf(a, b);
+    case PGT_GRAMMAR_OP_LT:
+        return (float)(a < b);
+    case PGT_GRAMMAR_OP_LE:
+        return (float)(a <= b);
+    case PGT_GRAMMAR_OP_GT:
+        return (float)(a > b);
+    case PGT_GRAMMAR_OP_GE:
+        return (float)(a >= b);
+    case PGT_GRAMMAR_OP_EQ:
+        return (float)(a == b);
+    case PGT_GRAMMAR_OP_NE:
+        return (float)(a != b);
+    case PGT_GRAMMAR_OP_AND:
+        return (float)(a != 0.0f && b != 0.0f);
+    case PGT_GRAMMAR_OP_OR:
+        return (float)(a != 0.0f || b != 0.0f);
+    case PGT_GRAMMAR_OP_ATAN2:
+        return atan2f(a, b);
+    case PGT_GRAMMAR_OP_MIN:
+        return fminf(a, b);
+    case PGT_GRAMMAR_OP_MAX:
+        return fmaxf(a, b);
+    default:
+        assert(op == PGT_GRAMMAR_OP_POW);
+        return powf(a, b);
+    }
+}
+
+pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *args,
+                           uint32_t arg_count, const pgt_grammar_env *env, int strict, float *out,
+                           const char **why) {
+    assert(expr < g->expr_count);
+    const pgt_grammar_expr *e = &g->exprs[expr];
+    assert(e->max_stack <= PGT_GRAMMAR_VM_STACK);
+    float stack[PGT_GRAMMAR_VM_STACK];
+    uint32_t sp = 0;
+    for (uint32_t k = 0; k < e->code_count; ++k) {
+        const uint32_t ins = g->code[e->first_code + k];
+        const uint32_t op = ins & PGT_GRAMMAR_OP_MASK, arg = ins >> PGT_GRAMMAR_OP_BITS;
+        switch (op) {
+        case PGT_GRAMMAR_OP_CONST:
+            assert(arg < g->const_count);
+            stack[sp++] = g->consts[arg];
+            break;
+        case PGT_GRAMMAR_OP_PARAM:
+            assert(arg < g->param_count);
+            stack[sp++] = g->param_values[arg];
+            break;
+        case PGT_GRAMMAR_OP_ARG:
+            if (arg >= arg_count || !args) {
+                *why = "reads a rule argument that was not given";
+                return PGT_ERROR_INVALID_ARGUMENT;
+            }
+            stack[sp++] = args[arg];
+            break;
+        case PGT_GRAMMAR_OP_CONTEXT:
+            if (!env || !env->context) {
+                *why = "reads a context but no context callback was given";
+                return PGT_ERROR_INVALID_ARGUMENT;
+            }
+            stack[sp++] = env->context(env->context_data, arg, env->u, env->v);
+            break;
+        case PGT_GRAMMAR_OP_RAND: {
+            if (!env || !env->counter) {
+                *why = "draws a random number but no draw counter was given";
+                return PGT_ERROR_INVALID_ARGUMENT;
+            }
+            const float a = stack[sp - 2], b = stack[sp - 1];
+            float x = a + (b - a) * pgt_rng_float(env->seed, env->stream, (*env->counter)++);
+            /* rounding may land on b; the language promises [a, b) */
+            if (a < b && x >= b) x = nextafterf(b, a);
+            stack[--sp - 1] = x;
+            break;
+        }
+        case PGT_GRAMMAR_OP_CLAMP: {
+            const float x = stack[sp - 3], lo = stack[sp - 2], hi = stack[sp - 1];
+            sp -= 2;
+            stack[sp - 1] = fminf(fmaxf(x, lo), hi);
+            break;
+        }
+        default:
+            if (pgt_grammar_op_effect(op) == 0) {
+                stack[sp - 1] = unary_fn(op, stack[sp - 1]);
+            } else {
+                const float a = stack[sp - 2], b = stack[sp - 1];
+                if (strict && (op == PGT_GRAMMAR_OP_DIV || op == PGT_GRAMMAR_OP_MOD) && b == 0.0f) {
+                    *why = "divides by zero";
+                    return PGT_ERROR_INVALID_ARGUMENT;
+                }
+                stack[--sp - 1] = binary_fn(op, a, b);
+            }
+            break;
+        }
+    }
+    assert(sp == 1);
+    *out = stack[0];
+    if (!isfinite(stack[0])) {
+        *why = isnan(stack[0]) ? "evaluates to NaN" : "evaluates to infinity";
+        return PGT_ERROR_NOT_FINITE;
+    }
+    return PGT_OK;
+}
+
+pgt_result pgt_grammar_eval(const pgt_grammar *g, uint32_t expr, const float *args,
+                            uint32_t arg_count, const pgt_grammar_env *env, float *out,
+                            pgt_error *err) {
+    const char *why = "";
+    const pgt_result r = pgt_grammar_run(g, expr, args, arg_count, env, 0, out, &why);
+    if (r != PGT_OK)
+        pgt_error_set(err, r, "%s:%u:%u: the expression %s", g->names + g->file_name,
+                      g->exprs[expr].line, g->exprs[expr].col, why);
+    return r;
+}
+
+uint32_t pgt_grammar_find_param(const pgt_grammar *g, const char *name) {
+    for (uint32_t k = 0; g && name && k < g->param_count; ++k)
+        if (!strcmp(g->names + g->params[k].name, name)) return k;
+    return PGT_NONE;
+}
+
+pgt_result pgt_grammar_set_param(pgt_grammar *g, const char *name, float value, pgt_error *err) {
+    const uint32_t k = pgt_grammar_find_param(g, name);
+    if (k == PGT_NONE)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: no param '%s' in the grammar",
+                             g->names + g->file_name, name ? name : "");
+    if (!isfinite(value))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: param '%s' must be finite",
+                             g->names + g->file_name, name);
+    float *saved = malloc((size_t)g->param_count * sizeof *saved);
+    if (!saved)
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory",
+                             g->names + g->file_name);
+    memcpy(saved, g->param_values, (size_t)g->param_count * sizeof *saved);
+    g->param_values[k] = value;
+    pgt_result r = PGT_OK;
+    const char *why = "";
+    /* params only read earlier ones, so one pass in definition order settles every value */
+    for (uint32_t j = k + 1; j < g->param_count && r == PGT_OK; ++j) {
+        if (g->params[j].overridden) continue;
+        r = pgt_grammar_run(g, g->params[j].expr, NULL, 0, NULL, 1, &g->param_values[j], &why);
+        if (r != PGT_OK)
+            pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s:%u:%u: with %s = %g, param '%s' %s",
+                          g->names + g->file_name, g->params[j].line, g->params[j].col, name,
+                          (double)value, g->names + g->params[j].name, why);
+    }
+    /* a Branch count is a constant of the params and must still equal its sequences */
+    for (uint32_t i = 0; i < g->item_count && r == PGT_OK; ++i) {
+        const pgt_grammar_item *it = &g->items[i];
+        if (it->kind != PGT_GRAMMAR_ITEM_BRANCH) continue;
+        float n = 0.0f;
+        r = pgt_grammar_run(g, g->args[it->first_arg], NULL, 0, NULL, 1, &n, &why);
+        if (r != PGT_OK || n != (float)it->sub_count) {
+            r = PGT_ERROR_INVALID_ARGUMENT;
+            pgt_error_set(err, r, "%s:%u:%u: with %s = %g, Branch asks for %g sequences, it has %u",
+                          g->names + g->file_name, it->line, it->col, name, (double)value,
+                          (double)n, it->sub_count);
+        }
+    }
+    if (r != PGT_OK) {
+        memcpy(g->param_values, saved, (size_t)g->param_count * sizeof *saved);
+    } else {
+        g->params[k].overridden = 1;
+    }
+    free(saved);
+    return r;
+}
