@@ -27,7 +27,7 @@
 static const char *march_usage =
     "usage: pgt march ATLAS.exr --from U,V --dir DU,DV --step S --steps N -o PATH.csv\n"
     "                 [--mask MASK] [--no-best-pointer] [--no-rotation]\n"
-    "                 [--rotation atlas|jacobian] [--dump PREFIX]\n"
+    "                 [--rotation atlas|jacobian] [--dump PREFIX] [--with-start]\n"
     "\n"
     "Marches one walker over an atlas written by pgt atlas (paper 000, sec. 5): N steps of S\n"
     "texels, jumping across charts through the indirection texels (the four cases of Fig. 3,\n"
@@ -49,7 +49,9 @@ static const char *march_usage =
     "                   background or another chart at the destination; a step that did both\n"
     "                   is search), stop (dead end, no\n"
     "                   indirection texel found, or rejected by the mask: the walker does not\n"
-    "                   move and the march ends). Row 0 is the start, with event start.\n"
+    "                   move and the march ends).\n"
+    "  --with-start     also a row 0 before the steps: the start, with event start\n"
+    "                   (for drawing the whole path; paper_figs/march_path.py)\n"
     "  --mask MASK      external context (a PNG or EXR image of the atlas's size): a step\n"
     "                   whose destination texel has mask value >= 0.5 is rejected (event stop).\n"
     "                   PNG: the first channel (gray, or red), 0..255 as 0..1. EXR: the\n"
@@ -259,7 +261,7 @@ int pgt_cmd_march(int argc, char **argv) {
     const char *verb = "march", *in_path = NULL, *out_path = NULL, *mask_path = NULL, *dump = NULL;
     float ux = 0, uy = 0, dx = 0, dy = 0, step = 0;
     uint32_t steps = 0;
-    int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0;
+    int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0, with_start = 0;
     pgt_march_options opts = {0};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
@@ -292,6 +294,8 @@ int pgt_cmd_march(int argc, char **argv) {
             if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--dump")) {
             if (!(dump = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--with-start")) {
+            with_start = 1;
         } else if (!strcmp(a, "--no-best-pointer")) {
             opts.no_best_pointer = 1;
         } else if (!strcmp(a, "--no-rotation")) {
@@ -355,8 +359,9 @@ int pgt_cmd_march(int argc, char **argv) {
     float p[3];
     pgt_march_position(&atlas, s.x, s.y, p);
     fprintf(f, "step,u,v,chart,x,y,z,event\n");
-    fprintf(f, "0,%.9g,%.9g,%u,%.9g,%.9g,%.9g,start\n", (double)s.x, (double)s.y, s.chart,
-            (double)p[0], (double)p[1], (double)p[2]);
+    if (with_start)
+        fprintf(f, "0,%.9g,%.9g,%u,%.9g,%.9g,%.9g,start\n", (double)s.x, (double)s.y, s.chart,
+                (double)p[0], (double)p[1], (double)p[2]);
     for (uint32_t k = 1; k <= steps; ++k) {
         pgt_march_info info;
         const pgt_march_event e = pgt_march_step(&atlas, &opts, &s, step, 0.0f, &info);

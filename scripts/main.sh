@@ -65,7 +65,7 @@ written+=("$res/march.csv")
 
 step 9 "figure: a march on spot's atlas and on the mesh -> $figs/march_path.{png,pdf}"
 "$pgt" march "$work/spot_atlas.exr" --from 700.5,300.5 --dir -1,0.2 --step 4 --steps 400 \
-  -o "$work/path.csv" --dump "$work/spot_dump" >/dev/null
+  -o "$work/path.csv" --with-start --dump "$work/spot_dump" >/dev/null
 "$py" paper_figs/march_path.py "$figs/march_path" "$work/path.csv" --dump "$work/spot_dump"
 written+=("$figs/march_path.png" "$figs/march_path.pdf")
 

@@ -96,6 +96,13 @@ expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
 head -1 p.csv | grep -q "^step,u,v,chart,x,y,z,event" && ok march_csv_header || bad march_csv_header "$(head -1 p.csv)"
+# one row per step (the issue's contract): steps 1..N, events inner/jump/search/stop only
+/usr/bin/python3 -c 'import csv,sys; r=list(csv.DictReader(open("p.csv"))); s=[int(x["step"]) for x in r]
+sys.exit(0 if s==list(range(1,len(r)+1)) and 1<=len(r)<=50 and {x["event"] for x in r}<={"inner","jump","search","stop"} else 1)' \
+  && ok march_csv_one_row_per_step || bad march_csv_one_row_per_step "$(head -3 p.csv)"
+expect march_with_start 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p0.csv --with-start
+sed -n 2p p0.csv | grep -q "^0,20.5,20.5,.*,start$" && [ "$(tail -n +3 p0.csv)" = "$(tail -n +2 p.csv)" ] \
+  && ok march_with_start_row_0 || bad march_with_start_row_0 "$(sed -n 2p p0.csv)"
 
 # pgt grammar (the language is test_grammar's)
 expect grammar_help 0 "$pgt" grammar --help
