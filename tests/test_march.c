@@ -973,11 +973,34 @@ static double tangent_turn_deg(const double a[3], const double b[3], const float
  * room for atlas-builder changes. */
 #define JUMP_LENGTH_MIN_FRACTION 0.85
 
+/* A walker is stuck when STUCK_WINDOW consecutive steps all stay within 2 of its median inner
+ * step length (3D) of the window's first point: steps of 4 texels cannot do that except by
+ * bouncing between two pointers that send each other back (found on spot's slit tips, where a
+ * reversed rot trapped 72 % of one long march's steps). At most STUCK_MAX_SHARE of the steps may
+ * lie in such windows: measured after the fix in atlas_angles.c (the way out of A must enter B),
+ * long marches of spot, bob, human: 0 (before it: 2.9 %, 1.0 %, 1.2 %). */
+#define STUCK_WINDOW 16u
+#define STUCK_MAX_SHARE 0.01
+/* ...and crosses a chart border (a jump or a search) at least this often: a walker in a region
+ * the parametrization shrinks (ogre's) moves little in 3D without being trapped. */
+#define STUCK_MIN_CROSSINGS 4u
+/* Long marches: LONG_MARCHES walkers of LONG_STEPS steps of LONG_STEP_TEXELS (pgt bench
+ * march's step). */
+#define LONG_MARCHES 256u
+#define LONG_STEPS 4000u
+#define LONG_STEP_TEXELS 2.0f
+/* KNOWN DEFECT, open in issue 4: on pizza.obj (4740 charts, ~2000 of a few texels) walkers get
+ * caught bouncing between the pointers of tiny charts, with either rotation: 1.3 to 2.4 % of the
+ * short marches' steps, 46 % of the long marches'; the marcher has no rule yet that leaves such
+ * a cycle. Its count is printed, not asserted, so that the defect
+ * stays visible without hiding the other meshes' checks. */
+static int stuck_is_known_defect(const char *mesh) { return !strcmp(mesh, "pizza.obj"); }
+
 /* The issue's bound on the median turn at jumps. */
 #define JUMP_TURN_MEDIAN_DEG 10.0
 
 typedef struct walk_result {
-    uint32_t marches, steps, stops, bad, jump_steps, len_out;
+    uint32_t marches, steps, stops, bad, jump_steps, len_out, stuck;
     double median_turn_jump, median_turn_inner;
     uint32_t turn_count;
     /* jumps where best-pointer selection picked another texel than P0: the turn with the
@@ -1006,25 +1029,28 @@ static double replay_turn(const pgt_march_atlas *v, const float *const nrm_plane
 /* Statistics of RANDOM_MARCHES marches with options o: invariants at every step, 3D length of
  * jump steps, turn at jumps (the inner step before against the inner step after, in the tangent
  * plane) and elsewhere, and the paired best-pointer comparison. */
-static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pgt_march_options *o,
-                        uint32_t seed, walk_result *res) {
+static int random_walks_sized(const pgt_march_atlas *v, const pgt_image *img,
+                              const pgt_march_options *o, uint32_t seed, uint32_t marches,
+                              uint32_t steps, float step_texels, walk_result *res) {
     pgt_atlas_channels ch;
     memset(res, 0, sizeof(*res));
     if (pgt_atlas_channels_find(img, "atlas", &ch, NULL) != PGT_OK) return 0;
     const float *const nrm_planes[3] = {pgt_image_plane(img, ch.nx), pgt_image_plane(img, ch.ny),
                                         pgt_image_plane(img, ch.nz)};
-    const size_t cap = (size_t)RANDOM_MARCHES * RANDOM_STEPS;
+    const size_t cap = (size_t)marches * steps;
     double *turns = malloc(cap * sizeof(double)), *inner_turns = malloc(cap * sizeof(double)),
            *pair_best = malloc(cap * sizeof(double)), *pair_without = malloc(cap * sizeof(double));
-    double(*p)[3] = malloc((RANDOM_STEPS + 1) * sizeof(*p));
-    double *len = malloc((RANDOM_STEPS + 1) * sizeof(double));
-    pgt_march_event *ev = malloc((RANDOM_STEPS + 1) * sizeof(pgt_march_event));
-    uint32_t *texel_of = malloc((RANDOM_STEPS + 1) * sizeof(uint32_t));
-    int ok = turns && inner_turns && pair_best && pair_without && p && len && ev && texel_of;
+    double(*p)[3] = malloc((steps + 1) * sizeof(*p));
+    double *len = malloc((steps + 1) * sizeof(double));
+    pgt_march_event *ev = malloc((steps + 1) * sizeof(pgt_march_event));
+    uint32_t *texel_of = malloc((steps + 1) * sizeof(uint32_t));
+    double *scratch = malloc((steps + 1) * sizeof(double)); /* one march's inner step lengths */
+    int ok =
+        turns && inner_turns && pair_best && pair_without && p && len && ev && texel_of && scratch;
     pgt_march_options without = *o;
     without.no_best_pointer = 1;
     uint32_t inner_count = 0;
-    for (uint32_t m = 0; ok && m < RANDOM_MARCHES; ++m) {
+    for (uint32_t m = 0; ok && m < marches; ++m) {
         pgt_march_state st;
         uint32_t tries = 0;
         for (; tries < 100000; ++tries) {
@@ -1042,10 +1068,10 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
         for (int k = 0; k < 3; ++k) p[0][k] = q[k];
         texel_of[0] = (uint32_t)st.y * v->width + (uint32_t)st.x;
         ev[0] = PGT_MARCH_INNER;
-        for (; n < RANDOM_STEPS; ++n) {
+        for (; n < steps; ++n) {
             const pgt_march_state before = st;
             pgt_march_info info;
-            const pgt_march_event e = pgt_march_step(v, o, &st, RANDOM_STEP_TEXELS, 0.0f, &info);
+            const pgt_march_event e = pgt_march_step(v, o, &st, step_texels, 0.0f, &info);
             if (e == PGT_MARCH_STOP) {
                 res->stops++;
                 break;
@@ -1054,9 +1080,8 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
                 n >= 1 && ev[n] == PGT_MARCH_INNER) {
                 const double d_in[3] = {p[n][0] - p[n - 1][0], p[n][1] - p[n - 1][1],
                                         p[n][2] - p[n - 1][2]};
-                const double tb = replay_turn(v, nrm_planes, o, before, RANDOM_STEP_TEXELS, d_in);
-                const double tw =
-                    replay_turn(v, nrm_planes, &without, before, RANDOM_STEP_TEXELS, d_in);
+                const double tb = replay_turn(v, nrm_planes, o, before, step_texels, d_in);
+                const double tw = replay_turn(v, nrm_planes, &without, before, step_texels, d_in);
                 if (tb >= 0.0 && tw >= 0.0) {
                     pair_best[res->pairs] = tb, pair_without[res->pairs] = tw;
                     res->pairs++;
@@ -1072,6 +1097,24 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
             len[n + 1] = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
         }
         res->steps += n;
+        {
+            double *inner_len = scratch;
+            uint32_t ni = 0;
+            for (uint32_t i = 1; i <= n; ++i)
+                if (ev[i] == PGT_MARCH_INNER) inner_len[ni++] = len[i];
+            const double med = median_of(inner_len, ni);
+            for (uint32_t w = 0; ni && w + STUCK_WINDOW <= n; w += STUCK_WINDOW) {
+                double far = 0.0;
+                uint32_t crossings = 0;
+                for (uint32_t i = w + 1; i <= w + STUCK_WINDOW; ++i) {
+                    crossings += ev[i] != PGT_MARCH_INNER;
+                    const double d0 = p[i][0] - p[w][0], d1 = p[i][1] - p[w][1],
+                                 d2 = p[i][2] - p[w][2];
+                    far = fmax(far, sqrt(d0 * d0 + d1 * d1 + d2 * d2));
+                }
+                if (far < 2.0 * med && crossings >= STUCK_MIN_CROSSINGS) res->stuck += STUCK_WINDOW;
+            }
+        }
         for (uint32_t i = 1; i <= n; ++i) {
             const int jump = ev[i] != PGT_MARCH_INNER;
             if (jump) {
@@ -1106,8 +1149,14 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
         res->median_pair_without = median_of(pair_without, res->pairs);
     }
     free(turns), free(inner_turns), free(pair_best), free(pair_without);
-    free(p), free(len), free(ev), free(texel_of);
+    free(p), free(len), free(ev), free(texel_of), free(scratch);
     return ok;
+}
+
+static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pgt_march_options *o,
+                        uint32_t seed, walk_result *res) {
+    return random_walks_sized(v, img, o, seed, RANDOM_MARCHES, RANDOM_STEPS, RANDOM_STEP_TEXELS,
+                              res);
 }
 
 /* Every UV mesh of the shared folder, thousands of seeded random marches: no step leaves the
@@ -1115,7 +1164,7 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
  * JUMP_LENGTH_MIN_FRACTION); with the Jacobian rotation the median turn at jumps is under 10
  * degrees, and where best-pointer selection picks another texel the turn is lower than without
  * it. With the atlas's rot (the paper's 5.2, the default) the median turn at jumps must be
- * lower than with no rotation at all; its values are printed: 6.7 (bob) to 18.9 (spot)
+ * lower than with no rotation at all; its values are printed: 6.7 (bob) to 19.2 (spot)
  * degrees. No single angle per texel reaches 10 degrees on spot, whose UVs shear differently
  * on the two sides of its seams: the best one (the rotation nearest to J'^+ T J at each
  * indirection texel, tried while writing atlas_angles.c) gave 11.8. */
@@ -1153,11 +1202,19 @@ static void test_real_random_marches(void) {
                 const walk_result *w = &r[best];
                 printf("  %-17s %-8s %-15s %4u charts: %u steps, %u stops, %u jump steps, "
                        "%.1f %% within [0.5, 2] x median, turn median %.2f deg at jumps, %.2f "
-                       "elsewhere\n",
+                       "elsewhere, %u steps stuck\n",
                        name, rot ? "jacobian" : "atlas", best ? "best-pointer" : "no-best",
                        st.charts, w->steps, w->stops, w->jump_steps,
                        w->jump_steps ? 100.0 - 100.0 * w->len_out / w->jump_steps : 100.0,
-                       w->median_turn_jump, w->median_turn_inner);
+                       w->median_turn_jump, w->median_turn_inner, w->stuck);
+                if (stuck_is_known_defect(name))
+                    printf("  %s: KNOWN DEFECT: %u of %u steps stuck (not asserted, see "
+                           "stuck_is_known_defect)\n",
+                           name, w->stuck, w->steps);
+                else
+                    CHECK_MSG(w->stuck <= STUCK_MAX_SHARE * w->steps,
+                              "%s: %u of %u steps stuck bouncing between pointers", name, w->stuck,
+                              w->steps);
                 CHECK_MSG(w->bad == 0, "%s: %u steps off an inner texel of their chart", name,
                           w->bad);
                 CHECK(w->marches == RANDOM_MARCHES);
@@ -1192,6 +1249,21 @@ static void test_real_random_marches(void) {
                       "%s: best-pointer median turn %.2f deg, without %.2f deg", name,
                       r[1].median_pair_best, r[1].median_pair_without);
         }
+        /* long marches with the paper's defaults and the benchmark's step: a trap is an
+         * absorbing state, which short marches rarely reach */
+        walk_result lw;
+        const pgt_march_options defaults = {0};
+        REQUIRE(random_walks_sized(&v, &img, &defaults, 29u + k, LONG_MARCHES, LONG_STEPS,
+                                   LONG_STEP_TEXELS, &lw));
+        printf("  %-17s %u long marches: %u steps, %u stops, %u steps stuck\n", name, lw.marches,
+               lw.steps, lw.stops, lw.stuck);
+        if (stuck_is_known_defect(name))
+            printf("  %s: KNOWN DEFECT: %u of %u steps stuck (not asserted)\n", name, lw.stuck,
+                   lw.steps);
+        else
+            CHECK_MSG(lw.stuck <= STUCK_MAX_SHARE * lw.steps,
+                      "%s: %u of %u steps of long marches stuck bouncing between pointers", name,
+                      lw.stuck, lw.steps);
         pgt_march_atlas_destroy(&v);
         pgt_image_destroy(&img);
     }

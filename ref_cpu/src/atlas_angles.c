@@ -9,10 +9,10 @@
  * - t2: the same walk from Q over B's inner-boundary texels, "empty" being any texel that is not
  *   an inner texel of B; rot is the angle from t1 to t2.
  *
- * What pgt computes (same K, same walks, two changes, each measured with pgt's random marches,
+ * What pgt computes (same K, same walks, three changes, measured with pgt's random marches,
  * tests/test_march.c real_random_marches, median turn at jumps with the atlas's rot, paper's
- * walk -> this one: spot 23.0 -> 18.9 degrees, bob 11.5 -> 6.7, human_neutral 13.6 -> 8.5,
- * pizza 35.1 -> 12.7):
+ * walk -> this one: spot 23.0 -> 19.2 degrees, bob 11.5 -> 6.7, human_neutral 13.6 -> 8.6,
+ * pizza 35.1 -> 14.8):
  * 1. t1 walks K texels both ways from P0 (forward minus backward): a one-way walk along a
  *    curved boundary gives the chord, which leans by half the boundary's turn over K texels,
  *    and on a staircase boundary its K steps round to the stair; the centred sum cancels the
@@ -20,8 +20,12 @@
  * 2. t2 is made of the same texels' pointers: for every P_i of A's walk that points into B,
  *    t2 gets ptr(P_i) - Q with the sign t1 gets P_i - P0. B's own walk from Q can go round a
  *    different corner than A's (on pizza's charts of a few texels it mostly does); through the
- *    pointers both tangents describe the same piece of the seam, and its orientation cannot
- *    come out reversed.
+ *    pointers both tangents describe the same piece of the seam.
+ * 3. A check of what rot is for: the way out of A at P0, rotated by rot, must enter B at Q
+ *    (see angle_rows). At the tip of a slit cut inside a chart and around the corners of
+ *    charts a few texels wide, the tangents can come out reversed and a walker then bounces
+ *    between P0 and Q for ever (long marches on spot: 2.9 % of the steps); when only the
+ *    opposite direction enters B, rot is turned by pi (then 0 %, tests/test_march.c).
  * Where that leaves t1 or t2 zero (no texel of the walk points into B) the paper's one-way
  * walks decide (B's walk reversed, as A and B lie on opposite sides of the seam), and where
  * those cannot start either (an isolated texel) rot = 0.
@@ -171,6 +175,21 @@ static void step_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
         }
 }
 
+/* How far from the destination texel a rotated way out is followed to see that it enters the
+ * destination chart: 1.5 texels reaches past the inner-boundary texel Q into the chart's
+ * interior along any direction (a diagonal step is 1.41). */
+#define ATLAS_ENTER_TEXELS 1.5
+#define PGT_ATLAS_PI 3.14159265358979323846
+
+/* Whether the texel ATLAS_ENTER_TEXELS from the centre of (qx, qy) along (ex, ey) is an inner
+ * texel of chart b. */
+static int enters(const angle_ctx *c, int32_t b, int32_t qx, int32_t qy, double ex, double ey) {
+    const int32_t tx = (int32_t)floor(qx + 0.5 + ATLAS_ENTER_TEXELS * ex),
+                  ty = (int32_t)floor(qy + 0.5 + ATLAS_ENTER_TEXELS * ey);
+    if (tx < 0 || ty < 0 || tx >= c->W || ty >= c->H) return 0;
+    return c->chart[(size_t)ty * (size_t)c->W + (size_t)tx] == b;
+}
+
 static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     angle_ctx *c = vctx;
     (void)worker;
@@ -207,7 +226,30 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
                 rot[i] = 0.0f;
                 continue;
             }
-            rot[i] = (float)atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
+            double r = atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
+            /* The invariant rot exists for (atlas_build.h): a direction leaving A through P0
+             * enters B at Q. Where the tangents cannot tell (the tip of a slit, a chart of a
+             * few texels, whose walks go round a corner), it can come out reversed; a walker
+             * then bounces between P0 and Q for ever. The way out of A is the sum of the steps
+             * from P0's inner 4-neighbours in A to P0; rotated by rot it must reach an inner
+             * texel of B ATLAS_ENTER_TEXELS from Q. When only the opposite direction does, the
+             * angle is turned by pi. */
+            double ox = 0.0, oy = 0.0;
+            for (uint32_t k = 0; k < 8; k += 2) {
+                const int32_t nx = x - ring[k][0], ny = y - ring[k][1];
+                if (nx < 0 || ny < 0 || nx >= c->W || ny >= c->H) continue;
+                if (c->chart[(size_t)ny * (size_t)c->W + (size_t)nx] != (int32_t)c->outer_chart[i])
+                    continue;
+                ox += ring[k][0], oy += ring[k][1];
+            }
+            if (ox != 0.0 || oy != 0.0) {
+                const double len = sqrt(ox * ox + oy * oy);
+                const double ex = (cos(r) * ox - sin(r) * oy) / len,
+                             ey = (sin(r) * ox + cos(r) * oy) / len;
+                if (!enters(c, b, qx, qy, ex, ey) && enters(c, b, qx, qy, -ex, -ey))
+                    r = r > 0.0 ? r - PGT_ATLAS_PI : r + PGT_ATLAS_PI;
+            }
+            rot[i] = (float)r;
         }
 }
 
