@@ -618,7 +618,7 @@ static void test_bad_corpus(void) {
     const int n = list_grammars(BAD_DIR, names, 256);
     CHECK_MSG(n >= BAD_CORPUS_MIN, "%d bad grammars", n);
     for (int k = 0; k < n; ++k) {
-        char path[512], code[64], msg[PGT_ERROR_MESSAGE_SIZE], where[64];
+        char path[512], code[64], msg[PGT_ERROR_MESSAGE_SIZE], where[192];
         unsigned line = 0, col = 0;
         snprintf(path, sizeof path, "%s/%s", BAD_DIR, names[k]);
         size_t size = 0;
@@ -739,7 +739,7 @@ static void test_limits(void) {
         put(&b, "# padding padding padding padding padding\n");
     expect_limit(&b, "PGT_GRAMMAR_MAX_FILE_BYTES", NULL);
     /* rules R0 .. R4096, one too many, the last on line 4097 */
-    char where[64];
+    char where[192];
     put_numbered(&b, "R%u --> NIL\n", PGT_GRAMMAR_MAX_RULES + 1);
     snprintf(where, sizeof where, "big.grammar:%u:1: ", PGT_GRAMMAR_MAX_RULES + 1);
     expect_limit(&b, "PGT_GRAMMAR_MAX_RULES", where);
