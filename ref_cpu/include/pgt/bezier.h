@@ -35,10 +35,6 @@
 extern "C" {
 #endif
 
-#ifndef PGT_NONE
-#define PGT_NONE 0xFFFFFFFFu
-#endif
-
 /* The grammar's smoothness values (grammar.h's built-in constants discontinuous, C0, C1). */
 typedef enum pgt_bezier_smoothness {
     PGT_BEZIER_DISCONTINUOUS = 0,

@@ -57,10 +57,6 @@
 extern "C" {
 #endif
 
-#ifndef PGT_NONE
-#define PGT_NONE 0xFFFFFFFFu
-#endif
-
 /* Limits. Exceeding one is PGT_ERROR_LIMIT naming the limit and FILE:LINE:COL. */
 
 /* A grammar is a hand-written text of a few KB; 1 MiB bounds the token array (about 32 bytes a

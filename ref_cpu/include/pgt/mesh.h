@@ -15,9 +15,6 @@
 extern "C" {
 #endif
 
-/* Sentinel for "no element" in every uint32 index array (a border half-edge's opposite, ...). */
-#define PGT_NONE 0xFFFFFFFFu
-
 /* Largest vertex or face count a mesh may have: every half-edge index 3*F + 2 must stay below
  * PGT_NONE, and sizes in bytes must fit comfortably in size_t on 64-bit hosts. */
 #define PGT_MESH_MAX_ELEMENTS 0x3FFFFFFFu

@@ -12,6 +12,10 @@
 extern "C" {
 #endif
 
+/* Sentinel for "no element" in every uint32 index array (a border half-edge's opposite, a
+ * root's parent, ...), here so that every header using it gets it through result.h. */
+#define PGT_NONE 0xFFFFFFFFu
+
 typedef enum pgt_result {
     PGT_OK = 0,
     PGT_ERROR_INVALID_ARGUMENT = 1, /* a caller or flag passed a value outside the contract */
