@@ -20,6 +20,7 @@
 #include "pgt/grammar.h"
 #include "pgt/image.h"
 #include "pgt/march.h"
+#include "test_ivy_scene.h"
 #include "test_util.h"
 
 #define NONE PGT_NONE
@@ -469,48 +470,17 @@ static void test_bounds(void) {
 
 /* ---- part 2: ivy.grammar on the cube-sphere atlas --------------------------------------- */
 
-#define IVY_SEEDS 6
+#define IVY_SEEDS IVY_SCENE_SEEDS
 /* A point is on a flat triangle of the n = 32 cube-sphere, within (pi/2/32)^2/8 = 3e-4 of the
  * unit sphere (the chord's sagitta), and interpolated between texel centres on the mesh: one
  * texel size (3.7e-3 at 1024^2) bounds both (test_march's great-circle bound). */
 static void test_ivy_cube_sphere(void) {
-    pgt_mesh m;
-    REQUIRE(pgt_gen_cube_sphere(&m, 32, NULL) == PGT_OK);
-    pgt_image img;
-    pgt_atlas_stats st;
-    pgt_atlas_options ao = {0};
-    ao.threads = 2;
-    ao.what = "cube_sphere_32";
+    static ivy_scene scene;
+    REQUIRE(ivy_scene_make(&scene));
+    REQUIRE(scene.in.seed_count == IVY_SEEDS);
+    const pgt_march_atlas v = scene.atlas;
+    const pgt_expand_input in = scene.in;
     pgt_error err = {0};
-    const pgt_result built = pgt_atlas_build(&img, &m, &ao, &st, &err);
-    pgt_mesh_destroy(&m);
-    if (built != PGT_OK) fprintf(stderr, "  %s\n", err.message);
-    REQUIRE(built == PGT_OK);
-    pgt_march_atlas v;
-    REQUIRE(pgt_march_atlas_create(&v, &img, "cube_sphere_32", &err) == PGT_OK);
-    pgt_atlas_channels ch;
-    REQUIRE(pgt_atlas_channels_find(&img, "cube_sphere_32", &ch, NULL) == PGT_OK);
-    pgt_grammar g;
-    REQUIRE(pgt_grammar_load(&g, PGT_SOURCE_DIR "/grammars/ivy.grammar", &err) == PGT_OK);
-    /* seeds: every (inner count / IVY_SEEDS)-th inner texel, heading +x */
-    uint32_t inner = 0;
-    for (size_t i = 0; i < (size_t)v.width * v.height; ++i)
-        inner += (v.codes[i] & 3u) == PGT_TEXEL_INNER;
-    pgt_expand_seed seeds[IVY_SEEDS];
-    uint32_t k = 0, seen = 0;
-    for (size_t i = 0; i < (size_t)v.width * v.height && k < IVY_SEEDS; ++i) {
-        if ((v.codes[i] & 3u) != PGT_TEXEL_INNER) continue;
-        if (seen++ % (inner / IVY_SEEDS) != inner / (2 * IVY_SEEDS)) continue;
-        seeds[k++] =
-            (pgt_expand_seed){(float)(i % v.width) + 0.5f, (float)(i / v.width) + 0.5f, 1.0f, 0.0f};
-    }
-    REQUIRE(k == IVY_SEEDS);
-    pgt_expand_input in;
-    memset(&in, 0, sizeof in);
-    in.grammar = &g, in.atlas = &v, in.seeds = seeds, in.seed_count = IVY_SEEDS;
-    in.normal[0] = pgt_image_plane(&img, ch.nx);
-    in.normal[1] = pgt_image_plane(&img, ch.ny);
-    in.normal[2] = pgt_image_plane(&img, ch.nz);
     pgt_expand_options o = {0};
     o.threads = 2;
     pgt_expand_output out, one;
@@ -522,7 +492,7 @@ static void test_ivy_cube_sphere(void) {
     REQUIRE(pgt_expand(&one, &in, &o, &err) == PGT_OK);
     CHECK(same_output(&out, &one));
     pgt_expand_destroy(&one);
-    const double tol = st.texel_size;
+    const double tol = scene.stats.texel_size;
     uint32_t off_inner = 0, off_sphere = 0, bad_parent = 0, bad_normal = 0;
     for (uint32_t i = 0; i < out.point_count; ++i) {
         const uint32_t t = (uint32_t)out.v[i] * v.width + (uint32_t)out.u[i];
@@ -553,9 +523,7 @@ static void test_ivy_cube_sphere(void) {
         printf("  seed %u: %u points, %u terminals\n", s, out.seed_point_count[s],
                out.seed_terminal_count[s]);
     pgt_expand_destroy(&out);
-    pgt_grammar_destroy(&g);
-    pgt_march_atlas_destroy(&v);
-    pgt_image_destroy(&img);
+    ivy_scene_free(&scene);
 }
 
 static const pgt_test_case cases[] = {
