@@ -195,6 +195,11 @@ int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint
     return 0;
 }
 
+FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size) {
+    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    return fopen(tmp, "w");
+}
+
 FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size) {
     char dir[4096];
     snprintf(dir, sizeof dir, "%s", path);
@@ -203,8 +208,7 @@ FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t 
         *slash = 0;
         mkdir(dir, 0777);
     }
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
+    FILE *f = pgt_cli_tmp_open(path, tmp, tmp_size);
     if (!f) return NULL;
     char machine[512], commit[64], date[64];
     pgt_cli_machine(machine, sizeof machine);

@@ -55,13 +55,17 @@ double pgt_cli_min(const double *v, uint32_t n);
 int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint32_t lo,
                       uint32_t hi, uint32_t *out, uint32_t max, uint32_t *n);
 
-/* A results table: makes path's folder when missing, opens path.tmp.PID (its name in tmp) and
+/* An output written atomically: opens path.tmp.PID (its name in tmp) for writing; NULL (errno
+ * set) when it cannot be opened. pgt_cli_table_close finishes it. */
+FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size);
+
+/* A results table: makes path's folder when missing, opens it with pgt_cli_tmp_open and
  * writes "# title" and the "# machine:", "# commit:", "# date:" lines every table starts with.
  * NULL (errno set) when the file cannot be opened. */
 FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size);
 
-/* Closes the table and renames it over path; on failure removes it, prints a one-line error
- * for verb and returns nonzero. */
+/* Closes a file of pgt_cli_tmp_open or pgt_cli_table_open and renames it over path; on failure
+ * removes it, prints a one-line error for verb and returns nonzero. */
 int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb);
 
 /* The meshes of ../shared/datasets/meshes the project's defaults use (all 2-manifold), and that

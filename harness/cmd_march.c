@@ -195,16 +195,6 @@ static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
     rgb[2] = (uint8_t)lround(b * 255);
 }
 
-/* Writes PATH.tmp.PID then renames it; 0 on success. */
-static FILE *open_tmp(const char *path, char *tmp, size_t size) {
-    snprintf(tmp, size, "%s.tmp.%ld", path, (long)getpid());
-    return fopen(tmp, "w");
-}
-
-static int close_tmp(FILE *f, const char *tmp, const char *path) {
-    return pgt_cli_table_close(f, tmp, path, "march") ? -1 : 0;
-}
-
 static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_image *img) {
     const uint32_t w = a->width, h = a->height;
     char path[4096], tmp[4200];
@@ -232,7 +222,7 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
     free(px);
     if (r != PGT_OK) return pgt_cli_fail("march", "--dump: %s", err.message), -1;
     snprintf(path, sizeof path, "%s.texels.csv", prefix);
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    FILE *f = pgt_cli_tmp_open(path, tmp, sizeof tmp);
     if (!f) return pgt_cli_fail("march", "cannot write %s: %s", tmp, strerror(errno)), -1;
     uint32_t stride = (uint32_t)ceil(sqrt((double)inner / MARCH_DUMP_POINTS));
     if (stride < 1) stride = 1;
@@ -254,7 +244,7 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
                     (t->code >> 2) - 1u, (double)t->x, (double)t->y, (double)t->z, (double)nx[i],
                     (double)ny[i], (double)nz[i]);
         }
-    return close_tmp(f, tmp, path);
+    return pgt_cli_table_close(f, tmp, path, "march") ? -1 : 0;
 }
 
 int pgt_cmd_march(int argc, char **argv) {
@@ -349,7 +339,7 @@ int pgt_cmd_march(int argc, char **argv) {
     const double t1 = pgt_cli_now_ms();
 
     char tmp[4200];
-    FILE *f = open_tmp(out_path, tmp, sizeof tmp);
+    FILE *f = pgt_cli_tmp_open(out_path, tmp, sizeof tmp);
     if (!f) {
         pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
         goto done;
@@ -375,7 +365,7 @@ int pgt_cmd_march(int argc, char **argv) {
         }
         done_steps = k;
     }
-    if (close_tmp(f, tmp, out_path)) goto done;
+    if (pgt_cli_table_close(f, tmp, out_path, verb)) goto done;
     const double t2 = pgt_cli_now_ms();
     printf("march: %s (%u x %u texels, %u charts): %u of %u steps of %g texels from (%g, %g): "
            "%u inner, %u jump, %u search",
@@ -653,7 +643,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         pgt_mesh_destroy(&m);
     }
     free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
-    if (close_tmp(csv, tmp, out_path)) return PGT_EXIT_USAGE;
+    if (pgt_cli_table_close(csv, tmp, out_path, verb)) return PGT_EXIT_USAGE;
     fprintf(stderr, "pgt bench march: wrote %s%s\n", out_path,
             failures ? " with failures (see above)" : "");
     return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;

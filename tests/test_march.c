@@ -261,8 +261,8 @@ static void test_view_and_start(void) {
     /* A's right outer column points into B's first row with rot +pi/2 (analytic, see above) */
     const uint32_t i = syn_index(&s, 15, 8);
     CHECK((v.texels[i].code & 3u) == PGT_TEXEL_INDIRECTION && (v.texels[i].code >> 2) == 1u);
-    CHECK(v.ptr_u[i] == 26.0f && v.ptr_v[i] == 3.0f);
-    CHECK(near_f(v.rot[i], 0.5f * PI_F, 1e-6f));
+    CHECK(v.jumps[i].u == 26u && v.jumps[i].v == 3u);
+    CHECK(near_f(v.jumps[i].rot, 0.5f * PI_F, 1e-6f));
     CHECK((v.texels[syn_index(&s, 2, 8)].code & 3u) == PGT_TEXEL_DEAD_END);
     pgt_march_state st;
     pgt_error err = {0};
@@ -404,8 +404,8 @@ static void test_remaining_length_3d(void) {
     pgt_march_atlas v;
     REQUIRE(view(&v, &s));
     /* A's row 8 (t = 5.5) meets B's rows 13 and 14 (t = 5.25, 5.75): the pointer takes one */
-    const float pv = v.ptr_v[syn_index(&s, 15, 8)];
-    CHECK(v.ptr_u[syn_index(&s, 15, 8)] == 20.0f && (pv == 13.0f || pv == 14.0f));
+    const uint32_t pv = v.jumps[syn_index(&s, 15, 8)].v;
+    CHECK(v.jumps[syn_index(&s, 15, 8)].u == 20u && (pv == 13u || pv == 14u));
     pgt_march_state st;
     REQUIRE(pgt_march_start(&v, 12.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
     pgt_march_info info;
@@ -618,7 +618,7 @@ static void test_cylinder_self_seam(void) {
     REQUIRE(syn_build(&s, 40, 16, cylinder_charts, 1));
     pgt_march_atlas v;
     REQUIRE(view(&v, &s));
-    CHECK(v.ptr_u[syn_index(&s, 35, 7)] == 3.0f && v.ptr_u[syn_index(&s, 2, 7)] == 34.0f);
+    CHECK(v.jumps[syn_index(&s, 35, 7)].u == 3u && v.jumps[syn_index(&s, 2, 7)].u == 34u);
     const float radius = 32.0f * SYN_H / (2.0f * PI_F);
     const float steps[2] = {1.0f, 4.0f}, dirs[2] = {1.0f, -1.0f};
     for (int k = 0; k < 2; ++k)

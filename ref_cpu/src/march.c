@@ -161,7 +161,6 @@ pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, 
     out->width = w;
     out->height = h;
     out->chart_count = charts;
-    out->ptr_u = pu, out->ptr_v = pv, out->rot = rot;
     out->texels = tex;
     out->codes = codes;
     out->jumps = jumps;

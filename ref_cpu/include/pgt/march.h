@@ -121,13 +121,11 @@ typedef struct pgt_march_jump {
 } pgt_march_jump;
 
 /* A validated atlas ready for marching. `texels`, `codes` and `jumps` (width * height each,
- * row-major) are owned; codes[i] == texels[i].code. ptr_u, ptr_v and rot point into the image,
- * which must outlive this view (the marcher itself reads `jumps`). */
+ * row-major) are owned; codes[i] == texels[i].code. The view keeps nothing of the image. */
 typedef struct pgt_march_atlas {
     uint32_t width, height;
     uint32_t chart_count; /* 1 + the largest chart id */
     pgt_march_texel *texels;
-    const float *ptr_u, *ptr_v, *rot;
     uint32_t *codes;       /* the codes alone: what the case tests and the search read */
     pgt_march_jump *jumps; /* per texel; meaningful on indirection texels */
 } pgt_march_atlas;
