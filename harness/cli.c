@@ -1,7 +1,9 @@
 /* pgt harness: shared command-line helpers. */
 #include "cli.h"
 
+#include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,7 +12,9 @@
 #include <unistd.h>
 
 #include "gen.h"
+#include "pgt/image.h"
 #include "pgt/mesh_io.h"
+#include "png_io.h"
 
 int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     va_list ap;
@@ -223,6 +227,107 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
     if (fclose(f) != 0 || bad || rename(tmp, path) != 0) {
         remove(tmp);
         return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
+    }
+    return 0;
+}
+
+int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_t n, float *out) {
+    const char *p = text;
+    for (uint32_t k = 0; k < n; ++k) {
+        char *end = NULL;
+        errno = 0;
+        const float v = strtof(p, &end);
+        if (end == p || errno || !isfinite(v) || *end != (k + 1 < n ? ',' : '\0')) {
+            pgt_cli_fail(verb, "%s: expected %u finite numbers separated by commas, got '%s'", flag,
+                         n, text);
+            return -1;
+        }
+        out[k] = v;
+        p = end + 1;
+    }
+    return 0;
+}
+
+int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo_excl, float hi,
+                  float *out) {
+    char *end = NULL;
+    errno = 0;
+    const float v = strtof(text, &end);
+    if (end == text || *end || errno || !isfinite(v) || !(v > lo_excl) || v > hi) {
+        pgt_cli_fail(verb, "%s: expected a number > %g and <= %g, got '%s'", flag, (double)lo_excl,
+                     (double)hi, text);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int ends_with_ci(const char *s, const char *suffix) {
+    const size_t n = strlen(s), m = strlen(suffix);
+    if (n < m) return 0;
+    for (size_t i = 0; i < m; ++i)
+        if (tolower((unsigned char)s[n - m + i]) != tolower((unsigned char)suffix[i])) return 0;
+    return 1;
+}
+
+int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint32_t w, uint32_t h,
+                      float **out) {
+    pgt_error err = {0};
+    *out = NULL;
+    uint32_t iw = 0, ih = 0;
+    float *m = NULL;
+    if (ends_with_ci(path, ".png")) {
+        uint32_t pc;
+        uint8_t *px = NULL;
+        if (pgt_png_read(path, &iw, &ih, &pc, &px, &err) != PGT_OK)
+            return pgt_cli_fail(verb, "%s %s", flag, err.message), -1;
+        if (iw == w && ih == h && (m = malloc((size_t)w * h * sizeof(float))))
+            for (size_t i = 0; i < (size_t)w * h; ++i) m[i] = (float)px[i * pc] / 255.0f;
+        free(px);
+    } else {
+        pgt_image img = {0};
+        if (pgt_image_read_exr(&img, path, &err) != PGT_OK)
+            return pgt_cli_fail(verb, "%s %s", flag, err.message), -1;
+        int32_t c = pgt_image_find_channel(&img, "mask");
+        if (c < 0) c = pgt_image_find_channel(&img, "Y");
+        if (c < 0) c = pgt_image_find_channel(&img, "R");
+        if (c < 0 && img.channel_count == 1) c = 0;
+        if (c < 0) {
+            pgt_image_destroy(&img);
+            return pgt_cli_fail(verb,
+                                "%s %s: no channel 'mask', 'Y' or 'R' (and more than one channel)",
+                                flag, path),
+                   -1;
+        }
+        iw = img.width, ih = img.height;
+        if (iw == w && ih == h && (m = malloc((size_t)w * h * sizeof(float))))
+            memcpy(m, pgt_image_plane(&img, (uint32_t)c), (size_t)w * h * sizeof(float));
+        pgt_image_destroy(&img);
+    }
+    if (iw != w || ih != h)
+        return pgt_cli_fail(verb, "%s %s: %u x %u pixels, the atlas is %u x %u", flag, path, iw, ih,
+                            w, h),
+               -1;
+    if (!m) return pgt_cli_fail(verb, "out of memory"), -1;
+    *out = m;
+    return 0;
+}
+
+int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *overrides,
+                           uint32_t count) {
+    pgt_error err = {0};
+    for (uint32_t k = 0; k < count; ++k) {
+        const char *o = overrides[k], *eq = strchr(o, '=');
+        char name[PGT_GRAMMAR_MAX_NAME_CHARS + 1];
+        char *end = NULL;
+        const float value = eq ? strtof(eq + 1, &end) : 0.0f;
+        if (!eq || eq == o || (size_t)(eq - o) > PGT_GRAMMAR_MAX_NAME_CHARS || end == eq + 1 ||
+            *end != '\0' || !isfinite(value))
+            return pgt_cli_fail(verb, "--param %s: expected NAME=VALUE with a finite number", o);
+        memcpy(name, o, (size_t)(eq - o));
+        name[eq - o] = '\0';
+        if (pgt_grammar_set_param(g, name, value, &err) != PGT_OK)
+            return pgt_cli_fail(verb, "--param %s: %s", o, err.message);
     }
     return 0;
 }

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "pgt/grammar.h"
 #include "pgt/mesh.h"
 #include "pgt/result.h"
 
@@ -79,6 +80,24 @@ extern const uint32_t pgt_cli_shared_mesh_count;
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err);
 
+/* Parses exactly n comma-separated finite floats ("A,B,C") into out; a single number > lo_excl
+ * and <= hi. On failure both print one line naming verb, flag and text and return nonzero. */
+int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_t n, float *out);
+int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo_excl, float hi,
+                  float *out);
+
+/* Reads a mask image of w x h pixels into w * h floats (malloc'd): PNG, the first channel (gray,
+ * or red), 0..255 as 0..1; EXR, the channel 'mask', else 'Y', else 'R', else the only one. On
+ * failure prints "pgt VERB: FLAG PATH: ..." (a wrong size names both sizes) and returns
+ * nonzero. */
+int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint32_t w, uint32_t h,
+                      float **out);
+
+/* Sets grammar params from `count` overrides "NAME=VALUE" (--param): 0 on success, else prints
+ * "pgt VERB: --param NAME=VALUE: why" and returns nonzero. */
+int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *overrides,
+                           uint32_t count);
+
 /* Verbs. */
 int pgt_cmd_subdiv(int argc, char **argv);
 int pgt_cmd_bench(int argc, char **argv);
@@ -87,6 +106,8 @@ int pgt_cmd_devices(int argc, char **argv);
 int pgt_cmd_atlas(int argc, char **argv);
 int pgt_cmd_march(int argc, char **argv);
 int pgt_cmd_grammar(int argc, char **argv);
+int pgt_cmd_ivy(int argc, char **argv);
+int pgt_cmd_bench_ivy(int argc, char **argv);   /* argv[0] = "bench", argv[1] = "ivy" */
 int pgt_cmd_bench_atlas(int argc, char **argv); /* argv[0] = "atlas" */
 int pgt_cmd_bench_march(int argc, char **argv); /* argv[0] = "bench", argv[1] = "march" */
 

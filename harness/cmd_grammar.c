@@ -59,23 +59,7 @@ int pgt_cmd_grammar(int argc, char **argv) {
         return pgt_cli_fail(verb, "%s", err.message);
     }
     int rc = PGT_EXIT_USAGE;
-    for (int k = 0; k < override_count; ++k) {
-        const char *o = overrides[k], *eq = strchr(o, '=');
-        char name[PGT_GRAMMAR_MAX_NAME_CHARS + 1];
-        char *end = NULL;
-        const float value = eq ? strtof(eq + 1, &end) : 0.0f;
-        if (!eq || eq == o || (size_t)(eq - o) > PGT_GRAMMAR_MAX_NAME_CHARS || end == eq + 1 ||
-            *end != '\0' || !isfinite(value)) {
-            pgt_cli_fail(verb, "--param %s: expected NAME=VALUE with a finite number", o);
-            goto done;
-        }
-        memcpy(name, o, (size_t)(eq - o));
-        name[eq - o] = '\0';
-        if (pgt_grammar_set_param(&g, name, value, &err) != PGT_OK) {
-            pgt_cli_fail(verb, "--param %s: %s", o, err.message);
-            goto done;
-        }
-    }
+    if (pgt_cli_grammar_params(verb, &g, overrides, (uint32_t)override_count)) goto done;
     if (dump) {
         pgt_grammar_dump(&g, stdout);
     } else {

@@ -71,100 +71,6 @@ static const char *march_usage =
     "Prints one summary line. Exit 0 on success (a march that stops early included), 2 on a\n"
     "bad flag, value or input.\n";
 
-/* "A,B" as two finite floats. */
-static int parse_pair(const char *flag, const char *text, float *a, float *b) {
-    char *end = NULL;
-    errno = 0;
-    const float x = strtof(text, &end);
-    if (end == text || *end != ',' || errno) goto bad;
-    const char *second = end + 1;
-    const float y = strtof(second, &end);
-    if (end == second || *end || errno || !isfinite(x) || !isfinite(y)) goto bad;
-    *a = x, *b = y;
-    return 0;
-bad:
-    pgt_cli_fail("march", "%s: expected two numbers A,B, got '%s'", flag, text);
-    return -1;
-}
-
-static int parse_float(const char *verb, const char *flag, const char *text, float lo_excl,
-                       float hi, float *out) {
-    char *end = NULL;
-    errno = 0;
-    const float v = strtof(text, &end);
-    if (end == text || *end || errno || !isfinite(v) || !(v > lo_excl) || v > hi) {
-        pgt_cli_fail(verb, "%s: expected a number > %g and <= %g, got '%s'", flag, (double)lo_excl,
-                     (double)hi, text);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-static int ends_with_ci(const char *s, const char *suffix) {
-    const size_t n = strlen(s), m = strlen(suffix);
-    if (n < m) return 0;
-    for (size_t i = 0; i < m; ++i)
-        if (tolower((unsigned char)s[n - m + i]) != tolower((unsigned char)suffix[i])) return 0;
-    return 1;
-}
-
-/* Reads --mask into w * h floats (malloc'd). 0 on success, else prints the error. */
-static int read_mask(const char *path, uint32_t w, uint32_t h, float **out) {
-    pgt_error err = {0};
-    *out = NULL;
-    if (ends_with_ci(path, ".png")) {
-        uint32_t pw, ph, pc;
-        uint8_t *px = NULL;
-        if (pgt_png_read(path, &pw, &ph, &pc, &px, &err) != PGT_OK)
-            return pgt_cli_fail("march", "--mask %s", err.message), -1;
-        if (pw != w || ph != h) {
-            free(px);
-            return pgt_cli_fail("march", "--mask %s: %u x %u pixels, the atlas is %u x %u", path,
-                                pw, ph, w, h),
-                   -1;
-        }
-        float *m = malloc((size_t)w * h * sizeof(float));
-        if (!m) {
-            free(px);
-            return pgt_cli_fail("march", "out of memory"), -1;
-        }
-        for (size_t i = 0; i < (size_t)w * h; ++i) m[i] = (float)px[i * pc] / 255.0f;
-        free(px);
-        *out = m;
-        return 0;
-    }
-    pgt_image img = {0};
-    if (pgt_image_read_exr(&img, path, &err) != PGT_OK)
-        return pgt_cli_fail("march", "--mask %s", err.message), -1;
-    int32_t c = pgt_image_find_channel(&img, "mask");
-    if (c < 0) c = pgt_image_find_channel(&img, "Y");
-    if (c < 0) c = pgt_image_find_channel(&img, "R");
-    if (c < 0 && img.channel_count == 1) c = 0;
-    if (c < 0) {
-        pgt_image_destroy(&img);
-        return pgt_cli_fail("march",
-                            "--mask %s: no channel 'mask', 'Y' or 'R' (and more than one channel)",
-                            path),
-               -1;
-    }
-    if (img.width != w || img.height != h) {
-        pgt_cli_fail("march", "--mask %s: %u x %u pixels, the atlas is %u x %u", path, img.width,
-                     img.height, w, h);
-        pgt_image_destroy(&img);
-        return -1;
-    }
-    float *m = malloc((size_t)w * h * sizeof(float));
-    if (!m) {
-        pgt_image_destroy(&img);
-        return pgt_cli_fail("march", "out of memory"), -1;
-    }
-    memcpy(m, pgt_image_plane(&img, (uint32_t)c), (size_t)w * h * sizeof(float));
-    pgt_image_destroy(&img);
-    *out = m;
-    return 0;
-}
-
 /* A pastel colour per chart (golden-ratio hues). */
 static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
     const double h = fmod((double)chart * 0.6180339887498949, 1.0) * 6.0, s = 0.45, v = 0.95;
@@ -249,7 +155,7 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
 
 int pgt_cmd_march(int argc, char **argv) {
     const char *verb = "march", *in_path = NULL, *out_path = NULL, *mask_path = NULL, *dump = NULL;
-    float ux = 0, uy = 0, dx = 0, dy = 0, step = 0;
+    float from[2] = {0, 0}, dir[2] = {0, 0}, step = 0;
     uint32_t steps = 0;
     int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0, with_start = 0;
     pgt_march_options opts = {0};
@@ -259,18 +165,18 @@ int pgt_cmd_march(int argc, char **argv) {
             fputs(march_usage, stdout);
             return PGT_EXIT_OK;
         } else if (!strcmp(a, "--from")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || parse_pair(a, v, &ux, &uy))
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_floats(verb, a, v, 2, from))
                 return PGT_EXIT_USAGE;
             have_from = 1;
         } else if (!strcmp(a, "--dir")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || parse_pair(a, v, &dx, &dy))
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_floats(verb, a, v, 2, dir))
                 return PGT_EXIT_USAGE;
-            if (dx == 0.0f && dy == 0.0f)
+            if (dir[0] == 0.0f && dir[1] == 0.0f)
                 return pgt_cli_fail(verb, "--dir: the direction 0,0 has no heading");
             have_dir = 1;
         } else if (!strcmp(a, "--step")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
-                parse_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
+                pgt_cli_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
                 return PGT_EXIT_USAGE;
             have_step = 1;
         } else if (!strcmp(a, "--steps")) {
@@ -316,6 +222,7 @@ int pgt_cmd_march(int argc, char **argv) {
         return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input",
                             out_path);
 
+    const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];
     const double t0 = pgt_cli_now_ms();
     pgt_error err = {0};
     pgt_image img = {0};
@@ -327,7 +234,8 @@ int pgt_cmd_march(int argc, char **argv) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
-    if (mask_path && read_mask(mask_path, atlas.width, atlas.height, &mask)) goto done;
+    if (mask_path && pgt_cli_read_mask(verb, "--mask", mask_path, atlas.width, atlas.height, &mask))
+        goto done;
     opts.mask = mask;
     pgt_march_state s;
     if (pgt_march_start(&atlas, ux, uy, dx, dy, &s, &err) != PGT_OK) {
@@ -493,7 +401,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             have_steps = 1;
         } else if (!strcmp(a, "--step")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
-                parse_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
+                pgt_cli_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &step))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--res")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||

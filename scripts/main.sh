@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=9
+steps=11
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -68,6 +68,16 @@ step 9 "figure: a march on spot's atlas and on the mesh -> $figs/march_path.{png
   -o "$work/path.csv" --with-start --dump "$work/spot_dump" >/dev/null
 "$py" paper_figs/march_path.py "$figs/march_path" "$work/path.csv" --dump "$work/spot_dump"
 written+=("$figs/march_path.png" "$figs/march_path.pdf")
+
+step 10 "table 2 and figure 11: pgt bench ivy -> $res/table2.csv, $res/fig11.csv (ivy generation time)"
+ivy_quick=()
+if [ ${#quick[@]} -gt 0 ]; then ivy_quick=(--quick); fi
+"$pgt" bench ivy --out "$res/table2.csv" --fig11 "$res/fig11.csv" --save-scenes "$work/ivy" "${ivy_quick[@]}"
+written+=("$res/table2.csv" "$res/fig11.csv")
+
+step 11 "figure: time vs seeds and Table 2 -> $figs/ivy_seeds.{png,pdf}"
+"$py" paper_figs/ivy_seeds.py "$res/fig11.csv" "$res/table2.csv" "$figs/ivy_seeds"
+written+=("$figs/ivy_seeds.png" "$figs/ivy_seeds.pdf")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done

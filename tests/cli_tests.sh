@@ -104,6 +104,56 @@ expect march_with_start 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 
 sed -n 2p p0.csv | grep -q "^0,20.5,20.5,.*,start$" && [ "$(tail -n +3 p0.csv)" = "$(tail -n +2 p.csv)" ] \
   && ok march_with_start_row_0 || bad march_with_start_row_0 "$(sed -n 2p p0.csv)"
 
+# pgt ivy (the algorithms are test_expand, test_bezier, test_terminals, test_ivy)
+expect ivy_help 0 "$pgt" ivy --help
+for flag in --grammar --seeds --seed-file --mask --paint --no-leaves --no-secondary --threads -o --curves --brush --param; do
+  grep -q -- "$flag" out.txt && ok "ivy_help_documents_$flag" || bad "ivy_help_documents_$flag" "missing"
+done
+short=(--param maxMainSteps=30)
+expect ivy_no_seeds 2 "$pgt" ivy cs.exr -o ivy.ply
+one_line ivy_no_seeds_one_line "\-\-seeds"
+expect ivy_no_output 2 "$pgt" ivy cs.exr --seeds 2
+expect ivy_overwrite_input 2 "$pgt" ivy cs.exr --seeds 2 -o cs.exr
+one_line ivy_overwrite_input_one_line "never overwrites"
+expect ivy_one_thread 0 "$pgt" ivy cs.exr --seeds 3 -o ivy1.ply --curves c1.csv --threads 1 "${short[@]}"
+expect ivy_two_threads 0 "$pgt" ivy cs.exr --seeds 3 -o ivy2.ply --curves c2.csv --threads 2 "${short[@]}"
+cmp -s ivy1.ply ivy2.ply && cmp -s c1.csv c2.csv && ok ivy_same_bytes_any_threads || bad ivy_same_bytes_any_threads "outputs differ"
+head -c 400 ivy1.ply | grep -a -q "property float nx" && head -c 400 ivy1.ply | grep -a -q "property float u" \
+  && ok ivy_ply_has_normals_uvs || bad ivy_ply_has_normals_uvs "$(head -c 300 ivy1.ply)"
+[ "$(head -1 c1.csv)" = "branch,segment,p0x,p0y,p0z,b1x,b1y,b1z,b2x,b2y,b2z,p1x,p1y,p1z,n0x,n0y,n0z,n1x,n1y,n1z" ] \
+  && ok ivy_curves_header || bad ivy_curves_header "$(head -1 c1.csv)"
+segs=$(sed -n 's/.* points, \([0-9]*\) segments.*/\1/p' out.txt)
+[ -n "$segs" ] && [ "$segs" -gt 0 ] && [ "$(($(wc -l <c1.csv) - 1))" -eq "$segs" ] \
+  && ok ivy_curves_one_row_per_segment || bad ivy_curves_one_row_per_segment "segments '$segs', rows $(wc -l <c1.csv)"
+expect ivy_no_leaves 0 "$pgt" ivy cs.exr --seeds 3 -o ivy3.ply --no-leaves "${short[@]}"
+grep -q " 0 leaves" out.txt && ok ivy_no_leaves_counts || bad ivy_no_leaves_counts "$(cat out.txt)"
+expect ivy_no_secondary 0 "$pgt" ivy cs.exr --seeds 3 -o ivy4.ply --no-secondary "${short[@]}"
+b1=$(sed -n 's/.* segments, \([0-9]*\) branches.*/\1/p' out.txt)
+[ "$b1" = 3 ] && ok ivy_no_secondary_one_branch_per_seed || bad ivy_no_secondary_one_branch_per_seed "$(cat out.txt)"
+printf 'A --> Marching(1, 0, 1) { NIL, NIL }\n' >plain.grammar
+expect ivy_no_secondary_needs_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar plain.grammar --no-secondary
+one_line ivy_no_secondary_names_param "secondaryBranches"
+printf '# seeds\ntexel 20.5 20.5 1 0\nbogus 1 2\n' >seeds_bad.txt
+expect ivy_seed_file_bad_line 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bad.txt
+one_line ivy_seed_file_names_line "seeds_bad.txt:3:"
+printf 'texel 0.5 0.5\n' >seeds_bg.txt
+expect ivy_seed_not_inner 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bg.txt
+one_line ivy_seed_not_inner_one_line "seeds_bg.txt:1: texel 0.5 0.5 is not on an inner texel"
+printf 'point 5 5 5\n' >seeds_far.txt
+expect ivy_seed_off_surface 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_far.txt
+one_line ivy_seed_off_surface_one_line "seeds_far.txt:1: .*not on the surface"
+printf 'texel 20.5 20.5 1 0\npoint 1 0 0\n' >seeds.txt
+expect ivy_seed_file 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --seed-file seeds.txt "${short[@]}"
+expect ivy_seed_file_too_few 2 "$pgt" ivy cs.exr --seeds 3 -o x.ply --seed-file seeds.txt
+printf 'stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\nstroke\npoint 0 0 1\n' >strokes.txt
+expect ivy_paint 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --paint strokes.txt --mask-out m.png "${short[@]}"
+grep -q "painted 2 strokes, 4 points" out.txt && [ -s m.png ] && ok ivy_paint_reports || bad ivy_paint_reports "$(cat out.txt)"
+expect ivy_stroke_in_seed_file 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file strokes.txt
+one_line ivy_stroke_in_seed_file_one_line "strokes.txt:1: 'stroke' belongs in a --paint file"
+"$pgt" atlas "$work/data/cube_sphere_8.ply" -o small.exr --res 64 --png small.png >/dev/null 2>&1
+expect ivy_mask_wrong_size 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --mask small.png
+one_line ivy_mask_wrong_size_one_line "small.png: 64 x 64 pixels, the atlas is 128 x 128"
+
 # pgt grammar (the language is test_grammar's)
 expect grammar_help 0 "$pgt" grammar --help
 for flag in --dump --param; do

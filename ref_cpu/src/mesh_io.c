@@ -331,24 +331,17 @@ pgt_result pgt_mesh_read(pgt_mesh *out, const char *path, const pgt_mesh_read_op
     return r;
 }
 
-pgt_result pgt_mesh_write(const pgt_mesh *mesh, const char *path,
-                          const pgt_mesh_write_options *opts, pgt_error *err) {
-    if (!mesh || !path)
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "mesh write: NULL %s",
-                             mesh ? "path" : "mesh");
-    pgt_mesh_format format = PGT_FORMAT_AUTO;
-    pgt_result r = resolve_format(opts ? opts->format : PGT_FORMAT_AUTO, path, &format, err);
-    if (r != PGT_OK) return r;
-    if ((mesh->vertex_count && !mesh->positions) || (mesh->face_count && !mesh->indices))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: mesh has NULL arrays", path);
-    for (size_t i = 0; i < (size_t)mesh->face_count * 3; ++i)
-        if (mesh->indices[i] >= mesh->vertex_count)
-            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: triangle %zu has vertex index %u but the mesh has %u "
-                                 "vertices",
-                                 path, i / 3, mesh->indices[i], mesh->vertex_count);
+/* What write_atomic writes: a pgt_mesh in a format, or a vertex-attributed soup as PLY. */
+typedef struct write_job {
+    const pgt_mesh *mesh;
+    const pgt_vertex_mesh *soup;
+    pgt_mesh_format format;
+    int precise;
+} write_job;
 
-    /* PATH.tmp.PID in the same folder, so rename() replaces the target atomically. */
+/* Writes the job to PATH.tmp.PID in the same folder and renames it over PATH (rename() replaces
+ * the target atomically); on failure removes the temporary file. */
+static pgt_result write_atomic(const char *path, const write_job *job, pgt_error *err) {
     size_t tmp_size = strlen(path) + 32;
     char *tmp = malloc(tmp_size);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
@@ -360,10 +353,14 @@ pgt_result pgt_mesh_write(const pgt_mesh *mesh, const char *path,
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create a temporary file beside it: %s",
                              path, strerror(e));
     }
-    switch (format) {
-    case PGT_FORMAT_OBJ: pgt_io_write_obj(f, mesh, opts ? opts->precise : 0); break;
-    case PGT_FORMAT_OFF: pgt_io_write_off(f, mesh, opts ? opts->precise : 0); break;
-    default: pgt_io_write_ply(f, mesh); break;
+    if (job->soup) {
+        pgt_io_write_ply_soup(f, job->soup);
+    } else {
+        switch (job->format) {
+        case PGT_FORMAT_OBJ: pgt_io_write_obj(f, job->mesh, job->precise); break;
+        case PGT_FORMAT_OFF: pgt_io_write_off(f, job->mesh, job->precise); break;
+        default: pgt_io_write_ply(f, job->mesh); break;
+        }
     }
     int failed = ferror(f) || fflush(f) != 0;
     int e = errno;
@@ -385,4 +382,41 @@ pgt_result pgt_mesh_write(const pgt_mesh *mesh, const char *path,
     }
     free(tmp);
     return PGT_OK;
+}
+
+pgt_result pgt_mesh_write(const pgt_mesh *mesh, const char *path,
+                          const pgt_mesh_write_options *opts, pgt_error *err) {
+    if (!mesh || !path)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "mesh write: NULL %s",
+                             mesh ? "path" : "mesh");
+    pgt_mesh_format format = PGT_FORMAT_AUTO;
+    pgt_result r = resolve_format(opts ? opts->format : PGT_FORMAT_AUTO, path, &format, err);
+    if (r != PGT_OK) return r;
+    if ((mesh->vertex_count && !mesh->positions) || (mesh->face_count && !mesh->indices))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: mesh has NULL arrays", path);
+    for (size_t i = 0; i < (size_t)mesh->face_count * 3; ++i)
+        if (mesh->indices[i] >= mesh->vertex_count)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: triangle %zu has vertex index %u but the mesh has %u "
+                                 "vertices",
+                                 path, i / 3, mesh->indices[i], mesh->vertex_count);
+
+    write_job job = {mesh, NULL, format, opts ? opts->precise : 0};
+    return write_atomic(path, &job, err);
+}
+
+pgt_result pgt_mesh_write_ply_soup(const pgt_vertex_mesh *soup, const char *path, pgt_error *err) {
+    if (!soup || !path)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "ply write: NULL %s",
+                             soup ? "path" : "mesh");
+    if ((soup->vertex_count && !soup->positions) || (soup->triangle_count && !soup->triangles))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: mesh has NULL arrays", path);
+    for (size_t i = 0; i < (size_t)soup->triangle_count * 3; ++i)
+        if (soup->triangles[i] >= soup->vertex_count)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: triangle %zu has vertex index %u but the mesh has %u "
+                                 "vertices",
+                                 path, i / 3, soup->triangles[i], soup->vertex_count);
+    write_job job = {NULL, soup, PGT_FORMAT_PLY, 0};
+    return write_atomic(path, &job, err);
 }

@@ -188,5 +188,6 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
 void pgt_io_write_obj(FILE *f, const pgt_mesh *mesh, int precise);
 void pgt_io_write_off(FILE *f, const pgt_mesh *mesh, int precise);
 void pgt_io_write_ply(FILE *f, const pgt_mesh *mesh);
+void pgt_io_write_ply_soup(FILE *f, const pgt_vertex_mesh *soup);
 
 #endif

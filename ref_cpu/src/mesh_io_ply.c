@@ -746,3 +746,48 @@ void pgt_io_write_ply(FILE *f, const pgt_mesh *mesh) {
         fwrite(rec, 1, (size_t)(p - rec), f);
     }
 }
+
+/* Vertex records are assembled in a buffer of this many bytes and written in one call: one
+ * fwrite per record (tens of millions for an ivy scene) costs more than the data. */
+#define PLY_WRITE_CHUNK (1u << 20)
+
+void pgt_io_write_ply_soup(FILE *f, const pgt_vertex_mesh *soup) {
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\ncomment written by pgt\n"
+            "element vertex %u\nproperty float x\nproperty float y\nproperty float z\n",
+            soup->vertex_count);
+    if (soup->normals) fputs("property float nx\nproperty float ny\nproperty float nz\n", f);
+    if (soup->uvs) fputs("property float u\nproperty float v\n", f);
+    fprintf(f, "element face %u\nproperty list uchar uint vertex_indices\nend_header\n",
+            soup->triangle_count);
+    unsigned char *buf = malloc(PLY_WRITE_CHUNK);
+    unsigned char small[64];
+    size_t cap = buf ? PLY_WRITE_CHUNK : sizeof(small);
+    if (!buf) buf = small; /* out of memory: slower, same bytes */
+    size_t n = 0;
+    for (size_t i = 0; i < soup->vertex_count; ++i) {
+        if (cap - n < 32) {
+            fwrite(buf, 1, n, f);
+            n = 0;
+        }
+        unsigned char *p = buf + n;
+        for (int k = 0; k < 3; ++k) p = store_f32(p, soup->positions[3 * i + (size_t)k]);
+        if (soup->normals)
+            for (int k = 0; k < 3; ++k) p = store_f32(p, soup->normals[3 * i + (size_t)k]);
+        if (soup->uvs)
+            for (int k = 0; k < 2; ++k) p = store_f32(p, soup->uvs[2 * i + (size_t)k]);
+        n = (size_t)(p - buf);
+    }
+    for (size_t t = 0; t < soup->triangle_count; ++t) {
+        if (cap - n < 13) {
+            fwrite(buf, 1, n, f);
+            n = 0;
+        }
+        unsigned char *p = buf + n;
+        *p++ = 3;
+        for (int k = 0; k < 3; ++k) p = store_u32(p, soup->triangles[3 * t + (size_t)k]);
+        n = (size_t)(p - buf);
+    }
+    fwrite(buf, 1, n, f);
+    if (buf != small) free(buf);
+}

@@ -18,6 +18,7 @@ typedef struct term_ctx {
     const pgt_terminals_input *in;
     uint32_t sides, rings, stream;
     int centred;
+    int with_segments;        /* fill out->triangle_segment */
     const float *cosv, *sinv; /* sides + 1 entries */
     uint32_t *bark;           /* per point: the segment's Bark record, PGT_NONE */
     uint8_t *shared;          /* per point: the segment has a C0 / C1 Bark */
@@ -250,7 +251,8 @@ static void fill_bark(const term_ctx *c, uint32_t i, uint32_t *vnext, uint32_t *
             uint32_t *tri = &o->triangles[3u * (size_t)*tnext];
             tri[0] = A + m, tri[1] = A + m + 1u, tri[2] = B + m + 1u;
             tri[3] = A + m, tri[4] = B + m + 1u, tri[5] = B + m;
-            o->triangle_segment[*tnext] = i, o->triangle_segment[*tnext + 1u] = i;
+            if (c->with_segments)
+                o->triangle_segment[*tnext] = i, o->triangle_segment[*tnext + 1u] = i;
             *tnext += 2u;
         }
     }
@@ -293,7 +295,8 @@ static void fill_leaves(const term_ctx *c, uint32_t i, uint32_t *vnext, uint32_t
             uint32_t *tri = &o->triangles[3u * (size_t)*tnext];
             tri[0] = *vnext, tri[1] = *vnext + 1u, tri[2] = *vnext + 2u;
             tri[3] = *vnext, tri[4] = *vnext + 2u, tri[5] = *vnext + 3u;
-            o->triangle_segment[*tnext] = i, o->triangle_segment[*tnext + 1u] = i;
+            if (c->with_segments)
+                o->triangle_segment[*tnext] = i, o->triangle_segment[*tnext + 1u] = i;
             *tnext += 2u, *vnext += 4u;
         }
     }
@@ -387,7 +390,15 @@ static pgt_result validate(const pgt_terminals_input *in, pgt_error *err) {
 pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_input *in,
                                const pgt_terminals_options *o, pgt_error *err) {
     if (!out) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "terminals: no output");
+    /* o->reuse: keep the previous output's arrays (ivy.h: a generator run frame after frame keeps
+     * its buffers, as a GPU pipeline keeps its vertex buffers) */
+    pgt_terminals_output old;
+    memset(&old, 0, sizeof old);
+    if (o && o->reuse) old = *out;
     memset(out, 0, sizeof *out);
+    out->positions = old.positions, out->normals = old.normals, out->uvs = old.uvs;
+    out->triangles = old.triangles, out->triangle_segment = old.triangle_segment;
+    out->vertex_capacity = old.vertex_capacity, out->triangle_capacity = old.triangle_capacity;
     if (!in ||
         (in->point_count &&
          (!in->positions || !in->normals || !in->parent || !in->b1 || !in->b2)) ||
@@ -509,14 +520,30 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
     out->bark_quads = (uint64_t)out->bark_segments * c.sides * c.rings;
     out->bark_triangle_count = (uint32_t)(ttotal - 2u * (uint64_t)out->leaf_count);
     out->bark_vertex_count = (uint32_t)(vtotal - 4u * (uint64_t)out->leaf_count);
-    out->positions = malloc(3u * (size_t)vtotal * sizeof(float) + 1u);
-    out->normals = malloc(3u * (size_t)vtotal * sizeof(float) + 1u);
-    out->uvs = malloc(2u * (size_t)vtotal * sizeof(float) + 1u);
-    out->triangles = malloc(3u * (size_t)ttotal * sizeof(uint32_t) + 1u);
-    out->triangle_segment = malloc((size_t)ttotal * sizeof(uint32_t) + 1u);
+    if (vtotal > out->vertex_capacity || !out->positions) {
+        free(out->positions), free(out->normals), free(out->uvs);
+        out->positions = malloc(3u * (size_t)vtotal * sizeof(float) + 1u);
+        out->normals = malloc(3u * (size_t)vtotal * sizeof(float) + 1u);
+        out->uvs = malloc(2u * (size_t)vtotal * sizeof(float) + 1u);
+        out->vertex_capacity = vtotal;
+    }
+    const int with_segments = !o->no_triangle_segment;
+    if (ttotal > out->triangle_capacity || !out->triangles ||
+        (with_segments && !out->triangle_segment)) {
+        free(out->triangles), free(out->triangle_segment);
+        out->triangles = malloc(3u * (size_t)ttotal * sizeof(uint32_t) + 1u);
+        out->triangle_segment =
+            with_segments ? malloc((size_t)ttotal * sizeof(uint32_t) + 1u) : NULL;
+        out->triangle_capacity = ttotal;
+    }
+    if (!with_segments && out->triangle_segment) {
+        free(out->triangle_segment);
+        out->triangle_segment = NULL;
+    }
+    c.with_segments = with_segments;
     c.cum = malloc((size_t)threads * (c.rings + 1u) * sizeof(float));
     if (!out->positions || !out->normals || !out->uvs || !out->triangles ||
-        !out->triangle_segment || !c.cum)
+        (with_segments && !out->triangle_segment) || !c.cum)
         return fail(&c, out,
                     pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "terminals: out of memory"));
 

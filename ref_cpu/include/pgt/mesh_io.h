@@ -113,6 +113,22 @@ pgt_result pgt_mesh_read_memory(pgt_mesh *out, const void *data, size_t size, co
 pgt_result pgt_mesh_write(const pgt_mesh *mesh, const char *path,
                           const pgt_mesh_write_options *opts, pgt_error *err);
 
+/* A triangle mesh with per-vertex attributes (the terminal evaluator's output: positions,
+ * normals and uvs per vertex, not per corner). normals and uvs may be NULL. */
+typedef struct pgt_vertex_mesh {
+    uint32_t vertex_count, triangle_count;
+    const float *positions;    /* 3 * vertex_count */
+    const float *normals;      /* 3 * vertex_count, or NULL */
+    const float *uvs;          /* 2 * vertex_count, or NULL */
+    const uint32_t *triangles; /* 3 * triangle_count */
+} pgt_vertex_mesh;
+
+/* Writes binary little-endian PLY: vertex float x y z, then float nx ny nz and float u v when
+ * given (the property names MeshLab, Blender and Open3D read); face uchar-uint vertex_indices.
+ * Written to PATH.tmp.PID and renamed, like pgt_mesh_write; an index >= vertex_count is
+ * PGT_ERROR_INVALID_ARGUMENT before anything is written; a write failure PGT_ERROR_IO. */
+pgt_result pgt_mesh_write_ply_soup(const pgt_vertex_mesh *soup, const char *path, pgt_error *err);
+
 /* Format from a path's extension, or PGT_FORMAT_AUTO when unknown. */
 pgt_mesh_format pgt_mesh_format_from_path(const char *path);
 

@@ -111,6 +111,12 @@ typedef struct pgt_terminals_options {
     uint32_t stream;  /* XORed into PGT_TERMINALS_LEAF_STREAM */
     int centred;      /* 1: the tube is centred on the curve instead of lying on the surface */
     uint32_t threads; /* 0: 1 */
+    /* 1: *out holds a previous output (or is zeroed) whose arrays are reused when they are large
+     * enough: no allocation and no page faults on the next frame of an animation or benchmark. */
+    int reuse;
+    /* 1: no triangle_segment (NULL): 12 % fewer bytes written, for callers that do not need
+     * it. */
+    int no_triangle_segment;
 } pgt_terminals_options;
 
 typedef struct pgt_terminals_output {
@@ -119,8 +125,9 @@ typedef struct pgt_terminals_output {
     float *normals;             /* 3 * vertex_count, unit */
     float *uvs;                 /* 2 * vertex_count */
     uint32_t *triangles;        /* 3 * triangle_count */
-    uint32_t *triangle_segment; /* triangle_count: the segment (its end point) */
-    uint32_t sides, rings;      /* as used */
+    uint32_t *triangle_segment; /* triangle_count: the segment (its end point), or NULL */
+    uint64_t vertex_capacity, triangle_capacity; /* what the arrays hold (options.reuse) */
+    uint32_t sides, rings;                       /* as used */
     /* Statistics: bark segments, their quads (= the paper's polygons), vertices and triangles;
      * leaves (a quad, two triangles, four vertices each); ignored duplicate Bark records. */
     uint32_t bark_segments, bark_vertex_count, bark_triangle_count;

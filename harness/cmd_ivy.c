@@ -1,0 +1,567 @@
+/* pgt ivy: ivy grown on a mesh by the grammar of paper 000 section 8 (ref_cpu/src/ivy.c: expand,
+ * G1 Bezier, terminals), with masks, painted strokes and seed files. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "ivy_scene.h"
+#include "pgt/bezier.h"
+#include "pgt/ivy.h"
+#include "pgt/kdtree.h"
+#include "pgt/mesh_io.h"
+#include "pgt/parallel.h"
+#include "pgt/rng.h"
+#include "png_io.h"
+
+/* Most seeds: each seed keeps its own output buffers while the seeds expand; 2^20 is far beyond
+ * the paper's 64 and bounds a typo's memory. */
+#define IVY_MAX_SEEDS (1u << 20)
+
+/* Most --param flags. */
+#define IVY_MAX_PARAM_FLAGS 64
+
+/* A 3D point of a seed or stroke file farther than this from the nearest inner texel (in median
+ * texel sizes) is an error: it is not on the surface (a typo, or another mesh's coordinates),
+ * while a point picked on the mesh lies within a texel of one. */
+#define IVY_SNAP_MAX_TEXELS 16.0
+
+/* A painted seed heads towards the first later point of its stroke at least this many texels
+ * away in the same chart (the paper: "the marching direction is initialized from the difference
+ * of texture coordinates between the release and picking events"); nearer points give a
+ * direction quantised by the texel grid. */
+#define IVY_SEED_DIR_MIN_TEXELS 2.0f
+
+/* RNG stream of the directions of seeds that have none ("SDIR"). */
+#define IVY_SEED_DIR_STREAM 0x53444952u
+
+/* Longest line of a seed or stroke file. */
+#define IVY_MAX_LINE 4096
+
+static const char *ivy_usage =
+    "usage: pgt ivy MESH_OR_ATLAS --seeds N -o IVY.ply [--grammar FILE] [--param NAME=VALUE ...]\n"
+    "               [--seed-file FILE] [--mask FILE] [--paint FILE] [--brush R] [--no-leaves]\n"
+    "               [--no-secondary] [--threads N] [--curves CURVES.csv] [--res N] [--seed S]\n"
+    "               [--rotation atlas|jacobian] [--mask-out MASK.png]\n"
+    "\n"
+    "Grows ivy over a mesh (paper 000 sections 5-8): the grammar's rules expand per seed on the\n"
+    "mesh's geometry-image atlas by marching, the marched polylines become G1 cubic Bezier\n"
+    "curves, and the terminals (bark tubes of 216 quads per segment, leaf quads) are deformed\n"
+    "along them. Prints seeds, points, segments, polygons and milliseconds per stage.\n"
+    "\n"
+    "  MESH_OR_ATLAS   a mesh with UVs (OBJ/OFF/PLY, a file of ../shared/datasets/meshes or a\n"
+    "                  generated dataset such as cube_sphere_32), whose atlas is built here, or\n"
+    "                  an atlas .exr written by pgt atlas\n"
+    "  --seeds N       number of seeds, 1 to 1048576. Where they start: the first N seeds of\n"
+    "                  --seed-file; else, with --paint, the starts of the strokes in turn\n"
+    "                  (seed i on stroke i mod S), heading along the stroke; else uniformly\n"
+    "                  random inner texels with random directions (--seed)\n"
+    "  -o IVY.ply      output: binary PLY, vertex x y z nx ny nz u v, triangles (a bark quad\n"
+    "                  or a leaf is two triangles); written to a temporary file, then renamed\n"
+    "  --grammar FILE  the grammar (default grammars/ivy.grammar, paper 000 section 8)\n"
+    "  --param N=V     override a grammar param (repeatable; see pgt grammar FILE)\n"
+    "  --seed-file F   seeds, one per line: 'texel U V [DU DV]' (texel space, like pgt march\n"
+    "                  --from and --dir; no direction: a random one) or 'point X Y Z' (3D,\n"
+    "                  snapped to the nearest inner texel; a random direction); '#' comments\n"
+    "  --mask FILE     forbidden areas (paper Fig. 10b): a PNG or EXR of the atlas's size\n"
+    "                  (PNG: first channel; EXR: 'mask', 'Y', 'R' or the only channel); a texel\n"
+    "                  >= 0.5 is forbidden. Applied to every march as its external context and\n"
+    "                  readable by the grammar as context.mask(texCoord)\n"
+    "  --paint FILE    painted paths (paper Fig. 10c): growth only within the brush of the\n"
+    "                  strokes (texels farther are forbidden, combined with --mask). Lines:\n"
+    "                  'stroke' starts a stroke, then 'texel U V' or 'point X Y Z' lines list\n"
+    "                  its points; points before the first 'stroke' form one; '#' comments\n"
+    "  --brush R       brush radius of --paint in mesh units (default 6 median texel sizes)\n"
+    "  --no-leaves     no leaves (Leaves records are dropped before the terminals)\n"
+    "  --no-secondary  the main branch alone: sets the grammar param secondaryBranches to 0\n"
+    "                  (grammars/ivy.grammar has it; another grammar without it is an error)\n"
+    "  --threads N     threads of every stage (default: the number of CPUs)\n"
+    "  --curves F.csv  one row per Bezier segment: branch,segment,p0x,p0y,p0z,b1x,b1y,b1z,\n"
+    "                  b2x,b2y,b2z,p1x,p1y,p1z,n0x,n0y,n0z,n1x,n1y,n1z (segment: its index\n"
+    "                  along its branch from 0; n0, n1: the surface normals at its ends)\n"
+    "  --res N         atlas resolution when MESH_OR_ATLAS is a mesh (default 1024)\n"
+    "  --seed S        seed id of seed 0 (seed i has id S + i: the grammar's rand and the\n"
+    "                  leaves) and of the random seed placement; default 1\n"
+    "  --rotation R    direction at chart jumps: atlas (the paper, default) or jacobian\n"
+    "  --mask-out F    write the mask the marches used (1 forbidden = red, painted = white) as\n"
+    "                  a PNG of the atlas's size\n"
+    "\n"
+    "The same inputs, seeds and flags give the same bytes for any --threads.\n"
+    "Exit 0 on success, 2 on a bad flag, value, input file or grammar, or a grammar exceeding\n"
+    "the expander's bounds.\n";
+
+/* Points of a seed or stroke file. */
+typedef struct ivy_points {
+    uint32_t n, cap;
+    float *tex; /* 2n: texel-space position (snapped for 3D points) */
+    float *p3;  /* 3n: 3D position (the file's for 3D points, P at tex for texel points) */
+    float *dir; /* 2n: texel-space direction, or 0,0 */
+    uint32_t *line;
+    uint32_t strokes, stroke_cap;
+    uint32_t *stroke_first; /* strokes + 1 */
+} ivy_points;
+
+static void points_free(ivy_points *p) {
+    free(p->tex), free(p->p3), free(p->dir), free(p->line), free(p->stroke_first);
+    memset(p, 0, sizeof(*p));
+}
+
+static int points_push(ivy_points *p) {
+    if (p->n == p->cap) {
+        const uint32_t cap = p->cap ? 2u * p->cap : 64u;
+        float *tex = realloc(p->tex, (size_t)cap * 2u * sizeof(float));
+        if (tex) p->tex = tex;
+        float *p3 = realloc(p->p3, (size_t)cap * 3u * sizeof(float));
+        if (p3) p->p3 = p3;
+        float *dir = realloc(p->dir, (size_t)cap * 2u * sizeof(float));
+        if (dir) p->dir = dir;
+        uint32_t *line = realloc(p->line, (size_t)cap * sizeof(uint32_t));
+        if (line) p->line = line;
+        if (!tex || !p3 || !dir || !line) return -1;
+        p->cap = cap;
+    }
+    p->n++;
+    return 0;
+}
+
+static int stroke_push(ivy_points *p) {
+    if (p->strokes + 1u >= p->stroke_cap) {
+        const uint32_t cap = p->stroke_cap ? 2u * p->stroke_cap : 16u;
+        uint32_t *s = realloc(p->stroke_first, (size_t)cap * sizeof(uint32_t));
+        if (!s) return -1;
+        p->stroke_first = s, p->stroke_cap = cap;
+    }
+    p->stroke_first[p->strokes++] = p->n;
+    return 0;
+}
+
+/* Up to max numbers after the keyword; returns how many, or -1 on a non-number. */
+static int parse_numbers(char *s, float *out, int max) {
+    int n = 0;
+    for (;;) {
+        while (*s == ' ' || *s == '\t' || *s == '\r' || *s == ',') ++s;
+        if (!*s || *s == '\n' || *s == '#') return n;
+        if (n == max) return -1;
+        char *end = NULL;
+        errno = 0;
+        const float v = strtof(s, &end);
+        if (end == s || errno || !isfinite(v)) return -1;
+        out[n++] = v;
+        s = end;
+        if (*s && *s != ' ' && *s != '\t' && *s != '\r' && *s != '\n' && *s != ',' && *s != '#')
+            return -1;
+    }
+}
+
+/* Reads a seed file (strokes = 0) or a stroke file (strokes = 1). Texel points must lie on inner
+ * texels; 3D points are snapped with `tree` (built on first need over the inner texels). */
+static int read_points(const char *verb, const char *flag, const char *path, int strokes,
+                       const pgt_ivy_scene *s, pgt_kdtree *tree, uint32_t **tree_ids,
+                       uint32_t threads, ivy_points *out) {
+    memset(out, 0, sizeof(*out));
+    FILE *f = fopen(path, "rb");
+    if (!f) return pgt_cli_fail(verb, "%s %s: cannot open: %s", flag, path, strerror(errno));
+    const pgt_march_atlas *a = &s->atlas;
+    char buf[IVY_MAX_LINE + 2];
+    uint32_t line = 0;
+    int rc = -1;
+    if (strokes && stroke_push(out)) goto oom;
+    while (fgets(buf, sizeof buf, f)) {
+        ++line;
+        if (!strchr(buf, '\n') && !feof(f)) {
+            pgt_cli_fail(verb, "%s:%u: line longer than %d characters", path, line, IVY_MAX_LINE);
+            goto done;
+        }
+        char *p = buf;
+        while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
+        if (!*p || *p == '\n' || *p == '#') continue;
+        char *word = p;
+        while (*p && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
+        const size_t wl = (size_t)(p - word);
+        float v[8];
+        if (wl == 6 && !strncmp(word, "stroke", 6)) {
+            if (!strokes) {
+                pgt_cli_fail(verb, "%s:%u: 'stroke' belongs in a --paint file, not %s", path, line,
+                             flag);
+                goto done;
+            }
+            if (parse_numbers(p, v, 0) != 0) {
+                pgt_cli_fail(verb, "%s:%u: 'stroke' takes no values", path, line);
+                goto done;
+            }
+            if (out->stroke_first[out->strokes - 1u] != out->n && stroke_push(out)) goto oom;
+            continue;
+        }
+        const int texel = wl == 5 && !strncmp(word, "texel", 5);
+        const int point = wl == 5 && !strncmp(word, "point", 5);
+        if (!texel && !point) {
+            pgt_cli_fail(verb, "%s:%u: expected 'texel U V%s', 'point X Y Z'%s, found '%.*s'", path,
+                         line, strokes ? "" : " [DU DV]", strokes ? " or 'stroke'" : "",
+                         (int)(wl > 40 ? 40 : wl), word);
+            goto done;
+        }
+        const int n = parse_numbers(p, v, 5);
+        const int ok = texel ? (n == 2 || (!strokes && n == 4)) : n == 3;
+        if (!ok) {
+            pgt_cli_fail(verb, "%s:%u: '%s' takes %s finite numbers", path, line,
+                         texel ? "texel" : "point",
+                         texel ? (strokes ? "2 (U V)" : "2 (U V) or 4 (U V DU DV)") : "3 (X Y Z)");
+            goto done;
+        }
+        if (points_push(out)) goto oom;
+        const uint32_t k = out->n - 1u;
+        out->line[k] = line;
+        out->dir[2u * k] = out->dir[2u * k + 1u] = 0.0f;
+        if (texel) {
+            const float u = v[0], w = v[1];
+            if (!(u >= 0.0f && w >= 0.0f && u < (float)a->width && w < (float)a->height) ||
+                (a->codes[(size_t)(uint32_t)w * a->width + (uint32_t)u] & 3u) != PGT_TEXEL_INNER) {
+                pgt_cli_fail(verb, "%s:%u: texel %g %g is not on an inner texel of the atlas", path,
+                             line, (double)u, (double)w);
+                goto done;
+            }
+            out->tex[2u * k] = u, out->tex[2u * k + 1u] = w;
+            pgt_march_position(a, u, w, &out->p3[3u * k]);
+            if (n == 4) {
+                if (v[2] == 0.0f && v[3] == 0.0f) {
+                    pgt_cli_fail(verb, "%s:%u: the direction 0 0 has no heading", path, line);
+                    goto done;
+                }
+                out->dir[2u * k] = v[2], out->dir[2u * k + 1u] = v[3];
+            }
+        } else {
+            if (!tree->nodes) {
+                pgt_error err = {0};
+                const size_t texels = (size_t)a->width * a->height;
+                uint32_t inner = 0;
+                for (size_t i = 0; i < texels; ++i) inner += (a->codes[i] & 3u) == PGT_TEXEL_INNER;
+                float *xyz = malloc(((size_t)inner + 1u) * 3u * sizeof(float));
+                *tree_ids = malloc(((size_t)inner + 1u) * sizeof(uint32_t));
+                if (!xyz || !*tree_ids) {
+                    free(xyz);
+                    goto oom;
+                }
+                uint32_t m = 0;
+                for (size_t i = 0; i < texels; ++i)
+                    if ((a->codes[i] & 3u) == PGT_TEXEL_INNER) {
+                        xyz[3u * m] = a->texels[i].x, xyz[3u * m + 1u] = a->texels[i].y;
+                        xyz[3u * m + 2u] = a->texels[i].z;
+                        (*tree_ids)[m++] = (uint32_t)i;
+                    }
+                const pgt_result r = pgt_kdtree_build(tree, xyz, m, threads, &err);
+                free(xyz);
+                if (r != PGT_OK) {
+                    pgt_cli_fail(verb, "%s", err.message);
+                    goto done;
+                }
+            }
+            const double lim = IVY_SNAP_MAX_TEXELS * s->texel_size;
+            float d2 = 0.0f;
+            const uint32_t id = pgt_kdtree_nearest(tree, v, (float)(lim * lim), NULL, NULL, &d2);
+            if (id == PGT_NONE) {
+                pgt_cli_fail(verb,
+                             "%s:%u: point %g %g %g is farther than %g (%g texels) from every "
+                             "inner texel of the atlas: not on the surface",
+                             path, line, (double)v[0], (double)v[1], (double)v[2], lim,
+                             IVY_SNAP_MAX_TEXELS);
+                goto done;
+            }
+            const uint32_t t = (*tree_ids)[id];
+            out->tex[2u * k] = (float)(t % a->width) + 0.5f;
+            out->tex[2u * k + 1u] = (float)(t / a->width) + 0.5f;
+            memcpy(&out->p3[3u * k], v, 3u * sizeof(float));
+        }
+    }
+    if (ferror(f)) {
+        pgt_cli_fail(verb, "%s %s: read error", flag, path);
+        goto done;
+    }
+    if (strokes) {
+        if (out->strokes > 1u && out->stroke_first[out->strokes - 1u] == out->n) out->strokes--;
+        out->stroke_first[out->strokes] = out->n;
+    }
+    if (!out->n) {
+        pgt_cli_fail(verb, "%s %s: no points", flag, path);
+        goto done;
+    }
+    rc = 0;
+    goto done;
+oom:
+    pgt_cli_fail(verb, "out of memory");
+done:
+    fclose(f);
+    if (rc) points_free(out);
+    return rc;
+}
+
+/* A random unit direction for seed i without one. */
+static void random_dir(uint32_t seed, uint32_t i, float *dx, float *dy) {
+    const double a = 6.283185307179586 * pgt_rng_double(seed, IVY_SEED_DIR_STREAM, i);
+    *dx = (float)cos(a), *dy = (float)sin(a);
+}
+
+static int write_curves(const char *path, const pgt_ivy_output *o) {
+    char tmp[4200];
+    FILE *f = pgt_cli_tmp_open(path, tmp, sizeof tmp);
+    if (!f) return pgt_cli_fail("ivy", "cannot write %s: %s", tmp, strerror(errno));
+    const pgt_expand_output *ex = &o->expand;
+    uint32_t *index = malloc(((size_t)ex->point_count + 1u) * sizeof(uint32_t));
+    if (!index) {
+        fclose(f);
+        remove(tmp);
+        return pgt_cli_fail("ivy", "out of memory");
+    }
+    fputs("branch,segment,p0x,p0y,p0z,b1x,b1y,b1z,b2x,b2y,b2z,p1x,p1y,p1z,n0x,n0y,n0z,n1x,n1y,"
+          "n1z\n",
+          f);
+    for (uint32_t i = 0; i < ex->point_count; ++i) {
+        const uint32_t p = ex->parent[i];
+        if (p == PGT_NONE) {
+            index[i] = 0;
+            continue;
+        }
+        /* a point continuing its parent's branch is one segment further along it */
+        index[i] = ex->branch[p] == ex->branch[i] && ex->parent[p] != PGT_NONE ? index[p] + 1u : 0u;
+        const float *q[6] = {&o->positions[3u * (size_t)p], &o->b1[3u * (size_t)i],
+                             &o->b2[3u * (size_t)i],        &o->positions[3u * (size_t)i],
+                             &o->normals[3u * (size_t)p],   &o->normals[3u * (size_t)i]};
+        fprintf(f, "%u,%u", ex->branch[i], index[i]);
+        for (int k = 0; k < 6; ++k)
+            fprintf(f, ",%.9g,%.9g,%.9g", (double)q[k][0], (double)q[k][1], (double)q[k][2]);
+        fputc('\n', f);
+    }
+    free(index);
+    return pgt_cli_table_close(f, tmp, path, "ivy") ? -1 : 0;
+}
+
+static int write_mask_png(const char *path, const float *mask, uint32_t w, uint32_t h) {
+    uint8_t *px = malloc((size_t)w * h * 3u);
+    if (!px) return pgt_cli_fail("ivy", "out of memory");
+    for (size_t i = 0; i < (size_t)w * h; ++i) {
+        const int forbidden = mask && mask[i] >= PGT_MARCH_MASK_THRESHOLD;
+        px[3 * i] = 255, px[3 * i + 1] = px[3 * i + 2] = forbidden ? 40 : 255;
+    }
+    pgt_error err = {0};
+    const pgt_result r = pgt_png_write(path, w, h, 3, px, &err);
+    free(px);
+    return r == PGT_OK ? 0 : pgt_cli_fail("ivy", "--mask-out %s", err.message);
+}
+
+int pgt_cmd_ivy(int argc, char **argv) {
+    const char *verb = "ivy", *in_path = NULL, *out_path = NULL, *grammar_path = NULL;
+    const char *seed_file = NULL, *mask_path = NULL, *paint_path = NULL, *curves_path = NULL;
+    const char *mask_out = NULL;
+    const char *params[IVY_MAX_PARAM_FLAGS + 1];
+    uint32_t param_count = 0, seeds = 0, threads = pgt_cli_cpu_count(), res = 1024, seed = 1;
+    float brush = 0.0f;
+    int have_seeds = 0, no_leaves = 0, no_secondary = 0;
+    pgt_march_rotation rotation = PGT_MARCH_ROTATION_ATLAS;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(ivy_usage, stdout);
+            return PGT_EXIT_OK;
+        } else if (!strcmp(a, "--seeds")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, IVY_MAX_SEEDS, &seeds))
+                return PGT_EXIT_USAGE;
+            have_seeds = 1;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--grammar")) {
+            if (!(grammar_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--param")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (param_count == IVY_MAX_PARAM_FLAGS)
+                return pgt_cli_fail(verb, "more than %d --param flags", IVY_MAX_PARAM_FLAGS);
+            params[param_count++] = v;
+        } else if (!strcmp(a, "--seed-file")) {
+            if (!(seed_file = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--mask")) {
+            if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--paint")) {
+            if (!(paint_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--brush")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_float(verb, a, v, 0.0f, 1e30f, &brush))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--no-leaves")) {
+            no_leaves = 1;
+        } else if (!strcmp(a, "--no-secondary")) {
+            no_secondary = 1;
+        } else if (!strcmp(a, "--threads")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, PGT_MAX_THREADS, &threads))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--curves")) {
+            if (!(curves_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--res")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, PGT_ATLAS_MIN_RES, PGT_ATLAS_MAX_RES, &res))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--seed")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, UINT32_MAX, &seed))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--rotation")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!strcmp(v, "atlas"))
+                rotation = PGT_MARCH_ROTATION_ATLAS;
+            else if (!strcmp(v, "jacobian"))
+                rotation = PGT_MARCH_ROTATION_JACOBIAN;
+            else
+                return pgt_cli_fail(verb, "--rotation: expected atlas or jacobian, got '%s'", v);
+        } else if (!strcmp(a, "--mask-out")) {
+            if (!(mask_out = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return pgt_cli_fail(verb, "unknown flag '%s' (see pgt ivy --help)", a);
+        } else if (!in_path) {
+            in_path = a;
+        } else {
+            return pgt_cli_fail(verb, "unexpected argument '%s' (one mesh or atlas only)", a);
+        }
+    }
+    if (!in_path) return pgt_cli_fail(verb, "no mesh or atlas (see pgt ivy --help)");
+    if (!have_seeds) return pgt_cli_fail(verb, "no seed count: give --seeds N");
+    if (!out_path) return pgt_cli_fail(verb, "no output: give -o IVY.ply");
+    if (!grammar_path) grammar_path = PGT_IVY_DEFAULT_GRAMMAR;
+    {
+        const char *inputs[5] = {in_path, grammar_path, seed_file, mask_path, paint_path};
+        const char *outputs[3] = {out_path, curves_path, mask_out};
+        for (int o = 0; o < 3; ++o)
+            for (int k = 0; k < 5; ++k)
+                if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
+                    return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
+                                        outputs[o]);
+    }
+    if (no_secondary) {
+        if (param_count == IVY_MAX_PARAM_FLAGS)
+            return pgt_cli_fail(verb, "more than %d --param flags", IVY_MAX_PARAM_FLAGS);
+        params[param_count++] = "secondaryBranches=0";
+    }
+
+    pgt_ivy_scene s;
+    pgt_ivy_output out;
+    memset(&out, 0, sizeof out);
+    ivy_points seedp = {0}, paint = {0};
+    pgt_kdtree tree = {0};
+    uint32_t *tree_ids = NULL;
+    int rc = PGT_EXIT_USAGE;
+    pgt_error err = {0};
+    if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) return PGT_EXIT_USAGE;
+    if (pgt_ivy_scene_grammar(&s, verb, grammar_path, params, param_count)) goto done;
+    const pgt_march_atlas *a = &s.atlas;
+    if (mask_path && pgt_cli_read_mask(verb, "--mask", mask_path, a->width, a->height, &s.mask))
+        goto done;
+    uint64_t painted = 0;
+    if (paint_path) {
+        if (read_points(verb, "--paint", paint_path, 1, &s, &tree, &tree_ids, threads, &paint))
+            goto done;
+        const float r = brush > 0.0f ? brush : (float)(PGT_IVY_DEFAULT_BRUSH_TEXELS * s.texel_size);
+        if (pgt_ivy_scene_paint(&s, verb, paint.p3, paint.n, paint.stroke_first, paint.strokes, r,
+                                threads, &painted))
+            goto done;
+        brush = r;
+    }
+    if (seed_file &&
+        read_points(verb, "--seed-file", seed_file, 0, &s, &tree, &tree_ids, threads, &seedp))
+        goto done;
+    if (!(s.seeds = malloc((size_t)seeds * sizeof(pgt_expand_seed)))) {
+        pgt_cli_fail(verb, "out of memory");
+        goto done;
+    }
+    s.seed_count = seeds;
+    const char *placement = "random";
+    if (seed_file) {
+        if (seedp.n < seeds) {
+            pgt_cli_fail(verb, "--seeds %u: %s lists %u seeds", seeds, seed_file, seedp.n);
+            goto done;
+        }
+        placement = seed_file;
+        for (uint32_t i = 0; i < seeds; ++i) {
+            pgt_expand_seed *q = &s.seeds[i];
+            q->x = seedp.tex[2u * i], q->y = seedp.tex[2u * i + 1u];
+            q->dx = seedp.dir[2u * i], q->dy = seedp.dir[2u * i + 1u];
+            if (q->dx == 0.0f && q->dy == 0.0f) random_dir(seed, i, &q->dx, &q->dy);
+        }
+    } else if (paint_path) {
+        placement = "stroke starts";
+        for (uint32_t i = 0; i < seeds; ++i) {
+            const uint32_t k = i % paint.strokes, f = paint.stroke_first[k];
+            const uint32_t e = paint.stroke_first[k + 1u];
+            pgt_expand_seed *q = &s.seeds[i];
+            q->x = paint.tex[2u * f], q->y = paint.tex[2u * f + 1u];
+            q->dx = q->dy = 0.0f;
+            const size_t c0 = (size_t)(uint32_t)q->y * a->width + (uint32_t)q->x;
+            for (uint32_t j = f + 1u; j < e; ++j) {
+                const float du = paint.tex[2u * j] - q->x, dv = paint.tex[2u * j + 1u] - q->y;
+                const size_t c = (size_t)(uint32_t)paint.tex[2u * j + 1u] * a->width +
+                                 (uint32_t)paint.tex[2u * j];
+                if (a->codes[c] != a->codes[c0]) break; /* left the chart */
+                if (du * du + dv * dv >= IVY_SEED_DIR_MIN_TEXELS * IVY_SEED_DIR_MIN_TEXELS) {
+                    q->dx = du, q->dy = dv;
+                    break;
+                }
+            }
+            if (q->dx == 0.0f && q->dy == 0.0f) random_dir(seed, i, &q->dx, &q->dy);
+        }
+    } else if (pgt_ivy_random_seeds(s.seeds, seeds, a, seed, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    if (mask_out && write_mask_png(mask_out, s.mask, a->width, a->height)) goto done;
+
+    pgt_expand_input in;
+    pgt_ivy_scene_input(&s, &in);
+    in.seed_base = seed;
+    pgt_ivy_options o;
+    memset(&o, 0, sizeof o);
+    o.expand.march.rotation = rotation;
+    o.expand.march.mask = s.mask;
+    o.no_leaves = no_leaves;
+    o.terminals.no_triangle_segment = 1;
+    o.seed_id = seed;
+    o.threads = threads;
+    if (pgt_ivy_generate(&out, &in, &o, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    const double t0 = pgt_cli_now_ms();
+    const pgt_terminals_output *m = &out.mesh;
+    const pgt_vertex_mesh soup = {m->vertex_count, m->triangle_count, m->positions, m->normals,
+                                  m->uvs,          m->triangles};
+    if (pgt_mesh_write_ply_soup(&soup, out_path, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    if (curves_path && write_curves(curves_path, &out)) goto done;
+    const double ms_write = pgt_cli_now_ms() - t0;
+
+    printf("ivy %s: atlas %ux%u (%s, %.0f ms), %u seeds (%s), %u threads\n", in_path, a->width,
+           a->height, s.built ? "built" : "read", s.ms_atlas, seeds, placement, threads);
+    if (paint_path)
+        printf("  painted %u strokes, %u points, brush %.4g: %llu texels\n", paint.strokes, paint.n,
+               (double)brush, (unsigned long long)painted);
+    printf("  %u points, %u segments, %u branches; %llu stopped marches, %llu on a candidate "
+           "direction\n",
+           out.expand.point_count, out.segments, out.expand.branch_count,
+           (unsigned long long)out.expand.stopped_marches,
+           (unsigned long long)out.expand.candidates_used);
+    printf("  polygons %llu: bark %llu quads on %u segments, %u leaves; %u vertices, %u "
+           "triangles\n",
+           (unsigned long long)out.polygons, (unsigned long long)m->bark_quads, m->bark_segments,
+           m->leaf_count, m->vertex_count, m->triangle_count);
+    printf("  ms: expand %.1f, bezier %.1f, terminals %.1f (total %.1f); write %.0f\n",
+           out.ms_expand, out.ms_bezier, out.ms_terminals,
+           out.ms_expand + out.ms_bezier + out.ms_terminals, ms_write);
+    rc = PGT_EXIT_OK;
+done:
+    pgt_ivy_destroy(&out);
+    points_free(&seedp);
+    points_free(&paint);
+    pgt_kdtree_destroy(&tree);
+    free(tree_ids);
+    pgt_ivy_scene_free(&s);
+    return rc;
+}

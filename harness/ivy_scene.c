@@ -1,0 +1,206 @@
+/* pgt harness: ivy scene setup shared by pgt ivy and pgt bench ivy (see ivy_scene.h). */
+#include "ivy_scene.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "pgt/image.h"
+#include "pgt/ivy.h"
+#include "pgt/mesh.h"
+#include "pgt/rng.h"
+
+/* Texel pairs sampled for the median texel size: enough for a stable median (the sampling
+ * error of a median of 2^16 values is far below the spread between charts). */
+#define IVY_TEXEL_SIZE_SAMPLES 65536u
+
+static int ends_with_exr(const char *s) {
+    const size_t n = strlen(s);
+    return n >= 4 && s[n - 4] == '.' && tolower((unsigned char)s[n - 3]) == 'e' &&
+           tolower((unsigned char)s[n - 2]) == 'x' && tolower((unsigned char)s[n - 1]) == 'r';
+}
+
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median 3D distance between horizontally adjacent inner texels of one chart, over a regular
+ * sample of the texels. */
+static double median_texel_size(const pgt_march_atlas *a) {
+    const size_t texels = (size_t)a->width * a->height;
+    size_t stride = texels / IVY_TEXEL_SIZE_SAMPLES;
+    if (stride < 1) stride = 1;
+    double *d = malloc((texels / stride + 1u) * sizeof(double));
+    if (!d) return 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i + 1 < texels; i += stride) {
+        const uint32_t c = a->codes[i];
+        if ((c & 3u) != PGT_TEXEL_INNER || (i + 1) % a->width == 0 || a->codes[i + 1] != c)
+            continue;
+        const pgt_march_texel *p = &a->texels[i], *q = &a->texels[i + 1];
+        const double dx = (double)q->x - p->x, dy = (double)q->y - p->y, dz = (double)q->z - p->z;
+        d[n++] = sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    double m = 0.0;
+    if (n) {
+        qsort(d, n, sizeof(double), cmp_double);
+        m = d[n / 2];
+    }
+    free(d);
+    return m;
+}
+
+int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, uint32_t res,
+                        uint32_t threads) {
+    memset(s, 0, sizeof(*s));
+    pgt_error err = {0};
+    const double t0 = pgt_cli_now_ms();
+    if (ends_with_exr(path)) {
+        if (pgt_image_read_exr(&s->img, path, &err) != PGT_OK) goto fail;
+    } else {
+        pgt_mesh mesh = {0};
+        if (pgt_cli_load_named(path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) goto fail;
+        if (!mesh.uvs) {
+            pgt_mesh_destroy(&mesh);
+            pgt_cli_fail(verb,
+                         "%s: no UVs: run a parametrization first (datasets_gen gives UV-less "
+                         "meshes an atlas with MeshLab's Voronoi Atlas), or give an atlas .exr",
+                         path);
+            pgt_ivy_scene_free(s);
+            return -1;
+        }
+        pgt_atlas_options ao = {0};
+        ao.width = ao.height = res;
+        ao.threads = threads;
+        ao.what = path;
+        const pgt_result r = pgt_atlas_build(&s->img, &mesh, &ao, &s->stats, &err);
+        pgt_mesh_destroy(&mesh);
+        if (r != PGT_OK) goto fail;
+        s->built = 1;
+    }
+    if (pgt_atlas_channels_find(&s->img, path, &s->ch, &err) != PGT_OK ||
+        pgt_march_atlas_create(&s->atlas, &s->img, path, &err) != PGT_OK)
+        goto fail;
+    s->texel_size = s->built ? s->stats.texel_size : median_texel_size(&s->atlas);
+    s->ms_atlas = pgt_cli_now_ms() - t0;
+    return 0;
+fail:
+    pgt_cli_fail(verb, "%s", err.message);
+    pgt_ivy_scene_free(s);
+    return -1;
+}
+
+int pgt_ivy_scene_grammar(pgt_ivy_scene *s, const char *verb, const char *path,
+                          const char *const *params, uint32_t count) {
+    pgt_error err = {0};
+    pgt_grammar_destroy(&s->grammar);
+    if (pgt_grammar_load(&s->grammar, path, &err) != PGT_OK) {
+        pgt_grammar_destroy(&s->grammar);
+        return pgt_cli_fail(verb, "%s", err.message);
+    }
+    return pgt_cli_grammar_params(verb, &s->grammar, params, count);
+}
+
+void pgt_ivy_scene_input(const pgt_ivy_scene *s, pgt_expand_input *in) {
+    memset(in, 0, sizeof(*in));
+    in->grammar = &s->grammar;
+    in->atlas = &s->atlas;
+    in->normal[0] = pgt_image_plane(&s->img, s->ch.nx);
+    in->normal[1] = pgt_image_plane(&s->img, s->ch.ny);
+    in->normal[2] = pgt_image_plane(&s->img, s->ch.nz);
+    in->mask = s->mask;
+    in->seeds = s->seeds;
+    in->seed_count = s->seed_count;
+}
+
+void pgt_ivy_scene_free(pgt_ivy_scene *s) {
+    if (!s) return;
+    pgt_grammar_destroy(&s->grammar);
+    pgt_march_atlas_destroy(&s->atlas);
+    pgt_image_destroy(&s->img);
+    free(s->mask);
+    free(s->seeds);
+    memset(s, 0, sizeof(*s));
+}
+
+int pgt_ivy_guide_strokes(const pgt_march_atlas *a, const char *verb, uint32_t count,
+                          uint32_t steps, uint32_t seed, float **points, uint32_t *point_count,
+                          uint32_t **first, pgt_expand_seed *starts) {
+    pgt_error err = {0};
+    *points = NULL, *first = NULL, *point_count = 0;
+    const size_t cap = (size_t)count * (steps + 1u);
+    float *p = malloc((cap ? cap : 1u) * 3u * sizeof(float));
+    uint32_t *f = malloc(((size_t)count + 1u) * sizeof(uint32_t));
+    if (!p || !f) {
+        free(p), free(f);
+        return pgt_cli_fail(verb, "out of memory");
+    }
+    if (pgt_ivy_random_seeds(starts, count, a, seed, &err) != PGT_OK) {
+        free(p), free(f);
+        return pgt_cli_fail(verb, "%s", err.message);
+    }
+    const pgt_march_options mo = {0};
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+        f[k] = n;
+        pgt_march_state st;
+        if (pgt_march_start(a, starts[k].x, starts[k].y, starts[k].dx, starts[k].dy, &st, &err) !=
+            PGT_OK) {
+            free(p), free(f);
+            return pgt_cli_fail(verb, "%s", err.message);
+        }
+        pgt_march_position(a, st.x, st.y, &p[3u * (size_t)n++]);
+        const float phase = 6.2831853f * pgt_rng_float(seed, PGT_IVY_SEED_STREAM ^ 1u, k);
+        for (uint32_t i = 0; i < steps; ++i) {
+            const float turn =
+                PGT_IVY_GUIDE_TURN * sinf(6.2831853f * (float)i / PGT_IVY_GUIDE_PERIOD + phase);
+            if (pgt_march_step(a, &mo, &st, PGT_IVY_GUIDE_STEP_TEXELS, turn, NULL) ==
+                PGT_MARCH_STOP)
+                break;
+            pgt_march_position(a, st.x, st.y, &p[3u * (size_t)n++]);
+        }
+    }
+    f[count] = n;
+    *points = p, *first = f, *point_count = n;
+    return 0;
+}
+
+int pgt_ivy_scene_paint(pgt_ivy_scene *s, const char *verb, const float *points,
+                        uint32_t point_count, const uint32_t *first, uint32_t strokes, float radius,
+                        uint32_t threads, uint64_t *out_painted) {
+    pgt_error err = {0};
+    const size_t texels = (size_t)s->atlas.width * s->atlas.height;
+    if (!s->mask) {
+        if (!(s->mask = calloc(texels, sizeof(float)))) return pgt_cli_fail(verb, "out of memory");
+    }
+    float *allowed = malloc(texels * sizeof(float));
+    if (!allowed) return pgt_cli_fail(verb, "out of memory");
+    for (size_t i = 0; i < texels; ++i) allowed[i] = 1.0f;
+    if (pgt_ivy_paint(allowed, &s->atlas, points, point_count, first, strokes, radius, threads,
+                      out_painted, &err) != PGT_OK) {
+        free(allowed);
+        return pgt_cli_fail(verb, "--paint: %s", err.message);
+    }
+    for (size_t i = 0; i < texels; ++i)
+        if (allowed[i] != 0.0f) s->mask[i] = 1.0f;
+    free(allowed);
+    return 0;
+}
+
+int pgt_ivy_write_strokes(const char *verb, const char *path, const float *points,
+                          const uint32_t *first, uint32_t strokes) {
+    char tmp[4200];
+    FILE *f = pgt_cli_tmp_open(path, tmp, sizeof tmp);
+    if (!f) return pgt_cli_fail(verb, "cannot write %s", tmp);
+    fprintf(f, "# painted strokes (pgt ivy --paint): 'stroke', then one 'point X Y Z' per line\n");
+    for (uint32_t k = 0; k < strokes; ++k) {
+        fprintf(f, "stroke\n");
+        for (uint32_t i = first[k]; i < first[k + 1u]; ++i)
+            fprintf(f, "point %.9g %.9g %.9g\n", (double)points[3u * (size_t)i],
+                    (double)points[3u * (size_t)i + 1u], (double)points[3u * (size_t)i + 2u]);
+    }
+    return pgt_cli_table_close(f, tmp, path, verb) ? -1 : 0;
+}

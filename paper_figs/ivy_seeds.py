@@ -1,0 +1,121 @@
+#!/usr/bin/python3
+"""Figure 11 of paper 000 (ivy generation time vs number of seeds) from results/fig11.csv, and
+Table 2 beside the paper's numbers from results/table2.csv (both written by `pgt bench ivy`).
+
+usage: ivy_seeds.py FIG11_CSV TABLE2_CSV OUT_PREFIX
+
+Left panel: median generation time (expand + Bezier + terminals, ms) against seeds 1..64 for the
+two scenarios (main branch only, guided by painting; with secondary branches and leaves), with
+the polygon count on a second axis. Right panel: Table 2, ours against the paper's GTX 480 times
+per scene, with the polygon counts as labels. Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf
+and prints the growth of time with seeds (ms per added seed, least squares) to stdout. An empty
+or malformed file is an error (exit 2).
+"""
+
+import csv
+import os
+import sys
+import tempfile
+
+os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# Okabe-Ito, colour-blind safe
+COLOURS = {"main": "#0072B2", "full": "#D55E00", "paper": "#999999"}
+LABELS = {"main": "main branch only (painted guidance)",
+          "full": "with secondary branches and leaves"}
+
+
+def die(msg):
+    print(f"ivy_seeds: error: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read_rows(path, required):
+    try:
+        with open(path, newline="") as f:
+            lines = [line for line in f if not line.startswith("#")]
+    except OSError as e:
+        die(f"{path}: {e.strerror}")
+    rows = list(csv.DictReader(lines))
+    if not rows:
+        die(f"{path}: no data rows")
+    for col in required:
+        if col not in rows[0]:
+            die(f"{path}: no column '{col}'")
+    return rows
+
+
+def fnum(row, col, path):
+    try:
+        return float(row[col])
+    except (TypeError, ValueError):
+        die(f"{path}: column {col}: not a number: {row.get(col)!r}")
+
+
+def slope(xs, ys):
+    n = len(xs)
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx else 0.0
+
+
+def main():
+    if len(sys.argv) != 4:
+        die("usage: ivy_seeds.py FIG11_CSV TABLE2_CSV OUT_PREFIX")
+    f11, t2, out = sys.argv[1:]
+    rows = read_rows(f11, ("scenario", "seeds", "total_ms", "polygons"))
+    table = read_rows(t2, ("scene", "mesh", "seeds", "polygons", "paper_polygons", "total_ms",
+                           "paper_ms"))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [3, 2]})
+    ax2 = ax.twinx()
+    for sc in ("main", "full"):
+        pts = sorted((fnum(r, "seeds", f11), fnum(r, "total_ms", f11), fnum(r, "polygons", f11))
+                     for r in rows if r["scenario"] == sc)
+        if not pts:
+            continue
+        xs, ts, ps = zip(*pts)
+        ax.plot(xs, ts, "o-", ms=3, color=COLOURS[sc], label=LABELS[sc])
+        ax2.plot(xs, [p / 1e6 for p in ps], ":", color=COLOURS[sc], lw=1)
+        print(f"ivy_seeds: {sc}: {slope(xs, ts):.2f} ms per added seed "
+              f"({ts[0]:.1f} ms at {xs[0]:.0f} seed(s), {ts[-1]:.1f} ms at {xs[-1]:.0f})")
+    threads = rows[0].get("threads", "?")
+    ax.set_xlabel("number of seeds")
+    ax.set_ylabel(f"generation time (ms, median, {threads} CPU threads)")
+    ax2.set_ylabel("output polygons (millions, dotted)")
+    ax.set_xlim(0, None)
+    ax.set_ylim(0, None)
+    ax2.set_ylim(0, None)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8, frameon=False)
+    ax.set_title("Generation time vs seeds (paper 000 Fig. 11)", fontsize=10)
+
+    names = [f"{r['scene']}\n{r['mesh'].replace('.obj', '')}, {r['seeds']} seeds" for r in table]
+    ours = [fnum(r, "total_ms", t2) for r in table]
+    paper = [fnum(r, "paper_ms", t2) for r in table]
+    x = range(len(table))
+    w = 0.38
+    bx.bar([i - w / 2 for i in x], paper, w, color=COLOURS["paper"], label="paper (GTX 480)")
+    bx.bar([i + w / 2 for i in x], ours, w, color=COLOURS["full"],
+           label=f"ours ({table[0].get('threads', '?')} CPU threads)")
+    for i, r in enumerate(table):
+        bx.text(i + w / 2, ours[i], f"{fnum(r, 'polygons', t2) / 1e6:.2f}M", ha="center",
+                va="bottom", fontsize=7)
+        bx.text(i - w / 2, paper[i], f"{fnum(r, 'paper_polygons', t2) / 1e6:.2f}M", ha="center",
+                va="bottom", fontsize=7)
+    bx.set_xticks(list(x))
+    bx.set_xticklabels(names, fontsize=7)
+    bx.set_ylabel("generation time (ms)")
+    bx.legend(fontsize=8, frameon=False)
+    bx.set_title("Table 2 (labels: output polygons)", fontsize=10)
+    fig.tight_layout()
+    for ext in ("png", "pdf"):
+        fig.savefig(f"{out}.{ext}", dpi=200)
+    print(f"ivy_seeds: wrote {out}.png and {out}.pdf")
+
+
+if __name__ == "__main__":
+    main()
