@@ -262,7 +262,7 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
         pgt_ivy_options o;
         memset(&o, 0, sizeof o);
         o.expand.march.mask = s.mask;
-        o.threads = threads, o.seed_id = seed, o.reuse = 1;
+        o.threads = threads, o.reuse = 1;
         o.terminals.no_triangle_segment = 1;
         ivy_timing t;
         if (time_runs(&out, &in, &o, repeat, &t)) {
@@ -330,7 +330,7 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
             pgt_ivy_options o;
             memset(&o, 0, sizeof o);
             o.expand.march.mask = s.mask;
-            o.threads = threads, o.seed_id = seed, o.reuse = 1, o.no_leaves = sc == 0;
+            o.threads = threads, o.reuse = 1, o.no_leaves = sc == 0;
             o.terminals.no_triangle_segment = 1;
             ivy_timing t;
             if (time_runs(&out, &in, &o, repeat, &t)) {

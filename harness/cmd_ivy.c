@@ -521,7 +521,6 @@ int pgt_cmd_ivy(int argc, char **argv) {
     o.expand.march.mask = s.mask;
     o.no_leaves = no_leaves;
     o.terminals.no_triangle_segment = 1;
-    o.seed_id = seed;
     o.threads = threads;
     if (pgt_ivy_generate(&out, &in, &o, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);

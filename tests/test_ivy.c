@@ -188,7 +188,6 @@ static void test_pipeline_determinism(void) {
     REQUIRE(s);
     pgt_ivy_options o;
     memset(&o, 0, sizeof o);
-    o.seed_id = 3;
     pgt_ivy_output one, two, again, bare;
     memset(&again, 0, sizeof again);
     pgt_error err = {0};
@@ -215,7 +214,31 @@ static void test_pipeline_determinism(void) {
     pgt_ivy_destroy(&bare);
 }
 
+/* A seed's ivy, leaves included, does not depend on the other seeds: seeds 1.. alone (with
+ * seed_base + 1, so each keeps its id) give the tail of the vertices of seeds 0.. . */
+static void test_seed_independence(void) {
+    ivy_scene *s = get_scene();
+    REQUIRE(s);
+    pgt_ivy_options o;
+    memset(&o, 0, sizeof o);
+    o.threads = 2;
+    pgt_expand_input in = s->in;
+    pgt_ivy_output all, tail;
+    pgt_error err = {0};
+    REQUIRE(pgt_ivy_generate(&all, &in, &o, &err) == PGT_OK);
+    in.seeds = s->in.seeds + 1, in.seed_count = s->in.seed_count - 1u, in.seed_base = 1;
+    REQUIRE(pgt_ivy_generate(&tail, &in, &o, &err) == PGT_OK);
+    const pgt_terminals_output *a = &all.mesh, *b = &tail.mesh;
+    REQUIRE(a->vertex_count > b->vertex_count && b->leaf_count > 0);
+    const size_t off = a->vertex_count - b->vertex_count;
+    CHECK(!memcmp(a->positions + 3u * off, b->positions, 12u * (size_t)b->vertex_count));
+    CHECK(!memcmp(a->normals + 3u * off, b->normals, 12u * (size_t)b->vertex_count));
+    CHECK(!memcmp(a->uvs + 2u * off, b->uvs, 8u * (size_t)b->vertex_count));
+    pgt_ivy_destroy(&all), pgt_ivy_destroy(&tail);
+}
+
 static const pgt_test_case cases[] = {
+    {"seed_independence", test_seed_independence},
     {"random_seeds", test_random_seeds},
     {"paint_matches_brute_force", test_paint_matches_brute_force},
     {"mask_forbids", test_mask_forbids},

@@ -258,6 +258,7 @@ void pgt_ivy_destroy(pgt_ivy_output *out) {
     pgt_expand_destroy(&out->expand);
     pgt_terminals_destroy(&out->mesh);
     free(out->positions), free(out->normals), free(out->b1), free(out->b2), free(out->smoothness);
+    free(out->leaf_seed), free(out->leaf_key);
     memset(out, 0, sizeof(*out));
 }
 
@@ -294,12 +295,14 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     out->b1 = malloc(n3 * sizeof(float));
     out->b2 = malloc(n3 * sizeof(float));
     out->smoothness = malloc(n ? n : 1u);
+    out->leaf_seed = malloc((n ? n : 1u) * sizeof(uint32_t));
+    out->leaf_key = malloc((n ? n : 1u) * sizeof(uint32_t));
     /* the terminal records the evaluator gets: all, or all but Leaves */
     uint32_t kept = ex->terminal_count;
     uint32_t *keep = NULL;
     if (o->no_leaves) keep = malloc(((size_t)ex->terminal_count + 1u) * sizeof(uint32_t));
     if (!out->positions || !out->normals || !out->b1 || !out->b2 || !out->smoothness ||
-        (o->no_leaves && !keep)) {
+        !out->leaf_seed || !out->leaf_key || (o->no_leaves && !keep)) {
         free(keep);
         pgt_terminals_destroy(&mesh);
         pgt_ivy_destroy(out);
@@ -311,6 +314,9 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
         out->normals[3u * (size_t)i] = ex->nx[i], out->normals[3u * (size_t)i + 1u] = ex->ny[i];
         out->normals[3u * (size_t)i + 2u] = ex->nz[i];
         out->smoothness[i] = PGT_BEZIER_C1;
+        /* leaves keyed by the seed's id and the segment's index within its seed */
+        out->leaf_seed[i] = in->seed_base + ex->seed[i];
+        out->leaf_key[i] = i - ex->seed_first_point[ex->seed[i]];
         out->segments += ex->parent[i] != PGT_NONE;
     }
     /* a segment's smoothness is that of its first Bark record: walk the records backwards so
@@ -332,7 +338,8 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     pgt_terminals_input ti;
     memset(&ti, 0, sizeof ti);
     ti.point_count = n, ti.positions = out->positions, ti.normals = out->normals;
-    ti.parent = ex->parent, ti.b1 = out->b1, ti.b2 = out->b2, ti.seed_id = o->seed_id;
+    ti.parent = ex->parent, ti.b1 = out->b1, ti.b2 = out->b2, ti.seed_id = 0;
+    ti.segment_seed_id = out->leaf_seed, ti.segment_key = out->leaf_key;
     uint32_t *rec[4] = {NULL, NULL, NULL, NULL};
     float *rec_f[2] = {NULL, NULL};
     if (keep) {

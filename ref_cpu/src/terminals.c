@@ -173,10 +173,19 @@ static float seg_chords(const term_ctx *c, uint32_t i, float *cum) {
     return total;
 }
 
+/* The leaf draws' RNG seed and counter base of record rank k on segment i (terminals.h). */
+static uint32_t leaf_seed(const term_ctx *c, uint32_t i) {
+    return c->in->segment_seed_id ? c->in->segment_seed_id[i] : c->in->seed_id;
+}
+static uint64_t leaf_base(const term_ctx *c, uint32_t i, uint32_t k) {
+    const uint32_t key = c->in->segment_key ? c->in->segment_key[i] : i;
+    return (uint64_t)key << 32 | (uint64_t)k << 24;
+}
+
 static uint32_t leaves_of_record(const term_ctx *c, uint32_t i, uint32_t k, float density) {
     const float whole = floorf(density);
-    const uint64_t base = (uint64_t)i << 32 | (uint64_t)k << 24;
-    const float extra = pgt_rng_float(c->in->seed_id, c->stream, base) < density - whole;
+    const float extra =
+        pgt_rng_float(leaf_seed(c, i), c->stream, leaf_base(c, i, k)) < density - whole;
     return (uint32_t)whole + (uint32_t)extra;
 }
 
@@ -267,11 +276,11 @@ static void fill_leaves(const term_ctx *c, uint32_t i, uint32_t *vnext, uint32_t
         const uint32_t n = leaves_of_record(c, i, k, c->in->terminal_a[rec]);
         const float h = 0.5f * c->in->terminal_b[rec];
         const float lift = PGT_TERMINALS_LEAF_LIFT * c->in->terminal_b[rec];
-        const uint64_t base = (uint64_t)i << 32 | (uint64_t)k << 24;
+        const uint64_t base = leaf_base(c, i, k);
+        const uint32_t seed = leaf_seed(c, i);
         for (uint32_t l = 0; l < n; ++l) {
-            const float s = pgt_rng_float(c->in->seed_id, c->stream, base + 1u + 2u * l);
-            const float ang =
-                (float)(TWO_PI * pgt_rng_float(c->in->seed_id, c->stream, base + 2u + 2u * l));
+            const float s = pgt_rng_float(seed, c->stream, base + 1u + 2u * l);
+            const float ang = (float)(TWO_PI * pgt_rng_float(seed, c->stream, base + 2u + 2u * l));
             float p[3], t[3], nl[3], nn[3], side[3], e1[3], e2[3];
             seg_eval(c, i, s, p);
             for (int d = 0; d < 3; ++d) nl[d] = (1.0f - s) * n_a[d] + s * n_i[d];

@@ -67,7 +67,6 @@ typedef struct pgt_ivy_options {
      * enough (pgt_terminals_options.reuse), as an interactive session or a benchmark runs the
      * generator again and again; the rest of *out is freed and rebuilt. */
     int reuse;
-    uint32_t seed_id; /* the leaves' RNG seed (pgt_terminals_input.seed_id) */
     uint32_t threads; /* every stage; 0: 1 */
 } pgt_ivy_options;
 
@@ -77,6 +76,10 @@ typedef struct pgt_ivy_output {
     /* The points as the Bezier and terminal stages read them: 3 * point_count floats each. */
     float *positions, *normals, *b1, *b2;
     uint8_t *smoothness;       /* point_count: of the segment ending at each point */
+    /* point_count each: the leaves' RNG seed of a segment (the expansion's seed id, seed_base +
+     * its seed's index) and key (its point index within its seed), so a seed's leaves, like its
+     * expansion, do not depend on the other seeds. */
+    uint32_t *leaf_seed, *leaf_key;
     pgt_terminals_output mesh; /* bark and leaves */
     uint32_t segments;         /* non-root points: segments of the polylines */
     uint64_t polygons;         /* bark quads + leaves (the paper's polygon count) */

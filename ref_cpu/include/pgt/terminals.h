@@ -42,11 +42,13 @@
  * tangent plane (spanned by T(s) = B'(s) / |B'(s)| and N(s) x T(s), N(s) = the end points'
  * surface normals interpolated linearly in s, made perpendicular to T(s); no bark needed),
  * turned by a uniform angle, lifted by PGT_TERMINALS_LEAF_LIFT * size along N(s); uv the unit
- * square; normal N(s); two triangles winding around N(s). Draws: pgt_rng_float(seed_id,
- * PGT_TERMINALS_LEAF_STREAM ^ options.stream, counter) with counter = segment << 32 | k << 24 |
- * d, k = the record's rank among the Leaves records of its segment, d = 0 for the extra leaf,
- * 1 + 2 l and 2 + 2 l for leaf l's s and angle: no dependence on record order across segments,
- * on threads or on other segments.
+ * square; normal N(s); two triangles winding around N(s). Draws: pgt_rng_float(seed,
+ * PGT_TERMINALS_LEAF_STREAM ^ options.stream, counter) with counter = key << 32 | k << 24 | d,
+ * seed = segment_seed_id[segment] (or seed_id), key = segment_key[segment] (or the segment's
+ * index), k = the record's rank among the Leaves records of its segment, d = 0 for the extra
+ * leaf, 1 + 2 l and 2 + 2 l for leaf l's s and angle: no dependence on record order across
+ * segments, on threads or on other segments. (pgt_ivy_generate keys a segment by its seed's id
+ * and its index within the seed, so a seed's leaves do not depend on the other seeds either.)
  * Several Bark records on one segment: the first (in record order) makes the tube, the others
  * are ignored and counted.
  *
@@ -102,6 +104,10 @@ typedef struct pgt_terminals_input {
     const float *terminal_a, *terminal_b; /* Bark: radius, -; Leaves: density, size */
     const uint32_t *terminal_smoothness;  /* Bark: pgt_bezier_smoothness; Leaves: ignored */
     uint32_t seed_id;                     /* the leaves' RNG seed */
+    /* Optional, point_count each (NULL: seed_id, and the segment's index): the leaves' RNG seed
+     * and counter key per segment. */
+    const uint32_t *segment_seed_id;
+    const uint32_t *segment_key;
 } pgt_terminals_input;
 
 /* Options; a zero-initialised struct means the defaults. */
