@@ -172,10 +172,9 @@ static int scene_setup(pgt_ivy_scene *s, const char *mesh, const char *param_lis
         }
         snprintf(path, sizeof path, "%s/%s.cmd", save_dir, name);
         if (!rc && (f = pgt_cli_tmp_open(path, tmp, sizeof tmp))) {
-            fprintf(f, "pgt ivy %s --seeds %u --seed-file %s/%s.seeds%s%s%s%s --seed %u", mesh,
-                    seeds, save_dir, name, painted ? " --paint " : "", painted ? save_dir : "",
-                    painted ? "/" : "", painted ? name : "", seed);
-            if (painted) fprintf(f, ".strokes");
+            fprintf(f, "pgt ivy %s --seeds %u --seed-file %s/%s.seeds --seed %u", mesh, seeds,
+                    save_dir, name, seed);
+            if (painted) fprintf(f, " --paint %s/%s.strokes", save_dir, name);
             for (uint32_t k = 0; k < n; ++k) fprintf(f, " --param %s", params[k]);
             fprintf(f, "\n");
             rc |= pgt_cli_table_close(f, tmp, path, "bench");
