@@ -18,6 +18,7 @@ static const char *usage =
     "  grammar    compile a grammar (ivy, facades) and list its rule table (paper 000, sec. 7)\n"
     "  ivy        grow ivy on a mesh: grammar, marching, G1 Bezier, bark and leaves\n"
     "             (paper 000, sec. 6-8), with masks and painted strokes\n"
+    "  render     ray trace meshes into a PNG for figures (Embree)\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
@@ -50,6 +51,7 @@ int main(int argc, char **argv) {
     if (!strcmp(verb, "march")) return pgt_cmd_march(argc - 1, argv + 1);
     if (!strcmp(verb, "grammar")) return pgt_cmd_grammar(argc - 1, argv + 1);
     if (!strcmp(verb, "ivy")) return pgt_cmd_ivy(argc - 1, argv + 1);
+    if (!strcmp(verb, "render")) return pgt_cmd_render(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

@@ -171,6 +171,77 @@ one_line grammar_bad_names_file_line_col "bad.grammar:1:"
 "$pgt" grammar "$src/grammars/ivy.grammar" --dump >dump.grammar 2>err.txt
 expect grammar_dump_compiles 0 "$pgt" grammar dump.grammar
 
+# pgt render (the pictures themselves are test_render's)
+expect render_help 0 "$pgt" render --help
+for flag in -o --width --height --camera --view --up --spp --no-shadows --background --threads; do
+  grep -q -- "$flag" out.txt && ok "render_help_documents_$flag" || bad "render_help_documents_$flag" "missing"
+done
+grep -q "render" <("$pgt" --help) && ok help_lists_render || bad help_lists_render "no render in pgt --help"
+expect render_ok 0 "$pgt" render "$ico" -o r.png --width 64 --height 48 --spp 1 --threads 2
+/usr/bin/python3 -c 'import struct,sys; d=open("r.png","rb").read(24)
+sys.exit(0 if d[:8]==b"\x89PNG\r\n\x1a\n" and struct.unpack(">II",d[16:24])==(64,48) else 1)' \
+  && ok render_png_size || bad render_png_size "$(head -c 24 r.png | od -c | head -2)"
+one_line render_timing_line "^render: 64x48, 1 spp, 1 mesh, 80 triangles: .*BVH .* ms, trace .* ms"
+cam=$(sed -n 's/^camera: --camera //p' out.txt)
+[ -n "$cam" ] && ok render_prints_camera || bad render_prints_camera "$(cat out.txt)"
+# the printed camera reproduces the picture byte for byte, with any thread count
+expect render_camera_reproduces 0 "$pgt" render "$ico" -o r2.png --width 64 --height 48 --spp 1 --camera "$cam" --threads 1
+cmp -s r.png r2.png && ok render_same_bytes || bad render_same_bytes "r.png and r2.png differ"
+ls ./*.tmp.* >/dev/null 2>&1 && bad render_no_temporary_left "$(ls ./*.tmp.*)" || ok render_no_temporary_left
+# a PLY with extra vertex and face properties (skipped by the reader)
+expect render_ply_extra_properties 0 "$pgt" render "$src/tests/data/valid/groups_extra.ply" -o rx.png --width 32 --height 32
+expect render_no_mesh 2 "$pgt" render -o r.png
+one_line render_no_mesh_one_line "no input mesh"
+expect render_no_output 2 "$pgt" render "$ico"
+one_line render_no_output_one_line "no output"
+expect render_missing_file 2 "$pgt" render "$ico" nothere.off -o r.png
+one_line render_missing_file_named "nothere.off"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1\n3 0 1 2\n' >rtrunc.off
+expect render_malformed 2 "$pgt" render rtrunc.off -o r.png
+one_line render_malformed_names_file_and_line "rtrunc.off:5"
+expect render_not_png 2 "$pgt" render "$ico" -o r.jpg
+one_line render_not_png_names_flag "\-o r.jpg"
+expect render_bad_width 2 "$pgt" render "$ico" -o r.png --width 0
+one_line render_bad_width_names_flag "\-\-width"
+expect render_bad_height 2 "$pgt" render "$ico" -o r.png --height big
+one_line render_bad_height_names_flag "\-\-height"
+expect render_bad_spp 2 "$pgt" render "$ico" -o r.png --spp 17
+one_line render_bad_spp_names_flag "\-\-spp"
+expect render_bad_threads 2 "$pgt" render "$ico" -o r.png --threads 0
+expect render_camera_count 2 "$pgt" render "$ico" -o r.png --camera 1,2,3
+one_line render_camera_count_names_flag "\-\-camera: expected 10 numbers"
+expect render_camera_eye_at 2 "$pgt" render "$ico" -o r.png --camera 1,1,1,1,1,1,0,1,0,40
+one_line render_camera_eye_at_names_flag "\-\-camera .*look-at"
+expect render_camera_up_parallel 2 "$pgt" render "$ico" -o r.png --camera 0,5,0,0,0,0,0,1,0,40
+one_line render_camera_up_parallel_names_flag "\-\-camera .*parallel"
+expect render_camera_fov 2 "$pgt" render "$ico" -o r.png --camera 0,5,5,0,0,0,0,1,0,180
+one_line render_camera_fov_names_flag "\-\-camera .*field of view"
+expect render_camera_and_view 2 "$pgt" render "$ico" -o r.png --camera 0,5,5,0,0,0,0,1,0,40 --view 10,10
+one_line render_camera_and_view_one_line "\-\-camera"
+expect render_bad_view 2 "$pgt" render "$ico" -o r.png --view 0,90
+one_line render_bad_view_names_flag "\-\-view"
+expect render_bad_up 2 "$pgt" render "$ico" -o r.png --up w
+one_line render_bad_up_names_flag "\-\-up"
+expect render_bad_background 2 "$pgt" render "$ico" -o r.png --background 2,0,0
+one_line render_bad_background_names_flag "\-\-background"
+expect render_bad_colour 2 "$pgt" render "$ico@0.5,1.5,0" -o r.png
+one_line render_bad_colour_one_line "colour"
+# a file name may hold '@': split at the last one only when three numbers follow
+cp "$ico" 'at@1.off'
+expect render_at_in_name 0 "$pgt" render 'at@1.off' -o at1.png --width 32 --height 32 --spp 1
+expect render_at_in_name_coloured 0 "$pgt" render 'at@1.off@0.2,0.3,0.9' -o at2.png --width 32 --height 32 --spp 1
+cmp -s at1.png at2.png && bad render_colour_applied "same picture with another colour" || ok render_colour_applied
+# never overwrites an input, also through a link named like a picture; a failed run keeps the old output
+cp "$ico" rin.off && ln -sf rin.off rlink.png
+sum0=$(md5sum <rin.off)
+expect render_output_is_input 2 "$pgt" render rin.off -o rlink.png
+one_line render_output_is_input_one_line "never overwrites an input"
+expect render_output_is_input_off 2 "$pgt" render rin.off -o rin.off
+[ "$(md5sum <rin.off)" = "$sum0" ] && ok render_input_unchanged || bad render_input_unchanged "input modified"
+echo "keep me" >keep.png
+expect render_failed_keeps_output 2 "$pgt" render nothere.off -o keep.png
+grep -q "keep me" keep.png && ok render_existing_output_kept || bad render_existing_output_kept "overwritten"
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 
