@@ -165,8 +165,9 @@ typedef enum pgt_grammar_smoothness {
     PGT_GRAMMAR_C1 = 2
 } pgt_grammar_smoothness;
 
-/* Split part sizes (CGA): absolute (EXPR), relative ('EXPR, a share of what the absolute parts
- * leave), floating (~EXPR, absolute but stretched to fit), and repeat groups ({ ... }*). */
+/* Split part sizes (CGA): absolute (EXPR), relative ('EXPR, that fraction of the scope's length),
+ * floating (~EXPR, absolute but stretched to fit), and repeat groups ({ ... }*); split.h lays
+ * them out. */
 typedef enum pgt_grammar_part_kind {
     PGT_GRAMMAR_PART_ABSOLUTE = 0,
     PGT_GRAMMAR_PART_RELATIVE = 1,
