@@ -145,7 +145,7 @@ static int scene_setup(pgt_ivy_scene *s, const char *mesh, const char *param_lis
                                   &first, s->seeds))
             return -1;
         const float brush = (float)(PGT_IVY_DEFAULT_BRUSH_TEXELS * s->texel_size);
-        if (pgt_ivy_scene_paint(s, "bench", points, first[seeds], first, seeds, brush, threads,
+        if (pgt_ivy_scene_paint(s, "bench", points, first[seeds], first, seeds, brush, threads, 0,
                                 NULL)) {
             free(points), free(first);
             return -1;

@@ -43,7 +43,8 @@ static const char *ivy_usage =
     "usage: pgt ivy MESH_OR_ATLAS --seeds N -o IVY.ply [--grammar FILE] [--param NAME=VALUE ...]\n"
     "               [--seed-file FILE] [--mask FILE] [--paint FILE] [--brush R] [--no-leaves]\n"
     "               [--no-secondary] [--threads N] [--curves CURVES.csv] [--res N] [--seed S]\n"
-    "               [--rotation atlas|jacobian] [--mask-out MASK.png]\n"
+    "               [--rotation atlas|jacobian] [--mask-out MASK.png] [--forbid FILE]\n"
+    "               [--mask-mesh PAINT.ply]\n"
     "\n"
     "Grows ivy over a mesh (paper 000 sections 5-8): the grammar's rules expand per seed on the\n"
     "mesh's geometry-image atlas by marching, the marched polylines become G1 cubic Bezier\n"
@@ -63,7 +64,8 @@ static const char *ivy_usage =
     "  --param N=V     override a grammar param (repeatable; see pgt grammar FILE)\n"
     "  --seed-file F   seeds, one per line: 'texel U V [DU DV]' (texel space, like pgt march\n"
     "                  --from and --dir; no direction: a random one) or 'point X Y Z' (3D,\n"
-    "                  snapped to the nearest inner texel; a random direction); '#' comments\n"
+    "                  snapped to the nearest inner texel; a random direction); '#' comments\n";
+static const char *ivy_usage2 =
     "  --mask FILE     forbidden areas (paper Fig. 10b): a PNG or EXR of the atlas's size\n"
     "                  (PNG: first channel; EXR: 'mask', 'Y', 'R' or the only channel); a texel\n"
     "                  >= 0.5 is forbidden. Applied to every march as its external context and\n"
@@ -72,7 +74,10 @@ static const char *ivy_usage =
     "                  strokes (texels farther are forbidden, combined with --mask). Lines:\n"
     "                  'stroke' starts a stroke, then 'texel U V' or 'point X Y Z' lines list\n"
     "                  its points; points before the first 'stroke' form one; '#' comments\n"
-    "  --brush R       brush radius of --paint in mesh units (default 6 median texel sizes)\n"
+    "  --forbid FILE   painted forbidden areas (paper Fig. 10b): strokes in the --paint format;\n"
+    "                  texels within the brush are forbidden (combined with --mask, --paint)\n"
+    "  --brush R       brush radius of --paint and --forbid in mesh units (default 6 median\n"
+    "                  texel sizes)\n"
     "  --no-leaves     no leaves (Leaves records are dropped before the terminals)\n"
     "  --no-secondary  the main branch alone: sets the grammar param secondaryBranches to 0\n"
     "                  (grammars/ivy.grammar has it; another grammar without it is an error)\n"
@@ -86,6 +91,9 @@ static const char *ivy_usage =
     "  --rotation R    direction at chart jumps: atlas (the paper, default) or jacobian\n"
     "  --mask-out F    write the mask the marches used (1 forbidden = red, painted = white) as\n"
     "                  a PNG of the atlas's size\n"
+    "  --mask-mesh F   write the painted surface as a mesh for figures (paper Fig. 10's red\n"
+    "                  areas): the texels --paint and --forbid brushed, else those --mask\n"
+    "                  forbids, as triangles between texel centres lifted off the surface\n"
     "\n"
     "The same inputs, seeds and flags give the same bytes for any --threads.\n"
     "Exit 0 on success, 2 on a bad flag, value, input file or grammar, or a grammar exceeding\n"
@@ -348,9 +356,69 @@ static int write_mask_png(const char *path, const float *mask, uint32_t w, uint3
     return r == PGT_OK ? 0 : pgt_cli_fail("ivy", "--mask-out %s", err.message);
 }
 
+/* Lift of the --mask-mesh surface along the normal, in median texel sizes: off the base mesh
+ * (no z-fighting in a render) while still hugging it. */
+#define IVY_MASK_MESH_LIFT 0.05
+
+/* --mask-mesh: the marked texels (brushed, else forbidden) as a mesh: two triangles per 2 x 2
+ * block of marked inner texels of one chart, vertices at their P lifted along N. */
+static int write_mask_mesh(const char *path, const pgt_ivy_scene *s) {
+    const pgt_march_atlas *a = &s->atlas;
+    const uint32_t w = a->width, h = a->height;
+    const size_t texels = (size_t)w * h;
+    const float *N[3] = {pgt_image_plane(&s->img, s->ch.nx), pgt_image_plane(&s->img, s->ch.ny),
+                         pgt_image_plane(&s->img, s->ch.nz)};
+    uint32_t *id = malloc(texels * sizeof(uint32_t));
+    float *pos = malloc(texels * 3u * sizeof(float)), *nrm = malloc(texels * 3u * sizeof(float));
+    uint32_t *tri = malloc(texels * 6u * sizeof(uint32_t));
+    int rc = -1;
+    if (!id || !pos || !nrm || !tri) {
+        pgt_cli_fail("ivy", "out of memory");
+        goto done;
+    }
+    uint32_t nv = 0, nt = 0;
+    const float lift = (float)(IVY_MASK_MESH_LIFT * s->texel_size);
+    for (size_t i = 0; i < texels; ++i) {
+        id[i] = PGT_NONE;
+        const int marked =
+            s->brushed ? s->brushed[i] != 0 : s->mask && s->mask[i] >= PGT_MARCH_MASK_THRESHOLD;
+        if (!marked || (a->codes[i] & 3u) != PGT_TEXEL_INNER) continue;
+        const float p[3] = {a->texels[i].x, a->texels[i].y, a->texels[i].z};
+        for (int k = 0; k < 3; ++k) {
+            nrm[3u * nv + (uint32_t)k] = N[k][i];
+            pos[3u * nv + (uint32_t)k] = p[k] + lift * N[k][i];
+        }
+        id[i] = nv++;
+    }
+    for (uint32_t y = 0; y + 1u < h; ++y)
+        for (uint32_t x = 0; x + 1u < w; ++x) {
+            const size_t i = (size_t)y * w + x;
+            const uint32_t q[4] = {id[i], id[i + 1], id[i + w + 1], id[i + w]};
+            if (q[0] == PGT_NONE || q[1] == PGT_NONE || q[2] == PGT_NONE || q[3] == PGT_NONE)
+                continue;
+            if (a->codes[i + 1] != a->codes[i] || a->codes[i + w] != a->codes[i] ||
+                a->codes[i + w + 1] != a->codes[i])
+                continue; /* one chart only: no triangle across a seam */
+            const uint32_t t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+            memcpy(&tri[3u * (size_t)nt], t, sizeof t);
+            nt += 2u;
+        }
+    pgt_error err = {0};
+    const pgt_vertex_mesh soup = {nv, nt, pos, nrm, NULL, tri};
+    if (pgt_mesh_write_ply_soup(&soup, path, &err) != PGT_OK) {
+        pgt_cli_fail("ivy", "--mask-mesh %s", err.message);
+        goto done;
+    }
+    rc = 0;
+done:
+    free(id), free(pos), free(nrm), free(tri);
+    return rc;
+}
+
 int pgt_cmd_ivy(int argc, char **argv) {
     const char *verb = "ivy", *in_path = NULL, *out_path = NULL, *grammar_path = NULL;
     const char *seed_file = NULL, *mask_path = NULL, *paint_path = NULL, *curves_path = NULL;
+    const char *forbid_path = NULL, *mask_mesh = NULL;
     const char *mask_out = NULL;
     const char *params[IVY_MAX_PARAM_FLAGS + 1];
     uint32_t param_count = 0, seeds = 0, threads = pgt_cli_cpu_count(), res = 1024, seed = 1;
@@ -361,6 +429,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(ivy_usage, stdout);
+            fputs(ivy_usage2, stdout);
             return PGT_EXIT_OK;
         } else if (!strcmp(a, "--seeds")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
@@ -382,6 +451,10 @@ int pgt_cmd_ivy(int argc, char **argv) {
             if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--paint")) {
             if (!(paint_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--forbid")) {
+            if (!(forbid_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--mask-mesh")) {
+            if (!(mask_mesh = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--brush")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_float(verb, a, v, 0.0f, 1e30f, &brush))
@@ -427,10 +500,11 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o IVY.ply");
     if (!grammar_path) grammar_path = PGT_IVY_DEFAULT_GRAMMAR;
     {
-        const char *inputs[5] = {in_path, grammar_path, seed_file, mask_path, paint_path};
-        const char *outputs[3] = {out_path, curves_path, mask_out};
-        for (int o = 0; o < 3; ++o)
-            for (int k = 0; k < 5; ++k)
+        const char *inputs[6] = {in_path,   grammar_path, seed_file,
+                                 mask_path, paint_path,   forbid_path};
+        const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
+        for (int o = 0; o < 4; ++o)
+            for (int k = 0; k < 6; ++k)
                 if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
                     return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
                                         outputs[o]);
@@ -444,7 +518,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     pgt_ivy_scene s;
     pgt_ivy_output out;
     memset(&out, 0, sizeof out);
-    ivy_points seedp = {0}, paint = {0};
+    ivy_points seedp = {0}, paint = {0}, forbid = {0};
     pgt_kdtree tree = {0};
     uint32_t *tree_ids = NULL;
     int rc = PGT_EXIT_USAGE;
@@ -454,15 +528,20 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const pgt_march_atlas *a = &s.atlas;
     if (mask_path && pgt_cli_read_mask(verb, "--mask", mask_path, a->width, a->height, &s.mask))
         goto done;
-    uint64_t painted = 0;
+    uint64_t painted = 0, forbidden = 0;
+    if (paint_path || forbid_path)
+        brush = brush > 0.0f ? brush : (float)(PGT_IVY_DEFAULT_BRUSH_TEXELS * s.texel_size);
     if (paint_path) {
-        if (read_points(verb, "--paint", paint_path, 1, &s, &tree, &tree_ids, threads, &paint))
+        if (read_points(verb, "--paint", paint_path, 1, &s, &tree, &tree_ids, threads, &paint) ||
+            pgt_ivy_scene_paint(&s, verb, paint.p3, paint.n, paint.stroke_first, paint.strokes,
+                                brush, threads, 0, &painted))
             goto done;
-        const float r = brush > 0.0f ? brush : (float)(PGT_IVY_DEFAULT_BRUSH_TEXELS * s.texel_size);
-        if (pgt_ivy_scene_paint(&s, verb, paint.p3, paint.n, paint.stroke_first, paint.strokes, r,
-                                threads, &painted))
+    }
+    if (forbid_path) {
+        if (read_points(verb, "--forbid", forbid_path, 1, &s, &tree, &tree_ids, threads, &forbid) ||
+            pgt_ivy_scene_paint(&s, verb, forbid.p3, forbid.n, forbid.stroke_first, forbid.strokes,
+                                brush, threads, 1, &forbidden))
             goto done;
-        brush = r;
     }
     if (seed_file &&
         read_points(verb, "--seed-file", seed_file, 0, &s, &tree, &tree_ids, threads, &seedp))
@@ -535,6 +614,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
         goto done;
     }
     if (curves_path && write_curves(curves_path, &out)) goto done;
+    if (mask_mesh && write_mask_mesh(mask_mesh, &s)) goto done;
     const double ms_write = pgt_cli_now_ms() - t0;
 
     printf("ivy %s: atlas %ux%u (%s, %.0f ms), %u seeds (%s), %u threads\n", in_path, a->width,
@@ -542,6 +622,9 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (paint_path)
         printf("  painted %u strokes, %u points, brush %.4g: %llu texels\n", paint.strokes, paint.n,
                (double)brush, (unsigned long long)painted);
+    if (forbid_path)
+        printf("  forbidden %u strokes, %u points, brush %.4g: %llu texels\n", forbid.strokes,
+               forbid.n, (double)brush, (unsigned long long)forbidden);
     printf("  %u points, %u segments, %u branches; %llu stopped marches, %llu on a candidate "
            "direction\n",
            out.expand.point_count, out.segments, out.expand.branch_count,
@@ -559,6 +642,7 @@ done:
     pgt_ivy_destroy(&out);
     points_free(&seedp);
     points_free(&paint);
+    points_free(&forbid);
     pgt_kdtree_destroy(&tree);
     free(tree_ids);
     pgt_ivy_scene_free(&s);

@@ -122,6 +122,7 @@ void pgt_ivy_scene_free(pgt_ivy_scene *s) {
     pgt_march_atlas_destroy(&s->atlas);
     pgt_image_destroy(&s->img);
     free(s->mask);
+    free(s->brushed);
     free(s->seeds);
     memset(s, 0, sizeof(*s));
 }
@@ -170,11 +171,14 @@ int pgt_ivy_guide_strokes(const pgt_march_atlas *a, const char *verb, uint32_t c
 
 int pgt_ivy_scene_paint(pgt_ivy_scene *s, const char *verb, const float *points,
                         uint32_t point_count, const uint32_t *first, uint32_t strokes, float radius,
-                        uint32_t threads, uint64_t *out_painted) {
+                        uint32_t threads, int forbid, uint64_t *out_painted) {
     pgt_error err = {0};
     const size_t texels = (size_t)s->atlas.width * s->atlas.height;
     if (!s->mask) {
         if (!(s->mask = calloc(texels, sizeof(float)))) return pgt_cli_fail(verb, "out of memory");
+    }
+    if (!s->brushed) {
+        if (!(s->brushed = calloc(texels, 1u))) return pgt_cli_fail(verb, "out of memory");
     }
     float *allowed = malloc(texels * sizeof(float));
     if (!allowed) return pgt_cli_fail(verb, "out of memory");
@@ -182,10 +186,13 @@ int pgt_ivy_scene_paint(pgt_ivy_scene *s, const char *verb, const float *points,
     if (pgt_ivy_paint(allowed, &s->atlas, points, point_count, first, strokes, radius, threads,
                       out_painted, &err) != PGT_OK) {
         free(allowed);
-        return pgt_cli_fail(verb, "--paint: %s", err.message);
+        return pgt_cli_fail(verb, "%s: %s", forbid ? "--forbid" : "--paint", err.message);
     }
-    for (size_t i = 0; i < texels; ++i)
-        if (allowed[i] != 0.0f) s->mask[i] = 1.0f;
+    for (size_t i = 0; i < texels; ++i) {
+        const int brushed = allowed[i] == 0.0f;
+        s->brushed[i] |= (uint8_t)brushed;
+        if (forbid ? brushed : !brushed) s->mask[i] = 1.0f;
+    }
     free(allowed);
     return 0;
 }

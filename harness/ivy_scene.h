@@ -29,7 +29,8 @@ typedef struct pgt_ivy_scene {
     double texel_size; /* median 3D distance of 4-adjacent inner texels of one chart */
     double ms_atlas;   /* building or reading the atlas, and the view */
     pgt_grammar grammar;
-    float *mask; /* width * height, or NULL: the grammar's context.mask and the march mask */
+    float *mask;      /* width * height, or NULL: the grammar's context.mask and the march mask */
+    uint8_t *brushed; /* width * height, or NULL: 1 where a stroke's brush reached (figures) */
     pgt_expand_seed *seeds;
     uint32_t seed_count;
 } pgt_ivy_scene;
@@ -63,12 +64,15 @@ int pgt_ivy_guide_strokes(const pgt_march_atlas *a, const char *verb, uint32_t c
                           uint32_t steps, uint32_t seed, float **points, uint32_t *point_count,
                           uint32_t **first, pgt_expand_seed *starts);
 
-/* Growth only along strokes (paper Fig. 10c): s->mask becomes 1 (forbidden) on every texel the
- * brush of `radius` does not reach, keeping forbidden texels of a mask already there. Prints
- * and returns nonzero on failure; *out_painted gets the painted texels. */
+/* Painting with a brush of `radius` (mesh units) along strokes. forbid = 0: growth only along the
+ * strokes (paper Fig. 10c): s->mask becomes 1 (forbidden) on every texel the brush does not
+ * reach. forbid = 1: the strokes paint forbidden areas (Fig. 10b): s->mask becomes 1 where the
+ * brush reaches. Forbidden texels of a mask already there stay forbidden; s->brushed records the
+ * texels the brush reached. Prints and returns nonzero on failure; *out_painted (may be NULL)
+ * gets the brushed texels. */
 int pgt_ivy_scene_paint(pgt_ivy_scene *s, const char *verb, const float *points,
                         uint32_t point_count, const uint32_t *first, uint32_t strokes, float radius,
-                        uint32_t threads, uint64_t *out_painted);
+                        uint32_t threads, int forbid, uint64_t *out_painted);
 
 /* Writes strokes as a --paint file ('stroke' and 'point X Y Z' lines, %.9g). */
 int pgt_ivy_write_strokes(const char *verb, const char *path, const float *points,

@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=11
+steps=12
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -78,6 +78,45 @@ written+=("$res/table2.csv" "$res/fig11.csv")
 step 11 "figure: time vs seeds and Table 2 -> $figs/ivy_seeds.{png,pdf}"
 "$py" paper_figs/ivy_seeds.py "$res/fig11.csv" "$res/table2.csv" "$figs/ivy_seeds"
 written+=("$figs/ivy_seeds.png" "$figs/ivy_seeds.pdf")
+
+step 12 "figure: the ivy scenes grown (pgt ivy) and ray traced (pgt render) -> $figs/ivy_scenes.{png,pdf}"
+# the scenes pgt bench ivy saved (step 10), grown again with pgt ivy from their saved commands;
+# Fig. 10b: the first 3 strokes of fig10c painted as forbidden areas, 10 random seeds
+side=1000
+if [ ${#quick[@]} -gt 0 ]; then side=400; fi
+meshes="$top/../shared/datasets/meshes"
+ivy_scene() { # NAME MESH VIEW EXTRA_ARGS...: grows $work/ivy/NAME.cmd's scene and renders it
+  local name=$1 mesh=$2 view=$3; shift 3
+  local -a args
+  read -r -a args <"$work/ivy/$name.cmd"
+  "$pgt" ivy "${args[@]:2}" -o "$work/$name.ply" "$@" >/dev/null
+  local extra=()
+  if [ -s "$work/$name.paint.ply" ]; then extra=("$work/$name.paint.ply@0.8,0.1,0.1"); fi
+  "$pgt" render "$meshes/$mesh" "$work/$name.ply@0.25,0.55,0.2" "${extra[@]}" \
+    -o "$figs/ivy_$name.png" --width "$side" --height "$side" --view "$view" >/dev/null 2>&1
+  written+=("$figs/ivy_$name.png")
+}
+ivy_scene fig1a bob_tri.obj 30,20
+ivy_scene fig1b human_neutral.obj 20,10 --mask-mesh "$work/fig1b.paint.ply"
+ivy_scene fig10c spot.obj 210,20 --mask-mesh "$work/fig10c.paint.ply"
+read -r -a args10c <"$work/ivy/fig10c.cmd"
+awk '/^stroke/ { n++ } n <= 3' "$work/ivy/fig10c.strokes" >"$work/ivy/fig10b.strokes" # 3 forbidden areas
+forbid=()
+for ((k = 3; k < ${#args10c[@]}; ++k)); do
+  case "${args10c[k]}" in
+    --seed-file) k=$((k + 1)) ;;
+    --paint) forbid+=(--forbid "$work/ivy/fig10b.strokes"); k=$((k + 1)) ;;
+    *) forbid+=("${args10c[k]}") ;;
+  esac
+done
+printf 'pgt ivy spot.obj %s\n' "${forbid[*]}" >"$work/ivy/fig10b.cmd"
+ivy_scene fig10b spot.obj 210,20 --mask-mesh "$work/fig10b.paint.ply"
+"$py" paper_figs/ivy_scenes.py "$figs/ivy_scenes" \
+  "$figs/ivy_fig1a.png" "Fig. 1a: bob, 25 seeds, recursive branching" \
+  "$figs/ivy_fig1b.png" "Fig. 1b: human, 18 seeds along painted paths" \
+  "$figs/ivy_fig10b.png" "Fig. 10b: spot, 10 seeds, red areas forbidden" \
+  "$figs/ivy_fig10c.png" "Fig. 10c: spot, 10 seeds along painted paths"
+written+=("$figs/ivy_scenes.png" "$figs/ivy_scenes.pdf")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done
