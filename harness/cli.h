@@ -107,9 +107,11 @@ int pgt_cmd_atlas(int argc, char **argv);
 int pgt_cmd_march(int argc, char **argv);
 int pgt_cmd_grammar(int argc, char **argv);
 int pgt_cmd_ivy(int argc, char **argv);
+int pgt_cmd_woven(int argc, char **argv);
 int pgt_cmd_bench_ivy(int argc, char **argv);   /* argv[0] = "bench", argv[1] = "ivy" */
 int pgt_cmd_render(int argc, char **argv);
 int pgt_cmd_bench_atlas(int argc, char **argv); /* argv[0] = "atlas" */
 int pgt_cmd_bench_march(int argc, char **argv); /* argv[0] = "bench", argv[1] = "march" */
+int pgt_cmd_bench_woven(int argc, char **argv); /* argv[0] = "bench", argv[1] = "woven" */
 
 #endif

@@ -19,6 +19,7 @@ static const char *usage =
     "  ivy        grow ivy on a mesh: grammar, marching, G1 Bezier, bark and leaves\n"
     "             (paper 000, sec. 6-8), with masks and painted strokes\n"
     "  render     ray trace meshes into a PNG for figures (Embree)\n"
+    "  woven      the woven-sphere reference model (paper 002, App. A), animated and timed\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
@@ -52,6 +53,7 @@ int main(int argc, char **argv) {
     if (!strcmp(verb, "grammar")) return pgt_cmd_grammar(argc - 1, argv + 1);
     if (!strcmp(verb, "ivy")) return pgt_cmd_ivy(argc - 1, argv + 1);
     if (!strcmp(verb, "render")) return pgt_cmd_render(argc - 1, argv + 1);
+    if (!strcmp(verb, "woven")) return pgt_cmd_woven(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

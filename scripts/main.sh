@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=12
+steps=14
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -117,6 +117,20 @@ ivy_scene fig10b spot.obj 210,20 --mask-mesh "$work/fig10b.paint.ply"
   "$figs/ivy_fig10b.png" "Fig. 10b: spot, 10 seeds, red areas forbidden" \
   "$figs/ivy_fig10c.png" "Fig. 10c: spot, 10 seeds along painted paths"
 written+=("$figs/ivy_scenes.png" "$figs/ivy_scenes.pdf")
+
+step 13 "table: pgt bench woven -> $res/woven.csv (woven sphere, paper 002 Fig. 4.11, ms per frame)"
+woven_quick=()
+if [ ${#quick[@]} -gt 0 ]; then woven_quick=(--quick); fi
+"$pgt" bench woven --out "$res/woven.csv" "${woven_quick[@]}"
+written+=("$res/woven.csv")
+
+step 14 "figure: woven sphere ms per frame, ours vs the paper's -> $figs/woven_bars.{png,pdf}; the 179k sphere rendered -> $figs/woven_sphere.png"
+"$py" paper_figs/woven_bars.py "$res/woven.csv" "$figs/woven_bars"
+written+=("$figs/woven_bars.png" "$figs/woven_bars.pdf")
+"$pgt" woven --res 179k --frames 1 -o "$work/woven.ply" >/dev/null
+"$pgt" render "$work/woven.ply@0.75,0.45,0.2" -o "$figs/woven_sphere.png" --width "$side" --height "$side" \
+  --view 30,25 >/dev/null 2>&1
+written+=("$figs/woven_sphere.png")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done

@@ -244,6 +244,74 @@ expect render_output_is_input_off 2 "$pgt" render rin.off -o rin.off
 echo "keep me" >keep.png
 expect render_failed_keeps_output 2 "$pgt" render nothere.off -o keep.png
 grep -q "keep me" keep.png && ok render_existing_output_kept || bad render_existing_output_kept "overwritten"
+# pgt woven, pgt bench woven (the model is test_woven's)
+expect woven_help 0 "$pgt" woven --help
+for flag in --res --params --frames --threads -o --seed 5k 22k 50k 89k 179k; do
+  grep -q -- "$flag" out.txt && ok "woven_help_documents_$flag" || bad "woven_help_documents_$flag" "missing"
+done
+expect woven_no_model 2 "$pgt" woven
+one_line woven_no_model_one_line "\-\-res NAME or \-\-params"
+expect woven_res_and_params 2 "$pgt" woven --res 5k --params 10,4,2,8,9
+one_line woven_res_and_params_one_line "only one"
+expect woven_bad_res 2 "$pgt" woven --res 7k
+one_line woven_bad_res_one_line "\-\-res: unknown resolution '7k'"
+expect woven_params_k3 2 "$pgt" woven --params 10,3,5,8,25
+one_line woven_params_k3_one_line "\-\-params 10,3,5,8,25: K = 3"
+expect woven_params_zero 2 "$pgt" woven --params 10,4,0,8,25
+one_line woven_params_zero_one_line "\-\-params 10,4,0,8,25: C = 0"
+expect woven_params_negative 2 "$pgt" woven --params 10,4,5,8,-1
+one_line woven_params_negative_one_line "\-\-params: expected a whole number"
+expect woven_params_count 2 "$pgt" woven --params 10,4,5
+one_line woven_params_count_one_line "expected 5 values P,K,C,U,V, got 3"
+expect woven_params_overflow 2 "$pgt" woven --params 10,4,1048576,4096,2
+one_line woven_params_overflow_one_line "C\*U\*V (vertices) = 8589934592 exceeds 2^32 - 1"
+expect woven_bad_frames 2 "$pgt" woven --res 5k --frames 0
+one_line woven_bad_frames_one_line "\-\-frames"
+expect woven_not_ply 2 "$pgt" woven --res 5k -o w.obj
+one_line woven_not_ply_one_line "PLY"
+expect woven_5k 0 "$pgt" woven --res 5k --frames 3 -o w5k.ply
+grep -q "5000 vertices, 8400 triangles" out.txt && grep -q "median .* ms per frame, min" out.txt \
+  && ok woven_prints_counts_and_times || bad woven_prints_counts_and_times "$(cat out.txt)"
+# the PLY: header counts, normals, and exactly the bytes they promise (x y z nx ny nz floats;
+# uchar 3 + 3 uint per face)
+ply_counts() {
+  /usr/bin/python3 -c '
+import sys
+b = open(sys.argv[1], "rb").read()
+end = b.index(b"end_header\n") + len(b"end_header\n")
+h = b[:end].decode().split("\n")
+v = int([l for l in h if l.startswith("element vertex ")][0].split()[2])
+f = int([l for l in h if l.startswith("element face ")][0].split()[2])
+assert "property float nx" in h and "format binary_little_endian 1.0" in h, h
+assert len(b) - end == 24 * v + 13 * f, (len(b) - end, v, f)
+print(v, f)' "$1"
+}
+[ "$(ply_counts w5k.ply)" = "5000 8400" ] && ok woven_ply_counts || bad woven_ply_counts "$(ply_counts w5k.ply 2>&1 | tail -1)"
+expect woven_params_odd 0 "$pgt" woven --params 7,5,3,5,7 --frames 2 -o wodd.ply --seed 9
+[ "$(ply_counts wodd.ply)" = "105 144" ] && ok woven_params_ply_counts || bad woven_params_ply_counts "$(ply_counts wodd.ply 2>&1 | tail -1)"
+expect woven_one_thread 0 "$pgt" woven --res 179k --frames 2 --threads 1 -o w1.ply
+expect woven_two_threads 0 "$pgt" woven --res 179k --frames 2 --threads 2 -o w2.ply
+cmp -s w1.ply w2.ply && ok woven_same_bytes_any_threads || bad woven_same_bytes_any_threads "outputs differ"
+[ "$(ply_counts w1.ply)" = "179000 318978" ] && ok woven_179k_counts || bad woven_179k_counts "$(ply_counts w1.ply 2>&1 | tail -1)"
+expect bench_woven_help 0 "$pgt" bench woven --help
+for flag in --out --frames --repeat --threads --res --seed --quick; do
+  grep -q -- "$flag" out.txt && ok "bench_woven_help_documents_$flag" || bad "bench_woven_help_documents_$flag" "missing"
+done
+expect bench_woven_bad_res 2 "$pgt" bench woven --res 7k
+one_line bench_woven_bad_res_one_line "\-\-res: unknown resolution '7k'"
+expect bench_woven 0 "$pgt" bench woven --res 5k,22k --frames 2 --threads 2 --out res/woven.csv
+grep -q "^# machine: " res/woven.csv && grep -q "^# commit: " res/woven.csv && grep -q "^# date: " res/woven.csv \
+  && ok bench_woven_header || bad bench_woven_header "$(head -5 res/woven.csv)"
+/usr/bin/python3 -c '
+import csv
+rows = list(csv.DictReader(l for l in open("res/woven.csv") if not l.startswith("#")))
+assert [(r["res"], r["threads"]) for r in rows] == [("5k", "1"), ("5k", "2"), ("22k", "1"), ("22k", "2")], rows
+assert rows[0]["vertices"] == "5000" and rows[2]["triangles"] == "36960", rows
+assert rows[3]["paper_baseline_ms"] == "10" and rows[3]["paper_luna_ms"] == "22", rows
+for r in rows:
+    assert None not in r and all(r.values()), r
+    assert abs(float(r["luna_ratio"]) * float(r["median_ms"]) - float(r["paper_luna_ms"])) < 0.01 * float(r["paper_luna_ms"]), r' \
+  && ok bench_woven_rows || bad bench_woven_rows "$(cat res/woven.csv)"
 
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
