@@ -506,7 +506,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         /* jumps per 1000 steps, from an untimed pass over (up to) 1024 walkers */
         uint64_t jumps = 0, counted = 0;
         for (uint32_t i = 0; i < walkers && i < 1024u; ++i) {
-            pgt_march_state ws = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i]};
+            pgt_march_state ws = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i],
+                                  0u,       0.0f,     0.0f,     0u};
             for (uint32_t k = 0; k < steps; ++k) {
                 pgt_march_info info;
                 if (pgt_march_step(&a, NULL, &ws, step, 0.0f, &info) == PGT_MARCH_STOP) break;

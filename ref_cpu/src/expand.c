@@ -24,6 +24,9 @@ typedef struct xwork {
     uint32_t point;    /* current point (seed-local) */
     uint32_t segment;  /* extrusion segment (seed-local end point) or PGT_NONE */
     float dx, dy;      /* current direction */
+    /* the marcher's memory of the last jump (pgt_march_state), carried from step to step */
+    uint32_t from, bounces;
+    float in_dx, in_dy;
     uint32_t argc;
     float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
 } xwork;
@@ -233,7 +236,8 @@ static pgt_result do_marching(xrun *r, const pgt_grammar_item *it, const xwork *
     pgt_march_options mo = job->march;
     mo.condition = cond_eval, mo.condition_ctx = &cond;
     const xpoint *cur = &r->out->points[w->point];
-    const pgt_march_state start = {cur->u, cur->v, w->dx, w->dy, cur->chart};
+    const pgt_march_state start = {cur->u,  cur->v,   w->dx,    w->dy,     cur->chart,
+                                   w->from, w->in_dx, w->in_dy, w->bounces};
     pgt_march_state s = start;
     uint32_t t = 0;
     for (; t <= job->candidates; ++t) {
@@ -260,6 +264,7 @@ static pgt_result do_marching(xrun *r, const pgt_grammar_item *it, const xwork *
     if (res != PGT_OK) return res;
     xwork next = *w;
     next.pos = 0, next.point = q, next.dx = s.dx, next.dy = s.dy;
+    next.from = s.from, next.in_dx = s.in_dx, next.in_dy = s.in_dy, next.bounces = s.bounces;
     next.seq = g->subs[it->first_sub + 1], next.segment = q; /* Extruded, after Top */
     res = push(r, it, &next);
     if (res != PGT_OK) return res;

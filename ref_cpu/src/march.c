@@ -4,7 +4,8 @@
  *   Paper 000, sec. 5 (the marching rule and the four cases of Fig. 3), 5.1 (best indirection
  *   pixel, Fig. 5), 5.2 (rotation of marching directions, angles from the atlas's rot channel).
  *
- * The step is an explicit loop over chart crossings (no recursion); the state is five scalars.
+ * The step is an explicit loop over chart crossings (no recursion); the state is nine scalars
+ * (position, direction, chart, and the no-bounce rule's memory of the last jump).
  * The atlas is read through three texel-indexed arrays, as a GPU kernel would bind three
  * textures: the packed codes (kind and chart; the case tests, the search and the 5.1 search of
  * the one-ring), one 16-byte record of P and code (positions, Jacobians) and one 8-byte jump
@@ -62,6 +63,8 @@ const char *pgt_march_stop_name(pgt_march_stop s) {
         return "too many jumps";
     case PGT_MARCH_STOP_REJECTED:
         return "rejected";
+    case PGT_MARCH_STOP_BOUNCE:
+        return "bounce";
     }
     return "?";
 }
@@ -401,13 +404,30 @@ static inline void score_pointer(const pgt_march_atlas *a, uint32_t t, const flo
     if (score > *best_score) *best = t, *best_score = score;
 }
 
+/* The candidates of 5.1 in the order they are ranked: P0 first, so that it wins ties (P_near =
+ * (nx0, ny0) is in P0's one-ring, so P0 is in P_near's), then the rest of the indirection
+ * texels of the chart in P_near's one-ring in scan order. Returns their count (at most 9). */
+static uint32_t pointer_candidates(const pgt_march_atlas *a, uint32_t chart, uint32_t p0,
+                                   uint32_t nx0, uint32_t ny0, uint32_t cand[9]) {
+    const uint32_t w = a->width, h = a->height;
+    const uint32_t indirection = PGT_MARCH_CODE(PGT_TEXEL_INDIRECTION, chart);
+    uint32_t n = 0; /* the candidates in order, gathered without branches */
+    cand[n] = p0, n += a->codes[p0] == indirection;
+    for (uint32_t j = 0; j < 3; ++j)
+        for (uint32_t i = 0; i < 3; ++i) {
+            const uint32_t nx = nx0 + i - 1u, ny = ny0 + j - 1u; /* unsigned, as above */
+            if ((i == 1 && j == 1) || nx >= w || ny >= h) continue;
+            const uint32_t t = ny * w + nx;
+            cand[n] = t, n += (t != p0) & (a->codes[t] == indirection);
+        }
+    return n;
+}
+
 /* pgt_march_best_pointer with the current texel cur (the one containing (x, y)) and P0's
  * coordinates (p0x, p0y) given. */
 static uint32_t best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, float y,
                              uint32_t cur, uint32_t p0, uint32_t p0x, uint32_t p0y,
                              uint32_t *out_near) {
-    const uint32_t w = a->width, h = a->height;
-    const uint32_t indirection = PGT_MARCH_CODE(PGT_TEXEL_INDIRECTION, chart);
     uint32_t nx0 = 0, ny0 = 0;
     const uint32_t near = nearest_inner(a, chart, x, y, p0x, p0y, &nx0, &ny0);
     if (out_near) *out_near = near;
@@ -418,17 +438,8 @@ static uint32_t best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, 
     for (int k = 0; k < 3; ++k) r[k] = pn[k] - pc[k];
     uint32_t best = p0;
     float best_score = -INFINITY;
-    /* P0 first, so that it wins ties (P_near is in P0's one-ring, so P0 is in P_near's), then
-     * the rest of P_near's one-ring in scan order */
-    uint32_t cand[9], n = 0; /* the candidates in order, gathered without branches */
-    cand[n] = p0, n += a->codes[p0] == indirection;
-    for (uint32_t j = 0; j < 3; ++j)
-        for (uint32_t i = 0; i < 3; ++i) {
-            const uint32_t nx = nx0 + i - 1u, ny = ny0 + j - 1u; /* unsigned, as above */
-            if ((i == 1 && j == 1) || nx >= w || ny >= h) continue;
-            const uint32_t t = ny * w + nx;
-            cand[n] = t, n += (t != p0) & (a->codes[t] == indirection);
-        }
+    uint32_t cand[9];
+    const uint32_t n = pointer_candidates(a, chart, p0, nx0, ny0, cand);
     for (uint32_t k = 0; k < n; ++k) score_pointer(a, cand[k], pc, r, &best, &best_score);
     return best;
 }
@@ -437,6 +448,78 @@ uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float 
                                 uint32_t p0, uint32_t *out_near) {
     const uint32_t w = a->width;
     return best_pointer(a, chart, x, y, texel_at(a, x, y), p0, p0 % w, p0 / w, out_near);
+}
+
+/* ---- 5.2 and the no-bounce rule ---------------------------------------------------------- */
+
+/* 5.2 for a jump whose jump record is jr, the walker heading (dx, dy) with P's Jacobian (sx,
+ * sy) at its texel (has_src: it exists): the direction in the destination chart (*ndx, *ndy,
+ * not normalised), and P's Jacobian (rx, ry) at the referenced texel, which the remaining
+ * length needs too (returns whether it exists). */
+static int jump_direction(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_jump jr,
+                          int has_src, const float sx[3], const float sy[3], float dx, float dy,
+                          float *ndx, float *ndy, float rx[3], float ry[3]) {
+    const uint32_t ref = (uint32_t)jr.v * a->width + jr.u;
+    const int has_ref = texel_jacobian(a, ref, jr.u, jr.v, rx, ry);
+    *ndx = dx, *ndy = dy;
+    if (o && o->no_rotation) return has_ref;
+    if (o && o->rotation == PGT_MARCH_ROTATION_JACOBIAN && has_src && has_ref &&
+        transport_direction(sx, sy, rx, ry, dx, dy, ndx, ndy))
+        return has_ref;
+    const float r = jr.rot; /* the paper's rot; the Jacobian rotation's fallback */
+    if (r != 0.0f) {
+        const float cr = cosf(r), sr = sinf(r);
+        *ndx = cr * dx - sr * dy, *ndy = sr * dx + cr * dy;
+    }
+    return has_ref;
+}
+
+/* The no-bounce rule (march.h): whether a jump to inner texel (u, v) lands within
+ * PGT_MARCH_BOUNCE_TEXELS of the texel the walker's last jump left from (from: 1 + its texel
+ * index, 0 for none), in that texel's chart. */
+static inline int bounces(const pgt_march_atlas *a, uint32_t from, uint32_t u, uint32_t v) {
+    const uint32_t w = a->width, f = from - 1u; /* from = 0 wraps to beyond the image */
+    if (f >= w * a->height) return 0;
+    const uint32_t fx = f % w, fy = f / w;
+    const uint32_t ex = u > fx ? u - fx : fx - u, ey = v > fy ? v - fy : fy - v;
+    return ex <= PGT_MARCH_BOUNCE_TEXELS && ey <= PGT_MARCH_BOUNCE_TEXELS &&
+           a->codes[f] == a->codes[v * w + u];
+}
+
+/* The no-bounce rule's choice when the jump 5.1 chose bounces: 5.1's candidates (P0 and the
+ * chart's indirection texels around P_near), ranked as 5.1 ranks them (the cosine of c_i with
+ * r; where 5.1 has no r, P_near being cur, the cosine of the texel offset from (x, y) to P_i's
+ * centre with d), without those whose jump bounces. MARCH_NONE when every one bounces. */
+static uint32_t unbounced_pointer(const pgt_march_atlas *a, uint32_t chart, float x, float y,
+                                  uint32_t cur, uint32_t p0, uint32_t p0x, uint32_t p0y, float dx,
+                                  float dy, uint32_t from) {
+    const uint32_t w = a->width;
+    uint32_t nx0 = 0, ny0 = 0, cand[9], n = 1;
+    const uint32_t near = nearest_inner(a, chart, x, y, p0x, p0y, &nx0, &ny0);
+    cand[0] = p0;
+    if (near != MARCH_NONE) n = pointer_candidates(a, chart, p0, nx0, ny0, cand);
+    const int has_r = near != MARCH_NONE && near != cur;
+    float pc[3], r[3];
+    if (has_r) {
+        float pn[3];
+        pos3(a, cur, pc);
+        pos3(a, near, pn);
+        for (int k = 0; k < 3; ++k) r[k] = pn[k] - pc[k];
+    }
+    uint32_t best = MARCH_NONE;
+    float best_score = -INFINITY;
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t t = cand[k];
+        if (bounces(a, from, a->jumps[t].u, a->jumps[t].v)) continue;
+        if (has_r) {
+            score_pointer(a, t, pc, r, &best, &best_score);
+            continue;
+        }
+        const float ox = (float)(t % w) + 0.5f - x, oy = (float)(t / w) + 0.5f - y;
+        const float score = (ox * dx + oy * dy) / sqrtf(ox * ox + oy * oy);
+        if (score > best_score) best = t, best_score = score;
+    }
+    return best;
 }
 
 /* ---- the step ------------------------------------------------------------------------------ */
@@ -462,6 +545,7 @@ pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx,
     out->x = x, out->y = y;
     out->dx = dx / len, out->dy = dy / len;
     out->chart = (c >> 2) - 1u;
+    out->from = 0u, out->in_dx = out->in_dy = 0.0f, out->bounces = 0u;
     return PGT_OK;
 }
 
@@ -481,8 +565,8 @@ __attribute__((noinline))
 static pgt_march_event
 step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_state *s,
               float length, float dx, float dy, pgt_march_info *info) {
-    float cx = s->x, cy = s->y, rem = length;
-    uint32_t chart = s->chart, jumps = 0;
+    float cx = s->x, cy = s->y, rem = length, idx = s->in_dx, idy = s->in_dy;
+    uint32_t chart = s->chart, jumps = 0, from = s->from, nb = s->bounces;
     pgt_march_event event = PGT_MARCH_INNER;
     for (;;) {
         const float tx = cx + dx * rem, ty = cy + dy * rem; /* P_dest_hat */
@@ -509,29 +593,27 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
         jumps++;
         /* The walker stands inside an inner texel, so its texel is (int)cx, (int)cy. */
         const uint32_t w = a->width, scx = (uint32_t)cx, scy = (uint32_t)cy, src = scy * w + scx;
+        const int best = !o || !o->no_best_pointer;
         uint32_t pi = p0;
-        if (!o || !o->no_best_pointer) pi = best_pointer(a, chart, cx, cy, src, p0, p0x, p0y, NULL);
-        const pgt_march_jump jr = a->jumps[pi];
-        const uint32_t ref = (uint32_t)jr.v * w + jr.u;
+        if (best) pi = best_pointer(a, chart, cx, cy, src, p0, p0x, p0y, NULL);
         /* The source Jacobian is taken where the walker stands: an inner texel, usually with
          * neighbours on every side, where the finite differences are steadier than at P_near on
          * the chart's rim (measured with the Jacobian rotation: median turn at jumps 2.6 vs
-         * 2.9 degrees on spot). Both Jacobians are taken once and serve the rotation and the
-         * remaining length. */
-        float sx[3], sy[3], rx[3], ry[3];
-        const int has_src = texel_jacobian(a, src, scx, scy, sx, sy),
-                  has_ref = texel_jacobian(a, ref, jr.u, jr.v, rx, ry);
-        float ndx = dx, ndy = dy;
-        if (!o || !o->no_rotation) { /* 5.2 */
-            if (!o || o->rotation != PGT_MARCH_ROTATION_JACOBIAN || !has_src || !has_ref ||
-                !transport_direction(sx, sy, rx, ry, dx, dy, &ndx, &ndy)) {
-                const float r = jr.rot;
-                if (r != 0.0f) {
-                    const float cr = cosf(r), sr = sinf(r);
-                    ndx = cr * dx - sr * dy, ndy = sr * dx + cr * dy;
-                }
-            }
+         * 2.9 degrees on spot). Both Jacobians are taken once and serve the rotation (5.2), the
+         * no-bounce rule and the remaining length. */
+        float sx[3], sy[3], rx[3], ry[3], ndx, ndy;
+        const int has_src = texel_jacobian(a, src, scx, scy, sx, sy);
+        int bounce = bounces(a, from, a->jumps[pi].u, a->jumps[pi].v); /* no bounce (march.h) */
+        if (bounce && best && dx * idx + dy * idy > 0.0f) {
+            const uint32_t alt =
+                unbounced_pointer(a, chart, cx, cy, src, p0, p0x, p0y, dx, dy, from);
+            if (alt != MARCH_NONE) pi = alt, bounce = 0;
         }
+        if (bounce && nb == PGT_MARCH_MAX_BOUNCES) return stop(info, PGT_MARCH_STOP_BOUNCE);
+        nb = bounce ? nb + 1u : 0u;
+        const pgt_march_jump jr = a->jumps[pi];
+        const uint32_t ref = (uint32_t)jr.v * w + jr.u;
+        const int has_ref = jump_direction(a, o, jr, has_src, sx, sy, dx, dy, &ndx, &ndy, rx, ry);
         /* What is left of the step, measured in 3D. The walker set out from pc = pos(P_cur)
          * to cover L3 = rem |J d| (J: P's finite-difference Jacobian at its texel); standing on
          * the referenced texel it has covered |pos(ref) - pc| when pos(ref) lies ahead (a
@@ -581,6 +663,7 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
         }
         const float nl = sqrtf(ndx * ndx + ndy * ndy); /* keep d unit through many jumps */
         dx = ndx / nl, dy = ndy / nl;
+        from = src + 1u, idx = dx, idy = dy; /* the no-bounce rule's memory */
         cx = (float)jr.u + 0.5f, cy = (float)jr.v + 0.5f;
         chart = (a->codes[ref] >> 2) - 1u;
         rem = rem_dst;
@@ -594,6 +677,7 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
             return stop(info, PGT_MARCH_STOP_REJECTED);
     }
     s->x = cx, s->y = cy, s->dx = dx, s->dy = dy, s->chart = chart;
+    s->from = from, s->in_dx = idx, s->in_dy = idy, s->bounces = nb;
     return event;
 }
 
@@ -683,7 +767,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
     const float xmax = (float)a->width - 0.5f, ymax = (float)a->height - 0.5f;
     const int with_position = b->sum != NULL;
     for (uint32_t i = begin; i < end; ++i) {
-        pgt_march_state s = {b->x[i], b->y[i], b->dx[i], b->dy[i], b->chart[i]};
+        pgt_march_state s = {b->x[i], b->y[i], b->dx[i], b->dy[i], b->chart[i], 0u, 0.0f, 0.0f, 0u};
         uint32_t k = 0;
         double sum = 0.0;
         for (; k < steps; ++k) {

@@ -29,7 +29,7 @@
  *    First try: pgt_march_step turning the current direction by `angle` (march.h convention:
  *    from +x towards +y) and stepping `length` texels, the condition evaluated at the
  *    destination (texCoord = the destination's texel-space (x, y); rand draws count). If the
- *    step stops (dead end, no indirection, too many jumps, rejected), the candidate directions
+ *    step stops (for any pgt_march_stop reason, march.h), the candidate directions
  *    are tried in this fixed order: angle + c_1, angle + c_2, ..., c_j = +a_i for odd j and -a_i
  *    for even j, i = ceil(j / 2), a_i = (pi / 2) i / ceil(K / 2), K = options.candidates. So
  *    the closest deviations from the intended direction come first (the ivy keeps its course as
@@ -47,9 +47,9 @@
  *    interpolated like the position (bilinear over the texel centres around it that are inner
  *    texels of its chart, renormalised, then made unit length), texel coordinates and chart of
  *    the walker, parent the current point. Then Top runs from the new point with the walker's
- *    direction (after any rotation at chart jumps) to completion (depth first), and only then
- *    Extruded, from the same point and direction with the segment (parent -> new point) as its
- *    extrusion segment.
+ *    direction (after any rotation at chart jumps) and its memory of its last jump (march.h's
+ *    no-bounce rule) to completion (depth first), and only then Extruded, from the same point,
+ *    direction and memory with the segment (parent -> new point) as its extrusion segment.
  *  - Branch(n) {S1, ..., Sn}: S1, ..., Sn run in order (each to completion), all from the same
  *    point, direction, segment and frame.
  *  - Terminals Bark(radius, smoothness), Leaves(density, size): recorded with their two

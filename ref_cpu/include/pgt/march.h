@@ -42,11 +42,37 @@
  * rot (PGT_MARCH_ROTATION_ATLAS, the paper, default), or, beyond the paper, the destination
  * texel direction with the same 3D motion (PGT_MARCH_ROTATION_JACOBIAN, see below).
  *
+ * No bounce (beyond the paper): a walker remembers the inner texel it stood on when it last
+ * jumped, its direction right after that jump, and how many of its latest jumps in a row were
+ * bounces (pgt_march_state.from, in_dx, in_dy, bounces). A jump bounces when it lands within
+ * PGT_MARCH_BOUNCE_TEXELS of that texel: it sends the walker back where it came from, with no
+ * progress. Pointers to the nearest inner-boundary texel in 3D do that wherever what lies
+ * beyond a boundary is narrower than a texel: charts that meet at a mesh vertex, whose corner
+ * texels lie within a texel of each other there (a pointer from A's corner names B's corner,
+ * and B's outer texels around it all name A's corner, though B lies beside A, not across its
+ * boundary); the tip of a chart in a notch of another; a chart one texel thick, or a slit
+ * inside a chart; the corner of a mesh border. A walker then goes back and forth between the
+ * same few texels for ever: on pizza.obj (4740 charts, 1987 of them single triangles a few
+ * texels wide) such cycles held 46 % of the steps of long marches. Two rules:
+ * 1. While the walker still heads the way it arrived (a positive dot product of d with in_dx,
+ *    in_dy: the rule's angle did not turn it back), 5.1 does not choose a bouncing jump: its
+ *    candidates (P0 and the indirection texels around P_near) are ranked as 5.1 ranks them
+ *    (c_i against r; where 5.1 has no r, P_near being P_cur's texel, the texel offset from the
+ *    walker to P_i against d) and the first that does not bounce is taken.
+ * 2. A bounce that remains (no such candidate, 5.1 off, or the walker turned back on purpose)
+ *    is taken; a walker may take PGT_MARCH_MAX_BOUNCES of them in a row (a jump that does not
+ *    bounce resets the count), the next one stops the march (PGT_MARCH_STOP_BOUNCE): the atlas
+ *    offers no way on there.
+ * Where three charts meet at a corner, a walker that B sends straight back to A is taken back
+ * (rule 2) and, heading out of A again, avoids B and finds the third chart (rule 1): no walker
+ * stops at the cube-sphere's corners. A state without memory (from = 0, e.g. {x, y, dx, dy,
+ * chart}) has no jump to bounce from.
+ *
  * The walker never leaves the image and never stands on anything but an inner texel: a dead-end
  * texel, a search that finds no indirection texel of the current chart, more than
- * PGT_MARCH_MAX_JUMPS jumps in one step, or a destination the condition rejects (external
- * contexts: a mask image or a callback, sampled at the destination) end the march with event
- * STOP and the state unchanged.
+ * PGT_MARCH_MAX_JUMPS jumps in one step, one bounce more than PGT_MARCH_MAX_BOUNCES, or a
+ * destination the condition rejects (external contexts: a mask image or a callback, sampled at the
+ * destination) end the march with event STOP and the state unchanged.
  *
  * Rotation convention (atlas.h: "the angle, counter-clockwise in texel space"; atlas_build.h):
  * a direction (dx, dy) becomes (dx cos a - dy sin a, dx sin a + dy cos a) in texel coordinates,
@@ -74,8 +100,28 @@ extern "C" {
 
 /* Most chart crossings in one step: a step shorter than a chart crosses one, rarely two (a chart
  * corner); 16 leaves room for tiny charts (the pizza atlas has 1987 single-triangle charts, a
- * few texels each) while stopping a walker that a broken pointer pair bounces back and forth. */
+ * few texels each) while stopping a walker that longer cycles of pointers (three charts or more;
+ * two are a bounce, below) send round and round within one step. */
 #define PGT_MARCH_MAX_JUMPS 16u
+
+/* A jump bounces (see "No bounce" above) when it lands within this many texels (Chebyshev, in
+ * both axes) of the texel the walker's last jump left from: a pointer names an inner-boundary
+ * texel, so one that leads straight back lands on the texel the walker left or on one of its 8
+ * neighbours (on pizza, 96.8 % of the jumps of the trapped walkers' cycles did). Measured with
+ * pizza's long marches (tests/test_march.c, the atlas's rot / the Jacobian rotation): 0 (that
+ * texel only) leaves 16 / 20 % of the steps trapped, 1 leaves 0.07 / 0.02 %, 2 leaves 0.22 /
+ * 0.03 % and shortens the marches that end at dead ends (592 steps on average instead of 656). */
+#define PGT_MARCH_BOUNCE_TEXELS 1u
+
+/* Bounces a walker may take in a row (rule 2 of "No bounce"). A few bounces are passing: a
+ * walker grazing a seam, or at a chart corner, may bounce once or twice and go on (the rules
+ * cannot tell in advance); a trapped walker bounces once or twice per step for ever. Measured
+ * (pizza's marches of tests/test_march.c; pgt bench march's 16384 walkers x 1000 steps): with
+ * 2, 365 of pizza's 3000 short marches without 5.1 stop at a bounce, 139 with 8; 16 leaves 0.8 %
+ * of pizza's long marches trapped with the Jacobian rotation (0.02 % with 8): a pair bouncing
+ * within one step reaches PGT_MARCH_MAX_JUMPS first. With 8, 66 of human_neutral's bench
+ * walkers stop at a bounce, of 706 stops (before the rule 677, 34 of them too many jumps). */
+#define PGT_MARCH_MAX_BOUNCES 8u
 
 /* Halvings of the binary search of cases 3/4: the bracket starts at the step length (at most
  * PGT_MARCH_MAX_LENGTH texels, 2^15) and must shrink below one texel to reach the boundary texel
@@ -178,6 +224,13 @@ typedef struct pgt_march_state {
     float x, y;   /* texel space, inside an inner texel of `chart` */
     float dx, dy; /* unit direction in texel space */
     uint32_t chart;
+    /* The no-bounce rule's memory of the last jump: 1 + the texel index (y * width + x) of the
+     * inner texel the walker stood on, 0 for none (pgt_march_start; a state initialised with
+     * the five fields above); the walker's direction right after it (unit, texel space of the
+     * chart it jumped into); how many of its latest jumps in a row bounced. */
+    uint32_t from;
+    float in_dx, in_dy;
+    uint32_t bounces;
 } pgt_march_state;
 
 /* Why a step stopped (pgt_march_info.stop). */
@@ -186,10 +239,11 @@ typedef enum pgt_march_stop {
     PGT_MARCH_STOP_DEAD_END = 1,       /* the indirection texel reached is a dead end */
     PGT_MARCH_STOP_NO_INDIRECTION = 2, /* the search found no boundary texel of the chart */
     PGT_MARCH_STOP_TOO_MANY_JUMPS = 3, /* more than PGT_MARCH_MAX_JUMPS crossings */
-    PGT_MARCH_STOP_REJECTED = 4        /* the mask or the condition rejected the destination */
+    PGT_MARCH_STOP_REJECTED = 4,       /* the mask or the condition rejected the destination */
+    PGT_MARCH_STOP_BOUNCE = 5          /* PGT_MARCH_MAX_BOUNCES bounces in a row (above) */
 } pgt_march_stop;
 
-/* "none", "dead end", "no indirection", "too many jumps", "rejected". */
+/* "none", "dead end", "no indirection", "too many jumps", "rejected", "bounce". */
 const char *pgt_march_stop_name(pgt_march_stop s);
 
 /* Per-step details for tests and the CLI (may be NULL). */
@@ -204,9 +258,10 @@ typedef struct pgt_march_info {
     pgt_march_stop stop;   /* why the step stopped (NONE unless the event is STOP) */
 } pgt_march_info;
 
-/* Starts a walker at texel-space (x, y) with direction (dx, dy) (normalised here). Errors
- * (PGT_ERROR_INVALID_ARGUMENT, naming the values): a non-finite or zero direction, a position
- * outside the image, or a position on a texel that is not inner. */
+/* Starts a walker at texel-space (x, y) with direction (dx, dy) (normalised here), with no
+ * memory of a jump (from = 0). Errors (PGT_ERROR_INVALID_ARGUMENT, naming the values): a
+ * non-finite or zero direction, a position outside the image, or a position on a texel that is
+ * not inner. */
 pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx, float dy,
                            pgt_march_state *out, pgt_error *err);
 
@@ -241,7 +296,9 @@ uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float 
  * `threads` threads (pgt_parallel_for; 0 = 1); every output is the same for any thread count.
  * Per walker (each array may be NULL): out_taken the steps taken (a STOP is not a step),
  * out_sum the sum of the coordinates of every 3D position visited (pgt_march_position after
- * every step, as a grammar placing geometry would; NULL: positions are not fetched). */
+ * every step, as a grammar placing geometry would; NULL: positions are not fetched). A walker
+ * keeps the no-bounce memory over the batch's steps; the arrays do not hold it, so every walker
+ * starts the batch without it. */
 void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float length,
                      uint32_t steps, uint32_t count, float *x, float *y, float *dx, float *dy,
                      uint32_t *chart, uint32_t threads, uint32_t *out_taken, double *out_sum);
