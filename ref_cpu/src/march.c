@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "pgt/parallel.h"
+#include "vec3_internal.h"
 
 #define MARCH_NONE UINT32_MAX
 
@@ -275,16 +276,6 @@ static int texel_jacobian(const pgt_march_atlas *a, uint32_t t, uint32_t x, uint
 static inline void texel_motion(const float ex[3], const float ey[3], float dx, float dy,
                                 float out_v[3]) {
     for (int k = 0; k < 3; ++k) out_v[k] = ex[k] * dx + ey[k] * dy;
-}
-
-static inline void cross3(const float a[3], const float b[3], float out[3]) {
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline float dot3(const float a[3], const float b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static inline float norm3(const float v[3]) {

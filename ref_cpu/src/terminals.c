@@ -11,6 +11,7 @@
 #include "pgt/grammar.h"
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
+#include "vec3_internal.h"
 
 #define TWO_PI 6.283185307179586
 
@@ -38,16 +39,6 @@ typedef struct term_ctx {
 } term_ctx;
 
 /* ---- small vector helpers ------------------------------------------------------------- */
-
-static float dot3(const float a[3], const float b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float a[3], const float b[3], float r[3]) {
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* Normalises v in place; 0 when its length is 0, below the normal floats or not finite. */
 static int normalize3(float v[3]) {

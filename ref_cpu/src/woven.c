@@ -10,6 +10,7 @@
 
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
+#include "vec3_internal.h"
 
 #define TWO_PI 6.283185307179586
 
@@ -254,16 +255,6 @@ static void step_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker
 void pgt_woven_step(pgt_woven *w, uint32_t threads) {
     pgt_parallel_for(w->params.particles, threads, step_range, w);
     w->frame++;
-}
-
-static float dot3(const float a[3], const float b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float a[3], const float b[3], float r[3]) {
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* Normalises v in place; 0 (v unchanged) when its squared length is below FLT_MIN. */
