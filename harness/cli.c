@@ -262,7 +262,7 @@ int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo
     return 0;
 }
 
-static int ends_with_ci(const char *s, const char *suffix) {
+int pgt_cli_ends_with_ci(const char *s, const char *suffix) {
     const size_t n = strlen(s), m = strlen(suffix);
     if (n < m) return 0;
     for (size_t i = 0; i < m; ++i)
@@ -276,7 +276,7 @@ int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint
     *out = NULL;
     uint32_t iw = 0, ih = 0;
     float *m = NULL;
-    if (ends_with_ci(path, ".png")) {
+    if (pgt_cli_ends_with_ci(path, ".png")) {
         uint32_t pc;
         uint8_t *px = NULL;
         if (pgt_png_read(path, &iw, &ih, &pc, &px, &err) != PGT_OK)

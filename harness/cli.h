@@ -86,6 +86,9 @@ int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_
 int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo_excl, float hi,
                   float *out);
 
+/* Nonzero when s ends with suffix, ignoring ASCII case (".PNG" is ".png"). */
+int pgt_cli_ends_with_ci(const char *s, const char *suffix);
+
 /* Reads a mask image of w x h pixels into w * h floats (malloc'd): PNG, the first channel (gray,
  * or red), 0..255 as 0..1; EXR, the channel 'mask', else 'Y', else 'R', else the only one. On
  * failure prints "pgt VERB: FLAG PATH: ..." (a wrong size names both sizes) and returns

@@ -1,7 +1,6 @@
 /* pgt harness: ivy scene setup shared by pgt ivy and pgt bench ivy (see ivy_scene.h). */
 #include "ivy_scene.h"
 
-#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,53 +11,12 @@
 #include "pgt/mesh.h"
 #include "pgt/rng.h"
 
-/* Texel pairs sampled for the median texel size: enough for a stable median (the sampling
- * error of a median of 2^16 values is far below the spread between charts). */
-#define IVY_TEXEL_SIZE_SAMPLES 65536u
-
-static int ends_with_exr(const char *s) {
-    const size_t n = strlen(s);
-    return n >= 4 && s[n - 4] == '.' && tolower((unsigned char)s[n - 3]) == 'e' &&
-           tolower((unsigned char)s[n - 2]) == 'x' && tolower((unsigned char)s[n - 1]) == 'r';
-}
-
-static int cmp_double(const void *a, const void *b) {
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Median 3D distance between horizontally adjacent inner texels of one chart, over a regular
- * sample of the texels. */
-static double median_texel_size(const pgt_march_atlas *a) {
-    const size_t texels = (size_t)a->width * a->height;
-    size_t stride = texels / IVY_TEXEL_SIZE_SAMPLES;
-    if (stride < 1) stride = 1;
-    double *d = malloc((texels / stride + 1u) * sizeof(double));
-    if (!d) return 0.0;
-    size_t n = 0;
-    for (size_t i = 0; i + 1 < texels; i += stride) {
-        const uint32_t c = a->codes[i];
-        if ((c & 3u) != PGT_TEXEL_INNER || (i + 1) % a->width == 0 || a->codes[i + 1] != c)
-            continue;
-        const pgt_march_texel *p = &a->texels[i], *q = &a->texels[i + 1];
-        const double dx = (double)q->x - p->x, dy = (double)q->y - p->y, dz = (double)q->z - p->z;
-        d[n++] = sqrt(dx * dx + dy * dy + dz * dz);
-    }
-    double m = 0.0;
-    if (n) {
-        qsort(d, n, sizeof(double), cmp_double);
-        m = d[n / 2];
-    }
-    free(d);
-    return m;
-}
-
 int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, uint32_t res,
                         uint32_t threads) {
     memset(s, 0, sizeof(*s));
     pgt_error err = {0};
     const double t0 = pgt_cli_now_ms();
-    if (ends_with_exr(path)) {
+    if (pgt_cli_ends_with_ci(path, ".exr")) {
         if (pgt_image_read_exr(&s->img, path, &err) != PGT_OK) goto fail;
     } else {
         pgt_mesh mesh = {0};
@@ -84,7 +42,7 @@ int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, ui
     if (pgt_atlas_channels_find(&s->img, path, &s->ch, &err) != PGT_OK ||
         pgt_march_atlas_create(&s->atlas, &s->img, path, &err) != PGT_OK)
         goto fail;
-    s->texel_size = s->built ? s->stats.texel_size : median_texel_size(&s->atlas);
+    s->texel_size = s->built ? s->stats.texel_size : pgt_atlas_texel_size(&s->img, &s->ch);
     s->ms_atlas = pgt_cli_now_ms() - t0;
     return 0;
 fail:

@@ -26,7 +26,7 @@ typedef struct pgt_ivy_scene {
     pgt_march_atlas atlas; /* the marching view */
     pgt_atlas_stats stats; /* when built from a mesh (built = 1) */
     int built;
-    double texel_size; /* median 3D distance of 4-adjacent inner texels of one chart */
+    double texel_size; /* pgt_atlas_texel_size: the median 3D texel size of the atlas */
     double ms_atlas;   /* building or reading the atlas, and the view */
     pgt_grammar grammar;
     float *mask;      /* width * height, or NULL: the grammar's context.mask and the march mask */
