@@ -18,6 +18,7 @@
 
 #include <stdint.h>
 
+#include <pgt/facade.h>
 #include <pgt/mesh.h>
 #include <pgt/result.h>
 
@@ -29,6 +30,7 @@ extern "C" {
 #define PGT_GEN_STREAM_NOISY_TORUS 0x6E746F72u   /* per vertex: displacement along the normal */
 #define PGT_GEN_STREAM_JAGGED_CUT 0x6A637574u    /* per pair of rim quads: which one is cut */
 #define PGT_GEN_STREAM_JAGGED_HEIGHT 0x6A686774u /* per rim vertex: how far it is raised */
+#define PGT_GEN_STREAM_CITY 0x63697479u          /* per building: 16 draws (pgt_gen_city) */
 
 /* Most subdivision levels of an icosphere: 20 * 4^12 faces is the last that fits the limit. */
 #define PGT_GEN_ICOSPHERE_MAX_LEVEL 12u
@@ -103,6 +105,19 @@ uint32_t pgt_gen_default_find(const char *name);
 
 /* Builds default i into *out; PGT_ERROR_INVALID_ARGUMENT when i >= count. */
 pgt_result pgt_gen_default(uint32_t i, pgt_mesh *out, pgt_error *err);
+
+/* The facade city of paper 003 (issue 6 item 7): n buildings on a square grid of lots
+ * (PGT_GEN_CITY_LOT metres apart, streets between), lot k at row k / side and column k % side,
+ * side = ceil(sqrt(n)). Building k draws pgt_rng_double(seed, PGT_GEN_STREAM_CITY, 16 k + j)
+ * for j = 0 .. 13: footprint width and depth (12 to 26 m, 10 to 24 m), its offset in the lot,
+ * floors (3 to 12), floorHeight (2.8 to 3.6 m), windowWidth (1.8 to 2.8 m), doorWidth (1.2 to
+ * 2.0 m), protrusion and recess (0.2 to 0.5 m each), and its colour (a pastel). The height is
+ * floors * floorHeight. Footprints are rectangles listed counter-clockwise seen from above
+ * (facade normals out). The params named above must exist in g (others keep g's values); g is
+ * borrowed by *out (grammars[0]). */
+#define PGT_GEN_CITY_LOT 30.0
+pgt_result pgt_gen_city(pgt_facade_scene *out, const pgt_grammar *g, uint32_t n, uint32_t seed,
+                        pgt_error *err);
 
 #ifdef __cplusplus
 }

@@ -9,10 +9,15 @@
 
 #include <pgt/mesh_io.h>
 
+#include "facade_scene.h"
 #include "gen.h"
+
+/* The grammar of `pgt_datasets city` when --grammar is not given. */
+#define CITY_DEFAULT_GRAMMAR PGT_SOURCE_DIR "/grammars/facade.grammar"
 
 static const char usage[] =
     "usage: pgt_datasets OUT_DIR [--only NAME] [--format off|ply|obj] [--list]\n"
+    "       pgt_datasets city N SEED -o FILE.scene [--grammar FILE]\n"
     "\n"
     "Writes every default generated dataset (or one) to OUT_DIR/NAME.EXT, creating OUT_DIR\n"
     "(and its parents) when missing, and prints one line per file: name, V, F, path.\n"
@@ -25,6 +30,11 @@ static const char usage[] =
     "  --list          print the dataset names with V and F and write nothing (OUT_DIR is\n"
     "                  then optional)\n"
     "  --help          this text\n"
+    "\n"
+    "city N SEED: the facade city of paper 003 (pgt_gen_city: N buildings, 1 to 4194304, on a\n"
+    "grid of lots, from SEED) as a facade scene file (harness/README.md) at FILE.scene, with\n"
+    "the grammar FILE (default grammars/facade.grammar, written relative to the scene's\n"
+    "folder). pgt facade --scene FILE.scene renders it. (An OUT_DIR called city: ./city.)\n"
     "\n"
     "Exit status: 0 on success, 1 when a dataset cannot be generated or written, 2 on a bad\n"
     "command line.\n";
@@ -82,7 +92,64 @@ static int write_one(const pgt_mesh *mesh, const char *name, const char *dir,
     return rc;
 }
 
+/* pgt_datasets city N SEED -o FILE.scene [--grammar FILE] */
+static int city_main(int argc, char **argv) {
+    const char *out = NULL, *grammar = CITY_DEFAULT_GRAMMAR;
+    const char *num[2] = {NULL, NULL};
+    int nums = 0;
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-o") || !strcmp(a, "--grammar")) {
+            if (i + 1 >= argc) return bad_usage("%s needs a value", a);
+            if (a[1] == 'o')
+                out = argv[++i];
+            else
+                grammar = argv[++i];
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return bad_usage("city: unknown flag '%s'", a);
+        } else if (nums == 2) {
+            return bad_usage("city: unexpected argument '%s' (city N SEED -o FILE.scene)", a);
+        } else {
+            num[nums++] = a;
+        }
+    }
+    if (nums < 2) return bad_usage("%s", "city: expected N and SEED (city N SEED -o FILE.scene)");
+    if (!out) return bad_usage("%s", "city: no output: give -o FILE.scene");
+    unsigned long long v[2];
+    for (int k = 0; k < 2; ++k) {
+        char *end = NULL;
+        errno = 0;
+        v[k] = strtoull(num[k], &end, 10);
+        if (num[k][0] < '0' || num[k][0] > '9' || *end || errno || v[k] > 0xFFFFFFFFull ||
+            (k == 0 && (v[k] < 1 || v[k] > (1u << 22))))
+            return bad_usage(k ? "city: SEED '%s' is not a whole number in [0, 4294967295]"
+                               : "city: N '%s' is not a whole number in [1, 4194304]",
+                             num[k]);
+    }
+    pgt_facade_file f;
+    pgt_error err;
+    pgt_error_clear(&err);
+    if (pgt_facade_file_city(&f, grammar, (uint32_t)v[0], (uint32_t)v[1], &err) != PGT_OK) {
+        fprintf(stderr, "pgt_datasets: city: %s\n", err.message);
+        return 1;
+    }
+    char comment[128];
+    snprintf(comment, sizeof comment, "pgt_datasets city %llu %llu (pgt_gen_city)", v[0], v[1]);
+    int rc = 0;
+    if (pgt_facade_file_write(out, &f.scene, (const char *const *)f.names,
+                              (const char *const *)f.paths, comment, &err) != PGT_OK) {
+        fprintf(stderr, "pgt_datasets: city: %s\n", err.message);
+        rc = 1;
+    } else {
+        printf("city %u buildings %u corners %s\n", f.scene.building_count, f.scene.corner_count,
+               out);
+    }
+    pgt_facade_file_free(&f);
+    return rc;
+}
+
 int main(int argc, char **argv) {
+    if (argc > 1 && !strcmp(argv[1], "city")) return city_main(argc, argv);
     const char *out_dir = NULL, *only = NULL, *format_name = "off";
     int list = 0;
     for (int i = 1; i < argc; ++i) {

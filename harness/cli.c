@@ -331,3 +331,12 @@ int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *
     }
     return 0;
 }
+
+void pgt_cli_print_float(float x) {
+    char buf[32];
+    for (int digits = 6; digits <= 9; ++digits) {
+        snprintf(buf, sizeof buf, "%.*g", digits, (double)x);
+        if (strtof(buf, NULL) == x) break;
+    }
+    fputs(buf, stdout);
+}

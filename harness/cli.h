@@ -89,6 +89,10 @@ int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo
 /* Nonzero when s ends with suffix, ignoring ASCII case (".PNG" is ".png"). */
 int pgt_cli_ends_with_ci(const char *s, const char *suffix);
 
+/* Prints x to stdout in the shortest %g form that reads back as the same float (for printed
+ * --camera values a user can paste back). */
+void pgt_cli_print_float(float x);
+
 /* Reads a mask image of w x h pixels into w * h floats (malloc'd): PNG, the first channel (gray,
  * or red), 0..255 as 0..1; EXR, the channel 'mask', else 'Y', else 'R', else the only one. On
  * failure prints "pgt VERB: FLAG PATH: ..." (a wrong size names both sizes) and returns
@@ -111,10 +115,12 @@ int pgt_cmd_march(int argc, char **argv);
 int pgt_cmd_grammar(int argc, char **argv);
 int pgt_cmd_ivy(int argc, char **argv);
 int pgt_cmd_woven(int argc, char **argv);
-int pgt_cmd_bench_ivy(int argc, char **argv);   /* argv[0] = "bench", argv[1] = "ivy" */
+int pgt_cmd_bench_ivy(int argc, char **argv); /* argv[0] = "bench", argv[1] = "ivy" */
 int pgt_cmd_render(int argc, char **argv);
 int pgt_cmd_bench_atlas(int argc, char **argv); /* argv[0] = "atlas" */
 int pgt_cmd_bench_march(int argc, char **argv); /* argv[0] = "bench", argv[1] = "march" */
 int pgt_cmd_bench_woven(int argc, char **argv); /* argv[0] = "bench", argv[1] = "woven" */
+int pgt_cmd_facade(int argc, char **argv);
+int pgt_cmd_bench_facade(int argc, char **argv); /* argv[0] = "bench", argv[1] = "facade" */
 
 #endif

@@ -26,6 +26,8 @@ static const char *bench_usage =
     "       pgt bench march ...    (marching steps per second: pgt bench march --help)\n"
     "       pgt bench ivy ...      (Table 2 and Fig. 11 of paper 000: pgt bench ivy --help)\n"
     "       pgt bench woven ...    (woven sphere, Fig. 4.11 of paper 002: pgt bench woven --help)\n"
+    "       pgt bench facade ...   (procedural facades vs Embree, paper 003: pgt bench facade "
+    "--help)\n"
     "       pgt bench subdiv [--out FILE] [--repeat R] [--iters LIST] [--threads LIST]\n"
     "                        [--meshes LIST] [--shared DIR] [--no-oracles] [--quick]\n"
     "                        [--backends LIST] [--device N]\n"
@@ -325,10 +327,11 @@ int pgt_cmd_bench(int argc, char **argv) {
     if (!strcmp(argv[1], "march")) return pgt_cmd_bench_march(argc, argv);
     if (!strcmp(argv[1], "ivy")) return pgt_cmd_bench_ivy(argc, argv);
     if (!strcmp(argv[1], "woven")) return pgt_cmd_bench_woven(argc, argv);
+    if (!strcmp(argv[1], "facade")) return pgt_cmd_bench_facade(argc, argv);
     if (strcmp(argv[1], "subdiv") != 0)
-        return pgt_cli_fail("bench",
-                            "unknown benchmark '%s' (known: subdiv, atlas, march, ivy, woven)",
-                            argv[1]);
+        return pgt_cli_fail(
+            "bench", "unknown benchmark '%s' (known: subdiv, atlas, march, ivy, woven, facade)",
+            argv[1]);
     /* The benchmark allocator policy, the same in the oracle programs (oracle_common.hpp): freed
      * memory stays in the heap, so repeated runs time the algorithm rather than the kernel's
      * first-touch page faults on fresh mmapped blocks (about 45 % of a 2.7M-face run here). */

@@ -71,16 +71,6 @@ static int parse_floats(const char *text, float *out, int n) {
     return *p == '\0' ? 0 : -1;
 }
 
-/* Shortest %g form that reads back as the same float, for the printed --camera value. */
-static void print_float(float x) {
-    char buf[32];
-    for (int digits = 6; digits <= 9; ++digits) {
-        snprintf(buf, sizeof buf, "%.*g", digits, (double)x);
-        if (strtof(buf, NULL) == x) break;
-    }
-    fputs(buf, stdout);
-}
-
 typedef struct mesh_arg {
     char *path; /* the file part of the argument (malloc'd) */
     float rgb[3];
@@ -272,7 +262,7 @@ int pgt_cmd_render(int argc, char **argv) {
     for (int g = 0; g < 4; ++g)
         for (int k = 0; k < (g < 3 ? 3 : 1); ++k) {
             if (g || k) putchar(',');
-            print_float(cv[g][k]);
+            pgt_cli_print_float(cv[g][k]);
         }
     putchar('\n');
     fflush(stdout);

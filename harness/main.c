@@ -20,6 +20,8 @@ static const char *usage =
     "             (paper 000, sec. 6-8), with masks and painted strokes\n"
     "  render     ray trace meshes into a PNG for figures (Embree)\n"
     "  woven      the woven-sphere reference model (paper 002, App. A), animated and timed\n"
+    "  facade     per-pixel procedural facades of a city (paper 003), with the explicit twin\n"
+    "             and the Embree cross-check\n"
     "\n"
     "global flags:\n"
     "  --help, -h     this text\n"
@@ -54,6 +56,7 @@ int main(int argc, char **argv) {
     if (!strcmp(verb, "ivy")) return pgt_cmd_ivy(argc - 1, argv + 1);
     if (!strcmp(verb, "render")) return pgt_cmd_render(argc - 1, argv + 1);
     if (!strcmp(verb, "woven")) return pgt_cmd_woven(argc - 1, argv + 1);
+    if (!strcmp(verb, "facade")) return pgt_cmd_facade(argc - 1, argv + 1);
     fprintf(stderr, "pgt: unknown verb '%s' (see pgt --help)\n", verb);
     return PGT_EXIT_USAGE;
 }

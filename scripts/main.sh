@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=14
+steps=15
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -131,6 +131,12 @@ written+=("$figs/woven_bars.png" "$figs/woven_bars.pdf")
 "$pgt" render "$work/woven.ply@0.75,0.45,0.2" -o "$figs/woven_sphere.png" --width "$side" --height "$side" \
   --view 30,25 >/dev/null 2>&1
 written+=("$figs/woven_sphere.png")
+
+step 15 "table: pgt bench facade -> $res/facade.csv (procedural facades vs Embree on the explicit city, paper 003 sec. 9)"
+facade_quick=()
+if [ ${#quick[@]} -gt 0 ]; then facade_quick=(--quick); fi
+"$pgt" bench facade --out "$res/facade.csv" "${facade_quick[@]}"
+written+=("$res/facade.csv")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done

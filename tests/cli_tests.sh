@@ -313,6 +313,122 @@ for r in rows:
     assert abs(float(r["luna_ratio"]) * float(r["median_ms"]) - float(r["paper_luna_ms"])) < 0.01 * float(r["paper_luna_ms"]), r' \
   && ok bench_woven_rows || bad bench_woven_rows "$(cat res/woven.csv)"
 
+# pgt facade, pgt bench facade (the algorithms are test_facade, the Embree check test_facade_embree)
+expect facade_help 0 "$pgt" facade --help
+for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene; do
+  grep -q -- "$flag" out.txt && ok "facade_help_documents_$flag" || bad "facade_help_documents_$flag" "missing"
+done
+grep -q "facade" <("$pgt" --help) && ok help_lists_facade || bad help_lists_facade "no facade in pgt --help"
+expect facade_no_output 2 "$pgt" facade --city 4
+one_line facade_no_output_one_line "no output: give -o FRAME.exr"
+expect facade_city_zero 2 "$pgt" facade --city 0 -o f.exr
+one_line facade_city_zero_one_line "\-\-city: expected a whole number"
+expect facade_no_input 2 "$pgt" facade -o f.exr
+one_line facade_no_input_one_line "exactly one of \-\-city N and \-\-scene FILE"
+expect facade_not_exr 2 "$pgt" facade --city 4 -o f.png
+one_line facade_not_exr_one_line "\-o f.png"
+expect facade_camera_count 2 "$pgt" facade --city 4 -o f.exr --camera 1,2,3
+one_line facade_camera_count_one_line "\-\-camera: expected 10 finite numbers"
+expect facade_camera_eye_at 2 "$pgt" facade --city 4 -o f.exr --camera 1,1,1,1,1,1,0,1,0,40
+one_line facade_camera_eye_at_one_line "\-\-camera 1,1,1,1,1,1,0,1,0,40: "
+expect facade_camera_fov 2 "$pgt" facade --city 4 -o f.exr --camera 0,5,5,0,0,0,0,1,0,180
+one_line facade_camera_fov_one_line "\-\-camera 0,5,5,0,0,0,0,1,0,180: "
+expect facade_camera_up 2 "$pgt" facade --city 4 -o f.exr --camera 0,5,0,0,0,0,0,1,0,40
+one_line facade_camera_up_one_line "\-\-camera 0,5,0,0,0,0,0,1,0,40: "
+expect facade_bad_width 2 "$pgt" facade --city 4 -o f.exr --width 0
+one_line facade_bad_width_one_line "\-\-width"
+expect facade_city 0 "$pgt" facade --city 4 -o f.exr --png f.png --width 96 --height 64 --threads 2 \
+  --explicit f.ply --save-scene f.scene
+grep -q "^scene: 4 buildings, 16 facades" out.txt && grep -q "nodes developed per ray" out.txt \
+  && grep -q "Mrays/s" out.txt && grep -q "^memory: procedural [0-9]* bytes" out.txt \
+  && grep -q "^explicit: [0-9]* triangles" out.txt && ok facade_city_prints || bad facade_city_prints "$(cat out.txt)"
+# the EXR's channel list (the header is uncompressed: attribute 'channels', type 'chlist')
+/usr/bin/python3 -c '
+import sys
+b = open("f.exr", "rb").read()
+assert b[:4] == b"\x76\x2f\x31\x01", b[:4]
+i = b.index(b"channels\0chlist\0") + len(b"channels\0chlist\0") + 4
+names = []
+while b[i] != 0:
+    j = b.index(b"\0", i); names.append(b[i:j].decode()); i = j + 1 + 16
+want = {"R", "G", "B", "depth", "terminal", "N.x", "N.y", "N.z", "facade", "developed"}
+sys.exit(0 if want <= set(names) else "channels: %s" % names)' && ok facade_exr_channels || bad facade_exr_channels "$(head -c 300 f.exr | tr -c "[:print:]" .)"
+/usr/bin/python3 -c 'import struct,sys; d=open("f.png","rb").read(24)
+sys.exit(0 if d[:8]==b"\x89PNG\r\n\x1a\n" and struct.unpack(">II",d[16:24])==(96,64) else 1)' \
+  && ok facade_png_size || bad facade_png_size "$(head -c 24 f.png | od -c | head -2)"
+/usr/bin/python3 -c '
+import sys
+b = open("f.ply", "rb").read()
+end = b.index(b"end_header\n") + len(b"end_header\n")
+h = b[:end].decode().split("\n")
+v = int([l for l in h if l.startswith("element vertex ")][0].split()[2])
+f = int([l for l in h if l.startswith("element face ")][0].split()[2])
+for p in ("facade", "node", "kind", "surface"): assert "property uint " + p in h, h
+assert "format binary_little_endian 1.0" in h and f > 0
+assert len(b) - end == 12 * v + 29 * f, (len(b) - end, v, f)' && ok facade_ply_layout || bad facade_ply_layout "$(head -c 400 f.ply)"
+cam=$(sed -n 's/^camera: --camera //p' out.txt)
+expect facade_scene_file 0 "$pgt" facade --scene f.scene -o f2.exr --width 96 --height 64 --threads 1 --camera "$cam"
+cmp -s f.exr f2.exr && ok facade_scene_file_same_frame || bad facade_scene_file_same_frame "f.exr and f2.exr differ"
+grep -q "^scene: 4 buildings, 16 facades" out.txt && ok facade_scene_file_counts || bad facade_scene_file_counts "$(cat out.txt)"
+expect facade_embree_check 0 "$pgt" facade --city 4 -o f3.exr --width 96 --height 64 --embree-check
+grep -q "^check: agreement .* -> PASS" out.txt && grep -q "^embree: BVH build" out.txt && grep -q "Embree / ours" out.txt \
+  && ok facade_embree_check_prints || bad facade_embree_check_prints "$(cat out.txt)"
+expect facade_overwrite_scene 2 "$pgt" facade --scene f.scene -o f.exr --save-scene f.scene
+one_line facade_overwrite_scene_one_line "never overwrites an input"
+# malformed scene files: each names FILE:LINE, exit 2
+g="$src/grammars/facade.grammar"
+scene_case() { # NAME PATTERN LINES...: the scene of LINES fails with FILE:PATTERN
+  local name=$1 pat=$2; shift 2
+  printf '%s\n' "$@" >"$name.scene"
+  expect "facade_scene_$name" 2 "$pgt" facade --scene "$name.scene" -o x.exr
+  one_line "facade_scene_${name}_names_line" "$name.scene:$pat"
+}
+B=": 0 0 0 10 10 10 10 0"
+scene_case unknown_statement "2: unknown statement 'house'" "grammar g $g" "house g 0 10 1 FFFFFF $B"
+scene_case undeclared "1: grammar 'g' is not declared" "building g 0 10 1 FFFFFF $B"
+scene_case grammar_args "1: expected 'grammar NAME PATH'" "grammar g"
+scene_case grammar_missing "1: grammar nothere.grammar: " "grammar g nothere.grammar"
+scene_case grammar_twice "2: grammar 'g' is already declared" "grammar g $g" "grammar g $g"
+scene_case short "2: expected 'building" "grammar g $g" "building g 0 10"
+scene_case bad_base "2: BASE 'x' is not a finite number" "grammar g $g" "building g x 10 1 FFFFFF $B"
+scene_case bad_height "2: HEIGHT '-3'" "grammar g $g" "building g 0 -3 1 FFFFFF $B"
+scene_case bad_seed "2: SEED '1.5'" "grammar g $g" "building g 0 10 1.5 FFFFFF $B"
+scene_case bad_colour "2: colour 'FFFFF'" "grammar g $g" "building g 0 10 1 FFFFF $B"
+scene_case unknown_param "2: grammar 'g' has no param 'nope'" "grammar g $g" "building g 0 10 1 FFFFFF nope=3 $B"
+scene_case param_twice "2: param 'recess' given twice" "grammar g $g" "building g 0 10 1 FFFFFF recess=0.1 recess=0.2 $B"
+scene_case param_value "2: recess=abc: not a finite number" "grammar g $g" "building g 0 10 1 FFFFFF recess=abc $B"
+scene_case no_colon "2: '0' is not PARAM=VALUE (or the ':' before the footprint)" "grammar g $g" "building g 0 10 1 FFFFFF 0 0 0 10 10 10"
+scene_case odd_footprint "2: the footprint needs X Z pairs" "grammar g $g" "building g 0 10 1 FFFFFF : 0 0 0 10 10"
+scene_case two_corners "2: the footprint needs X Z pairs" "grammar g $g" "building g 0 10 1 FFFFFF : 0 0 0 10"
+scene_case bad_corner "3: footprint value 3 'y'" "grammar g $g" "# comment" "building g 0 10 1 FFFFFF : 0 0 y 10 10 10"
+scene_case wrong_order "2" "grammar g $g" "building g 0 10 1 FFFFFF : 0 0 10 0 10 10 0 10"
+scene_case no_building "" "grammar g $g" "# nothing else"
+printf 'param a = 1\nA --> Wall()\n' >novol.grammar
+scene_case not_facade_grammar "1: grammar novol.grammar has no param 'protrusion'" "grammar g novol.grammar"
+# pgt_datasets city writes a scene file pgt facade reads
+expect datasets_city 0 "$gen" city 3 5 -o gen.scene
+[ "$(grep -c '^building ' gen.scene)" = 3 ] && grep -q "^grammar facade .*facade.grammar$" gen.scene \
+  && ok datasets_city_scene || bad datasets_city_scene "$(head -3 gen.scene)"
+expect datasets_city_renders 0 "$pgt" facade --scene gen.scene -o gen.exr --width 32 --height 32
+expect datasets_city_zero 2 "$gen" city 0 5 -o gen0.scene
+expect bench_facade_help 0 "$pgt" bench facade --help
+for flag in --out --buildings --res --threads --frames --grammar --seed --quick; do
+  grep -q -- "$flag" out.txt && ok "bench_facade_help_documents_$flag" || bad "bench_facade_help_documents_$flag" "missing"
+done
+expect bench_facade_bad_res 2 "$pgt" bench facade --res 512
+one_line bench_facade_bad_res_one_line "\-\-res"
+expect bench_facade 0 "$pgt" bench facade --buildings 2,4 --res 64x48 --frames 1 --out res/facade.csv
+grep -q "^# machine: " res/facade.csv && grep -q "^# commit: " res/facade.csv && ok bench_facade_header || bad bench_facade_header "$(head -5 res/facade.csv)"
+/usr/bin/python3 -c '
+import csv
+rows = list(csv.DictReader(l for l in open("res/facade.csv") if not l.startswith("#")))
+assert [(r["source"], r["facades"], r["width"]) for r in rows] == [("paper", "10000", "1280"), ("ours", "8", "64"), ("ours", "16", "64")], rows
+assert rows[0]["ms"] == "143" and rows[0]["procedural_bytes"] == "650000", rows[0]
+for r in rows[1:]:
+    assert None not in r and all(r.values()), r
+    assert float(r["agreement_pct"]) >= 99.0 and float(r["memory_ratio"]) > 1, r' \
+  && ok bench_facade_rows || bad bench_facade_rows "$(cat res/facade.csv)"
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 

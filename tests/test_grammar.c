@@ -478,7 +478,7 @@ static float test_context_fn(void *ctx, uint32_t context_id, float u, float v) {
 
 static void test_rand(void) {
     uint64_t counter = 7;
-    pgt_grammar_env env = {42, 3, &counter, 0, 0, NULL, NULL};
+    pgt_grammar_env env = {42, 3, &counter, 0, 0, NULL, NULL, NULL};
     pgt_error err = {0};
     pgt_result code;
     /* in range, and exactly a + (b - a) * pgt_rng_float(seed, stream, counter) */
@@ -513,7 +513,7 @@ static void test_rand(void) {
 
 static void test_context(void) {
     float seen[3] = {-1, -1, -1};
-    pgt_grammar_env env = {1, 0, NULL, 0.125f, 0.875f, test_context_fn, seen};
+    pgt_grammar_env env = {1, 0, NULL, 0.125f, 0.875f, test_context_fn, seen, NULL};
     pgt_error err = {0};
     pgt_result code;
     float v = eval_expr("context.mask(texCoord) < 0.5", NULL, &env, &code, &err);
@@ -884,7 +884,7 @@ static void fuzz_file(const char *path, uint32_t seed, uint32_t cases_count) {
             free(d);
             float args[PGT_GRAMMAR_MAX_RULE_PARAMS] = {0}, seen[3], v;
             uint64_t counter = 0;
-            pgt_grammar_env env = {seed, c, &counter, 0.5f, 0.5f, test_context_fn, seen};
+            pgt_grammar_env env = {seed, c, &counter, 0.5f, 0.5f, test_context_fn, seen, NULL};
             for (uint32_t e = 0; e < g.expr_count; ++e)
                 pgt_grammar_eval(&g, e, args, PGT_GRAMMAR_MAX_RULE_PARAMS, &env, &v, &err);
         }

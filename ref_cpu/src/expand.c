@@ -273,6 +273,12 @@ static pgt_result do_marching(xrun *r, const pgt_grammar_item *it, const xwork *
 }
 
 static pgt_result do_terminal(xrun *r, const pgt_grammar_item *it, const xwork *w) {
+    if (it->target != PGT_GRAMMAR_TERMINAL_BARK && it->target != PGT_GRAMMAR_TERMINAL_LEAVES)
+        return pgt_error_set(&r->out->err, PGT_ERROR_UNSUPPORTED,
+                             "%s:%u:%u: seed %u (id %u): %s is a facade terminal, the on-mesh "
+                             "expander grows Bark and Leaves only",
+                             file_of(r->g), it->line, it->col, r->index, r->id,
+                             pgt_grammar_terminal_name(it->target));
     float v[2] = {0.0f, 0.0f};
     for (uint32_t k = 0; k < it->arg_count && k < 2; ++k) {
         const pgt_result res = eval(r, r->g->args[it->first_arg + k], w, &v[k]);

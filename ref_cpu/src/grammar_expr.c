@@ -39,7 +39,8 @@ const char *pgt_grammar_op_name(uint32_t op) {
 }
 
 const char *pgt_grammar_terminal_name(uint32_t terminal) {
-    static const char *const names[PGT_GRAMMAR_TERMINAL_COUNT] = {"Bark", "Leaves"};
+    static const char *const names[PGT_GRAMMAR_TERMINAL_COUNT] = {
+        "Bark", "Leaves", "Wall", "Window", "Door", "Ledge", "Balcony"};
     return terminal < PGT_GRAMMAR_TERMINAL_COUNT ? names[terminal] : "?";
 }
 
@@ -66,6 +67,7 @@ int pgt_grammar_op_effect(uint32_t op) {
     default:
         break;
     }
+    if (op >= PGT_GRAMMAR_OP_ADD && op <= PGT_GRAMMAR_OP_OR) return -1; /* binary operators */
     for (uint32_t k = 0; k < pgt_grammar_fn_count; ++k)
         if (pgt_grammar_fns[k].op == op) return 1 - (int)pgt_grammar_fns[k].arity;
     return -1; /* the binary operators */
@@ -153,6 +155,7 @@ pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *arg
     assert(e->max_stack <= PGT_GRAMMAR_VM_STACK);
     float stack[PGT_GRAMMAR_VM_STACK];
     uint32_t sp = 0;
+    const float *params = env && env->params ? env->params : g->param_values;
     for (uint32_t k = 0; k < e->code_count; ++k) {
         const uint32_t ins = g->code[e->first_code + k];
         const uint32_t op = ins & PGT_GRAMMAR_OP_MASK, arg = ins >> PGT_GRAMMAR_OP_BITS;
@@ -163,7 +166,7 @@ pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *arg
             break;
         case PGT_GRAMMAR_OP_PARAM:
             assert(arg < g->param_count);
-            stack[sp++] = g->param_values[arg];
+            stack[sp++] = params[arg];
             break;
         case PGT_GRAMMAR_OP_ARG:
             if (arg >= arg_count || !args) {

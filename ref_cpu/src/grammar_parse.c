@@ -74,6 +74,11 @@ static const struct {
 } terminals[] = {
     {"Bark", PGT_GRAMMAR_TERMINAL_BARK, 2, 1},
     {"Leaves", PGT_GRAMMAR_TERMINAL_LEAVES, 2, PGT_NONE},
+    {"Wall", PGT_GRAMMAR_TERMINAL_WALL, 0, PGT_NONE},
+    {"Window", PGT_GRAMMAR_TERMINAL_WINDOW, 6, PGT_NONE},
+    {"Door", PGT_GRAMMAR_TERMINAL_DOOR, 4, PGT_NONE},
+    {"Ledge", PGT_GRAMMAR_TERMINAL_LEDGE, 1, PGT_NONE},
+    {"Balcony", PGT_GRAMMAR_TERMINAL_BALCONY, 3, PGT_NONE},
 };
 
 /* Words that are not rule, param or parameter names. */

@@ -5,12 +5,12 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "pgt/bezier.h"
 #include "pgt/grammar.h"
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
+#include "time_internal.h"
 
 #define TWO_PI 6.283185307179586
 
@@ -247,12 +247,6 @@ done:
 
 /* ---- the pipeline ---- */
 
-static double now_ms(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
 void pgt_ivy_destroy(pgt_ivy_output *out) {
     if (!out) return;
     pgt_expand_destroy(&out->expand);
@@ -278,13 +272,13 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     const uint32_t threads = o->threads ? o->threads : 1u;
     pgt_expand_options eo = o->expand;
     eo.threads = threads;
-    double t0 = now_ms();
+    double t0 = pgt_now_ms();
     pgt_result r = pgt_expand(&out->expand, in, &eo, err);
     if (r != PGT_OK) {
         pgt_terminals_destroy(&mesh);
         return r;
     }
-    double t1 = now_ms();
+    double t1 = pgt_now_ms();
     out->ms_expand = t1 - t0;
 
     const pgt_expand_output *ex = &out->expand;
@@ -332,7 +326,7 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
         pgt_ivy_destroy(out);
         return r;
     }
-    double t2 = now_ms();
+    double t2 = pgt_now_ms();
     out->ms_bezier = t2 - t1;
 
     pgt_terminals_input ti;
@@ -383,7 +377,7 @@ records_done:
         pgt_ivy_destroy(out);
         return r;
     }
-    out->ms_terminals = now_ms() - t2;
+    out->ms_terminals = pgt_now_ms() - t2;
     out->polygons = out->mesh.bark_quads + out->mesh.leaf_count;
     return PGT_OK;
 }

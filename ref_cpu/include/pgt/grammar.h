@@ -155,7 +155,14 @@ typedef enum pgt_grammar_item_kind {
 typedef enum pgt_grammar_terminal {
     PGT_GRAMMAR_TERMINAL_BARK = 0,   /* Bark(radius, smoothness) */
     PGT_GRAMMAR_TERMINAL_LEAVES = 1, /* Leaves(density, size) */
-    PGT_GRAMMAR_TERMINAL_COUNT = 2
+    /* Facade terminals (paper 003 sec. 6.2.1; facade.h gives their geometry). */
+    PGT_GRAMMAR_TERMINAL_WALL = 2,    /* Wall() */
+    PGT_GRAMMAR_TERMINAL_WINDOW = 3,  /* Window(margin, frame, frameDepth, recess, sillHeight,
+                                         sillDepth) */
+    PGT_GRAMMAR_TERMINAL_DOOR = 4,    /* Door(margin, frame, frameDepth, recess) */
+    PGT_GRAMMAR_TERMINAL_LEDGE = 5,   /* Ledge(depth) */
+    PGT_GRAMMAR_TERMINAL_BALCONY = 6, /* Balcony(depth, slab, railing) */
+    PGT_GRAMMAR_TERMINAL_COUNT = 7
 } pgt_grammar_terminal;
 
 /* Bark's smoothness along the trajectory (paper 000 sec. 6), the value of its second argument. */
@@ -290,6 +297,8 @@ typedef struct pgt_grammar_env {
                           current position elsewhere (the expander decides) */
     pgt_grammar_context_fn context; /* NULL only for expressions without context */
     void *context_data;
+    const float *params; /* param values to read instead of the grammar's param_values (one
+                            vector per building in a facade scene), or NULL */
 } pgt_grammar_env;
 
 /* Evaluates expression expr with the enclosing rule's argument values args[0 .. arg_count) on

@@ -1,0 +1,471 @@
+/* pgt facade: per-pixel procedural facades of a city (paper 003; ref_cpu/src/facade.c), one ray
+ * per pixel, with the explicit twin as PLY and the Embree cross-check (facade_embree.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "facade_embree.h"
+#include "facade_scene.h"
+#include "pgt/facade.h"
+#include "pgt/image.h"
+#include "pgt/parallel.h"
+#include "png_io.h"
+
+/* The grammar of --city when --grammar is not given. */
+#define PGT_FACADE_DEFAULT_GRAMMAR PGT_SOURCE_DIR "/grammars/facade.grammar"
+/* Most timed frames of --frames. */
+#define FACADE_MAX_FRAMES 1000u
+/* Most buildings of --city (pgt_gen_city's limit). */
+#define PGT_FACADE_MAX_CITY (1u << 22)
+
+static const char *facade_usage =
+    "usage: pgt facade (--city N | --scene FILE) -o FRAME.exr [--width W] [--height H]\n"
+    "                  [--camera EYEx,EYEy,EYEz,ATx,ATy,ATz,UPx,UPy,UPz,FOV] [--png FRAME.png]\n"
+    "                  [--threads N] [--explicit OUT.ply] [--embree-check] [--grammar FILE]\n"
+    "                  [--seed S] [--light X,Y,Z] [--save-scene FILE] [--frames F]\n"
+    "                  [--embree-mode packets|streams] [--shadows]\n"
+    "\n"
+    "Renders building facades without generating geometry (paper 003): every facade's coverage\n"
+    "polygon (sec. 5.3) selects the pixels whose rays develop its split grammar along the ray\n"
+    "(Algorithm 1, sec. 6.1) down to the terminals' rectangles (sec. 6.2.1); one ray per pixel,\n"
+    "Lambert shading under a point light plus ambient 0.25.\n"
+    "\n"
+    "  --city N        a generated city of N buildings (1 to 4194304; pgt_gen_city: grid\n"
+    "                  footprints, random floors, widths, protrusions, colours; about 4\n"
+    "                  facades per building) with --grammar and --seed\n"
+    "  --scene FILE    a scene file (harness/README.md, 'Facade scene files': 'grammar NAME\n"
+    "                  PATH' and 'building NAME BASE HEIGHT SEED RRGGBB [P=V ...] : X0 Z0 ...')\n"
+    "  -o FRAME.exr    the frame as OpenEXR (float channels R G B depth terminal N.x N.y N.z\n"
+    "                  facade developed: linear colour, distance along the ray (inf on a miss),\n"
+    "                  terminal kind 0 miss 1 wall 2 window 3 door 4 ledge 5 balcony, world\n"
+    "                  normal facing the camera, facade index (-1 on a miss), nodes developed\n"
+    "                  for the pixel); temporary file, then renamed\n"
+    "  --width W       frame width, 1 to 16384 (default 1280)\n"
+    "  --height H      frame height, 1 to 16384 (default 720)\n"
+    "  --camera ...    eye, look-at point, up vector (x,y,z each) and the vertical field of\n"
+    "                  view in degrees, in (0, 180): 10 numbers. Default: an aerial view of the\n"
+    "                  whole scene: the centre of its bounding box seen from azimuth 30 degrees\n"
+    "                  (0 = from +z, turning toward +x) and elevation 35, at the distance where\n"
+    "                  the bounding sphere fills the 45 degree field of view (the horizontal one\n"
+    "                  when taller than wide); up +y. The camera used is printed as a --camera\n"
+    "                  value\n"
+    "  --png F.png     also the colour as an 8-bit sRGB PNG\n"
+    "  --threads N     threads, 1 to 256 (default: the number of CPUs; the frame's bytes do\n"
+    "                  not depend on it)\n"
+    "  --explicit F    the explicit twin (every terminal of every facade as triangles) as\n"
+    "                  binary little-endian PLY: vertex x y z, face vertex_indices facade node\n"
+    "                  kind surface (uint)\n"
+    "  --embree-check  traces the same rays with Embree on the explicit twin (same threads)\n"
+    "                  and compares per pixel: both miss, or the same (facade, node, kind,\n"
+    "                  surface) within a relative distance of 1e-4 = agree; disagreements\n"
+    "                  within 1e-4 t of a rectangle's edge are counted apart. Prints agreement,\n"
+    "                  max distance error, Mrays/s and bytes of both; exit 1 when a\n"
+    "                  disagreement is not near an edge or agreement is below 99.99 %\n";
+static const char *facade_usage2 =
+    "  --grammar FILE  the grammar of --city (default grammars/facade.grammar)\n"
+    "  --seed S        the city's seed (default 1)\n"
+    "  --light X,Y,Z   the point light (default: above the scene, 2 bounding radii up)\n"
+    "  --shadows       self-shadowing (sec. 6.4): a shadow ray toward the light per hit\n"
+    "  --save-scene F  writes the scene (of --city or --scene) as a scene file\n"
+    "  --frames F      renders (and, with --embree-check, traces) F times, 1 to 1000, and\n"
+    "                  reports the median (default 1)\n"
+    "  --embree-mode M packets (rtcIntersect16 of 4x4 pixel tiles, the default; the two are\n"
+    "                  within ~15 % of each other here) or streams (rtcIntersect1M of a\n"
+    "                  tile row, coherent)\n"
+    "\n"
+    "Prints buildings, facades, pixels, ms per frame (coverage, rays), Mrays/s, nodes developed\n"
+    "per ray (mean over the rays that entered a facade volume) and the bytes of the procedural\n"
+    "representation (buildings, footprints, params, grammars; the derived facade array apart).\n"
+    "Exit 0 on success, 1 when the Embree check fails, 2 on a bad flag, value or input file\n"
+    "(naming the flag or FILE:LINE) or a grammar error while rendering.\n";
+
+typedef struct facade_args {
+    const char *scene_path, *out_path, *png_path, *explicit_path, *grammar_path, *save_path;
+    const char *camera_text;
+    uint32_t city, width, height, threads, seed, frames;
+    int embree_check, have_light, shadows;
+    pgt_facade_embree_mode mode;
+    float light[3];
+} facade_args;
+
+static int parse_args(int argc, char **argv, facade_args *a) {
+    const char *verb = "facade", *v;
+    memset(a, 0, sizeof *a);
+    a->width = 1280, a->height = 720, a->threads = pgt_cli_cpu_count(), a->seed = 1;
+    a->frames = 1, a->mode = PGT_FACADE_EMBREE_DEFAULT_MODE;
+    int have_city = 0, have_seed = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
+            fputs(facade_usage, stdout);
+            fputs(facade_usage2, stdout);
+            return -1;
+        } else if (!strcmp(s, "--city")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 1, PGT_FACADE_MAX_CITY, &a->city))
+                return PGT_EXIT_USAGE;
+            have_city = 1;
+        } else if (!strcmp(s, "--scene")) {
+            if (!(a->scene_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "-o") || !strcmp(s, "--output")) {
+            if (!(a->out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--png")) {
+            if (!(a->png_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--explicit")) {
+            if (!(a->explicit_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--grammar")) {
+            if (!(a->grammar_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--save-scene")) {
+            if (!(a->save_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--camera")) {
+            if (!(a->camera_text = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--width") || !strcmp(s, "--height")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 1, PGT_IMAGE_MAX_SIDE,
+                             s[2] == 'w' ? &a->width : &a->height))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--threads")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 1, PGT_MAX_THREADS, &a->threads))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--seed")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 0, UINT32_MAX, &a->seed))
+                return PGT_EXIT_USAGE;
+            have_seed = 1;
+        } else if (!strcmp(s, "--frames")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 1, FACADE_MAX_FRAMES, &a->frames))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--light")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_floats(verb, s, v, 3, a->light))
+                return PGT_EXIT_USAGE;
+            a->have_light = 1;
+        } else if (!strcmp(s, "--shadows")) {
+            a->shadows = 1;
+        } else if (!strcmp(s, "--embree-check")) {
+            a->embree_check = 1;
+        } else if (!strcmp(s, "--embree-mode")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!strcmp(v, "packets"))
+                a->mode = PGT_FACADE_EMBREE_PACKETS;
+            else if (!strcmp(v, "streams"))
+                a->mode = PGT_FACADE_EMBREE_STREAMS;
+            else
+                return pgt_cli_fail(verb, "--embree-mode: expected packets or streams, got '%s'",
+                                    v);
+        } else {
+            return pgt_cli_fail(verb, "unknown %s '%s' (see pgt facade --help)",
+                                s[0] == '-' ? "flag" : "argument", s);
+        }
+    }
+    if (have_city == !!a->scene_path)
+        return pgt_cli_fail(verb, "give exactly one of --city N and --scene FILE");
+    if (a->scene_path && (a->grammar_path || have_seed))
+        return pgt_cli_fail(verb, "--grammar and --seed are for --city (a scene file names its "
+                                  "grammars and seeds)");
+    if (!a->out_path) return pgt_cli_fail(verb, "no output: give -o FRAME.exr");
+    if (!pgt_cli_ends_with_ci(a->out_path, ".exr"))
+        return pgt_cli_fail(verb, "-o %s: the frame is an .exr file", a->out_path);
+    if (a->png_path && !pgt_cli_ends_with_ci(a->png_path, ".png"))
+        return pgt_cli_fail(verb, "--png %s: expected a .png file", a->png_path);
+    if (a->explicit_path && !pgt_cli_ends_with_ci(a->explicit_path, ".ply"))
+        return pgt_cli_fail(verb, "--explicit %s: expected a .ply file", a->explicit_path);
+    const char *outs[4] = {a->out_path, a->png_path, a->explicit_path, a->save_path};
+    const char *flags[4] = {"-o", "--png", "--explicit", "--save-scene"};
+    const char *ins[2] = {a->scene_path, a->grammar_path};
+    for (int o = 0; o < 4; ++o)
+        for (int k = 0; k < 2; ++k)
+            if (outs[o] && ins[k] && pgt_cli_same_file(outs[o], ins[k]))
+                return pgt_cli_fail(verb, "%s %s is the input %s; pgt never overwrites an input",
+                                    flags[o], outs[o], ins[k]);
+    if (!a->grammar_path) a->grammar_path = PGT_FACADE_DEFAULT_GRAMMAR;
+    return 0;
+}
+
+/* Message of a PGT_FACADE_ERR_* set. */
+static void ray_errors(uint32_t bits, char *buf, size_t size) {
+    static const char *what[5] = {
+        "the development stack was full (PGT_FACADE_MAX_DEPTH)",
+        "a ray developed more than PGT_FACADE_NODE_BUDGET nodes (rules that never split?)",
+        "an expression gave NaN or infinity", "a split has more than PGT_FACADE_MAX_PARTS parts",
+        "an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z))"};
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int b = 0; b < 5; ++b)
+        if (bits & (1u << b))
+            n += (size_t)snprintf(buf + n, n < size ? size - n : 0, "%s%s", n ? "; " : "", what[b]);
+}
+
+static uint8_t to_srgb8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+    return (uint8_t)(255.0f * s + 0.5f);
+}
+
+static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, pgt_error *err) {
+    static const char *names[10] = {"R",   "G",   "B",   "depth",  "terminal",
+                                    "N.x", "N.y", "N.z", "facade", "developed"};
+    pgt_image img;
+    pgt_result r = pgt_image_create(&img, fr->width, fr->height, 10, names, err);
+    if (r != PGT_OK) return r;
+    const size_t n = (size_t)fr->width * fr->height;
+    float *p[10];
+    for (uint32_t c = 0; c < 10; ++c) p[c] = pgt_image_plane(&img, c);
+    for (size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k)
+            p[k][i] = fr->rgb[3u * i + k], p[5 + k][i] = fr->normal[3u * i + k];
+        p[3][i] = fr->depth[i];
+        p[4][i] = fr->terminal[i];
+        p[8][i] = fr->facade[i] == PGT_NONE ? -1.0f : (float)fr->facade[i];
+        p[9][i] = (float)fr->developed[i];
+    }
+    r = pgt_image_write_exr(&img, path, err);
+    pgt_image_destroy(&img);
+    return r;
+}
+
+static pgt_result write_png(const pgt_facade_frame *fr, const char *path, pgt_error *err) {
+    const size_t n = (size_t)fr->width * fr->height;
+    uint8_t *px = malloc(3u * n);
+    if (!px) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
+    for (size_t i = 0; i < 3u * n; ++i) px[i] = to_srgb8(fr->rgb[i]);
+    const pgt_result r = pgt_png_write(path, fr->width, fr->height, 3, px, err);
+    free(px);
+    return r;
+}
+
+int pgt_cmd_facade(int argc, char **argv) {
+    const char *verb = "facade";
+    facade_args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc) return rc < 0 ? PGT_EXIT_OK : rc;
+    rc = PGT_EXIT_USAGE;
+    pgt_error err = {0};
+    pgt_facade_file file;
+    memset(&file, 0, sizeof file);
+    pgt_facade *facades = NULL;
+    uint32_t facade_count = 0;
+    pgt_facade_frame frame;
+    memset(&frame, 0, sizeof frame);
+    pgt_facade_mesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    pgt_facade_embree eb;
+    memset(&eb, 0, sizeof eb);
+    pgt_facade_embree_hits hits;
+    memset(&hits, 0, sizeof hits);
+    double *ms = calloc(2u * a.frames, sizeof(double));
+    if (!ms) {
+        pgt_cli_fail(verb, "out of memory");
+        goto done;
+    }
+
+    /* camera flag first: a typo should not wait for a city */
+    float cam_vals[10];
+    if (a.camera_text) {
+        if (pgt_cli_floats(verb, "--camera", a.camera_text, 10, cam_vals)) goto done;
+    }
+
+    /* the scene */
+    const double t0 = pgt_cli_now_ms();
+    const char *what = a.scene_path ? a.scene_path : "--city";
+    if (a.scene_path) {
+        if (pgt_facade_file_read(&file, a.scene_path, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "%s", err.message);
+            goto done;
+        }
+    } else if (pgt_facade_file_city(&file, a.grammar_path, a.city, a.seed, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "--city %u: %s", a.city, err.message);
+        goto done;
+    }
+    const pgt_facade_scene *s = &file.scene;
+    if (pgt_facade_scene_check(s, what, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    if (a.save_path) {
+        char comment[256];
+        if (a.scene_path)
+            snprintf(comment, sizeof comment, "pgt facade: scene %s", a.scene_path);
+        else
+            snprintf(comment, sizeof comment, "pgt facade --city %u --seed %u (pgt_gen_city)",
+                     a.city, a.seed);
+        if (pgt_facade_file_write(a.save_path, s, (const char *const *)file.names,
+                                  (const char *const *)file.paths, comment, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "--save-scene %s", err.message);
+            goto done;
+        }
+    }
+    if (pgt_facade_prepare(s, &facades, &facade_count, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s: %s", what, err.message);
+        goto done;
+    }
+    const double t1 = pgt_cli_now_ms();
+
+    /* camera and light */
+    float eye[3], at[3], up[3], fov;
+    if (a.camera_text) {
+        memcpy(eye, cam_vals, sizeof eye);
+        memcpy(at, cam_vals + 3, sizeof at);
+        memcpy(up, cam_vals + 6, sizeof up);
+        fov = cam_vals[9];
+    } else {
+        pgt_facade_default_view(s, a.width, a.height, eye, at, up, &fov);
+    }
+    pgt_facade_camera cam;
+    if (pgt_facade_camera_init(&cam, eye, at, up, fov, a.width, a.height, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "--camera %s: %s", a.camera_text ? a.camera_text : "(default)",
+                     err.message);
+        goto done;
+    }
+    printf("camera: --camera ");
+    const float *cv[4] = {eye, at, up, &fov};
+    for (int g = 0; g < 4; ++g)
+        for (int k = 0; k < (g < 3 ? 3 : 1); ++k) {
+            if (g || k) putchar(',');
+            pgt_cli_print_float(cv[g][k]);
+        }
+    putchar('\n');
+    pgt_facade_shading shading;
+    memset(&shading, 0, sizeof shading);
+    if (a.have_light)
+        memcpy(shading.light, a.light, sizeof shading.light);
+    else
+        pgt_facade_default_light(s, shading.light);
+    shading.ambient = PGT_FACADE_DEFAULT_AMBIENT;
+    shading.shadows = a.shadows;
+
+    /* the frame(s) */
+    if (pgt_facade_frame_create(&frame, a.width, a.height, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    pgt_facade_render_stats st, first;
+    memset(&first, 0, sizeof first);
+    double *cover = ms + a.frames;
+    for (uint32_t f = 0; f < a.frames; ++f) {
+        if (pgt_facade_render(s, facades, facade_count, &cam, &shading, a.threads, &frame, &st,
+                              &err) != PGT_OK) {
+            pgt_cli_fail(verb, "%s: %s", what, err.message);
+            goto done;
+        }
+        if (f == 0) first = st;
+        ms[f] = st.ms_total;
+        cover[f] = st.ms_cover;
+    }
+    if (first.rays.errors) {
+        char buf[600];
+        ray_errors(first.rays.errors, buf, sizeof buf);
+        pgt_cli_fail(verb, "%s: the grammar failed while rendering: %s", what, buf);
+        goto done;
+    }
+    const double frame_ms = pgt_cli_median(ms, a.frames),
+                 cover_ms = pgt_cli_median(cover, a.frames);
+    if (write_exr(&frame, a.out_path, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "-o %s", err.message);
+        goto done;
+    }
+    if (a.png_path && write_png(&frame, a.png_path, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "--png %s", err.message);
+        goto done;
+    }
+    const uint64_t pixels = (uint64_t)a.width * a.height;
+    const size_t proc_bytes = pgt_facade_scene_bytes(s);
+    const size_t facade_bytes = (size_t)facade_count * sizeof(pgt_facade);
+    printf("scene: %u buildings, %u facades (%u visible), %s %.0f ms\n", s->building_count,
+           facade_count, first.visible_facades, a.scene_path ? "read" : "generated", t1 - t0);
+    printf("frame: %ux%u = %llu pixels, %u thread%s, %.3f ms per frame%s (coverage %.3f ms, "
+           "rays %.3f ms), %.2f Mrays/s\n",
+           a.width, a.height, (unsigned long long)pixels, a.threads, a.threads == 1 ? "" : "s",
+           frame_ms, a.frames > 1 ? " (median)" : "", cover_ms, frame_ms - cover_ms,
+           frame_ms > 0.0 ? (double)pixels / (frame_ms * 1e3) : 0.0);
+    printf("development: %llu rays entered a facade volume, %.2f nodes developed per ray, %.2f "
+           "terminal tests, %.2f rectangle tests; %llu pixel-facade pairs covered\n",
+           (unsigned long long)first.rays.volume_hits,
+           first.rays.volume_hits ? (double)first.rays.nodes / (double)first.rays.volume_hits : 0.0,
+           first.rays.volume_hits ? (double)first.rays.terminals / (double)first.rays.volume_hits
+                                  : 0.0,
+           first.rays.volume_hits ? (double)first.rays.quads / (double)first.rays.volume_hits : 0.0,
+           (unsigned long long)first.covered_pixels);
+    printf("memory: procedural %zu bytes (buildings, footprints, params, grammars), facades "
+           "array %zu bytes apart\n",
+           proc_bytes, facade_bytes);
+
+    /* the explicit twin */
+    if (a.explicit_path || a.embree_check) {
+        const double e0 = pgt_cli_now_ms();
+        if (pgt_facade_explicit(s, facades, facade_count, &mesh, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "--explicit: %s: %s", what, err.message);
+            goto done;
+        }
+        const double e1 = pgt_cli_now_ms();
+        printf("explicit: %u triangles, %u vertices, %zu bytes (%.0fx the procedural), expanded "
+               "in %.0f ms%s%s\n",
+               mesh.triangle_count, mesh.vertex_count, pgt_facade_mesh_bytes(&mesh),
+               (double)pgt_facade_mesh_bytes(&mesh) / (double)proc_bytes, e1 - e0,
+               a.explicit_path ? " -> " : "", a.explicit_path ? a.explicit_path : "");
+        if (a.explicit_path && pgt_facade_mesh_write_ply(&mesh, a.explicit_path, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "--explicit %s", err.message);
+            goto done;
+        }
+    }
+    rc = PGT_EXIT_OK;
+    if (a.embree_check) {
+        rc = PGT_EXIT_USAGE;
+        if (pgt_facade_embree_create(&eb, &mesh, a.threads, &err) != PGT_OK ||
+            pgt_facade_embree_hits_create(&hits, a.width, a.height, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "--embree-check: %s", err.message);
+            goto done;
+        }
+        for (uint32_t f = 0; f < a.frames; ++f)
+            if (pgt_facade_embree_trace(&eb, &cam, a.mode, &hits, &ms[f], &err) != PGT_OK) {
+                pgt_cli_fail(verb, "--embree-check: %s", err.message);
+                goto done;
+            }
+        const double trace_ms = pgt_cli_median(ms, a.frames);
+        pgt_facade_check chk;
+        const int pass = pgt_facade_embree_compare(&mesh, &cam, &frame, &hits, &chk);
+        const size_t ours = proc_bytes, theirs = eb.embree_bytes + eb.buffer_bytes;
+        printf("embree: BVH build %.0f ms (%u threads), trace %.3f ms (%s), %.2f Mrays/s; ours "
+               "%.2f Mrays/s (%.2fx Embree's)\n",
+               eb.build_ms, eb.threads, trace_ms,
+               a.mode == PGT_FACADE_EMBREE_PACKETS ? "rtcIntersect16 packets"
+                                                   : "rtcIntersect1M streams",
+               (double)pixels / (trace_ms * 1e3), (double)pixels / (frame_ms * 1e3),
+               trace_ms / frame_ms);
+        printf("memory: ours %zu bytes, Embree %zu bytes (BVH %zu + vertex and index buffers "
+               "%zu), Embree / ours %.0fx\n",
+               ours, theirs, eb.embree_bytes, eb.buffer_bytes, (double)theirs / (double)ours);
+        printf("check: agreement %.4f %% of %llu rays (%llu both miss), %llu disagreements "
+               "(%llu near an edge, %llu not), max distance error among agreeing rays %.3g "
+               "(relative %.3g) -> %s\n",
+               chk.agreement_pct, (unsigned long long)chk.pixels, (unsigned long long)chk.both_miss,
+               (unsigned long long)chk.disagree, (unsigned long long)chk.near_edge,
+               (unsigned long long)(chk.disagree - chk.near_edge), chk.max_abs_dt, chk.max_rel_dt,
+               pass ? "PASS" : "FAIL");
+        for (uint32_t k = 0; k < chk.reported; ++k) {
+            const pgt_facade_check_pixel *p = &chk.far[k];
+            fprintf(stderr,
+                    "pgt facade: pixel %u,%u: ours facade %d node %u kind %u surface %u t %.7g "
+                    "(edge %.3g t); Embree facade %d node %u kind %u surface %u t %.7g (edge "
+                    "%.3g t)\n",
+                    p->x, p->y, (int)p->facade[0], p->node[0], p->kind[0], p->surface[0],
+                    (double)p->t[0], (double)p->edge[0], (int)p->facade[1], p->node[1], p->kind[1],
+                    p->surface[1], (double)p->t[1], (double)p->edge[1]);
+        }
+        rc = pass ? PGT_EXIT_OK : PGT_EXIT_FAIL;
+    }
+done:
+    pgt_facade_embree_hits_destroy(&hits);
+    pgt_facade_embree_destroy(&eb);
+    pgt_facade_mesh_destroy(&mesh);
+    pgt_facade_frame_destroy(&frame);
+    free(facades);
+    pgt_facade_file_free(&file);
+    free(ms);
+    return rc;
+}

@@ -1,0 +1,515 @@
+/* pgt harness: the Embree cross-check of procedural facades (facade_embree.h says what). */
+#include "facade_embree.h"
+
+#include <embree3/rtcore.h>
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "pgt/parallel.h"
+
+/* Pixels per side of a packet tile (4 x 4 = rtcIntersect16). */
+#define TILE 4u
+
+/* ---- Embree errors and memory ---- */
+
+typedef struct monitor {
+    atomic_llong current, peak;
+    pthread_mutex_t lock;
+    int error_set;
+    char message[PGT_ERROR_MESSAGE_SIZE];
+} monitor;
+
+static bool on_memory(void *user, ssize_t bytes, bool post) {
+    (void)post;
+    monitor *m = user;
+    const long long now = atomic_fetch_add(&m->current, (long long)bytes) + (long long)bytes;
+    long long peak = atomic_load(&m->peak);
+    while (now > peak && !atomic_compare_exchange_weak(&m->peak, &peak, now)) {
+    }
+    return true;
+}
+
+static void on_error(void *user, enum RTCError code, const char *str) {
+    monitor *m = user;
+    pthread_mutex_lock(&m->lock);
+    if (!m->error_set) {
+        m->error_set = 1;
+        snprintf(m->message, sizeof m->message, "embree: error %d: %s", (int)code, str ? str : "");
+    }
+    pthread_mutex_unlock(&m->lock);
+}
+
+static pgt_result status(RTCDevice dev, monitor *m, const char *what, pgt_error *err) {
+    const enum RTCError code = rtcGetDeviceError(dev);
+    pthread_mutex_lock(&m->lock);
+    const int set = m->error_set;
+    pthread_mutex_unlock(&m->lock);
+    if (set) return pgt_error_set(err, PGT_ERROR_BACKEND, "%s (%s)", m->message, what);
+    if (code != RTC_ERROR_NONE)
+        return pgt_error_set(err, PGT_ERROR_BACKEND, "embree: error %d (%s)", (int)code, what);
+    return PGT_OK;
+}
+
+/* ---- scene ---- */
+
+pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
+                                    uint32_t threads, pgt_error *err) {
+    memset(e, 0, sizeof *e);
+    if (mesh->triangle_count == 0)
+        return pgt_error_set(err, PGT_ERROR_EMPTY, "embree check: the explicit mesh is empty");
+    const double t0 = pgt_cli_now_ms();
+    monitor *m = calloc(1, sizeof *m);
+    e->vertices = malloc((3u * (size_t)mesh->vertex_count + 1u) * sizeof(float));
+    if (!m || !e->vertices) {
+        free(m);
+        free(e->vertices);
+        e->vertices = NULL;
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "embree check: out of memory");
+    }
+    atomic_init(&m->current, 0);
+    atomic_init(&m->peak, 0);
+    pthread_mutex_init(&m->lock, NULL);
+    e->monitor = m;
+    e->mesh = mesh;
+    e->threads = threads ? threads : pgt_cli_cpu_count();
+    memcpy(e->vertices, mesh->positions, 3u * (size_t)mesh->vertex_count * sizeof(float));
+    e->vertices[3u * (size_t)mesh->vertex_count] = 0.0f;
+    e->buffer_bytes = (3u * (size_t)mesh->vertex_count + 1u) * sizeof(float) +
+                      3u * (size_t)mesh->triangle_count * sizeof(uint32_t);
+    char config[64];
+    snprintf(config, sizeof config, "threads=%u", e->threads);
+    RTCDevice dev = rtcNewDevice(config);
+    if (!dev)
+        return pgt_error_set(err, PGT_ERROR_BACKEND, "embree: error %d (rtcNewDevice)",
+                             (int)rtcGetDeviceError(NULL));
+    e->device = dev;
+    rtcSetDeviceErrorFunction(dev, on_error, m);
+    rtcSetDeviceMemoryMonitorFunction(dev, on_memory, m);
+    RTCScene scene = rtcNewScene(dev);
+    e->scene = scene;
+    pgt_result r = status(dev, m, "rtcNewScene", err);
+    if (r != PGT_OK) return r;
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, e->vertices, 0,
+                               3u * sizeof(float), mesh->vertex_count);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh->indices, 0,
+                               3u * sizeof(uint32_t), mesh->triangle_count);
+    rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(scene, g, 0);
+    rtcReleaseGeometry(g);
+    if ((r = status(dev, m, "geometry", err)) != PGT_OK) return r;
+    rtcCommitScene(scene);
+    if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
+    e->build_ms = pgt_cli_now_ms() - t0;
+    e->embree_bytes = (size_t)atomic_load(&m->peak);
+    return PGT_OK;
+}
+
+void pgt_facade_embree_destroy(pgt_facade_embree *e) {
+    if (!e) return;
+    if (e->scene) rtcReleaseScene((RTCScene)e->scene);
+    if (e->device) rtcReleaseDevice((RTCDevice)e->device);
+    if (e->monitor) {
+        monitor *m = e->monitor;
+        pthread_mutex_destroy(&m->lock);
+        free(m);
+    }
+    free(e->vertices);
+    memset(e, 0, sizeof *e);
+}
+
+pgt_result pgt_facade_embree_hits_create(pgt_facade_embree_hits *h, uint32_t width, uint32_t height,
+                                         pgt_error *err) {
+    memset(h, 0, sizeof *h);
+    const size_t n = (size_t)width * height;
+    h->width = width, h->height = height;
+    h->t = malloc(n * sizeof(float));
+    h->tri = malloc(n * sizeof(uint32_t));
+    h->u = malloc(n * sizeof(float));
+    h->v = malloc(n * sizeof(float));
+    if (!h->t || !h->tri || !h->u || !h->v) {
+        pgt_facade_embree_hits_destroy(h);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "embree check: out of memory");
+    }
+    return PGT_OK;
+}
+
+void pgt_facade_embree_hits_destroy(pgt_facade_embree_hits *h) {
+    if (!h) return;
+    free(h->t), free(h->tri), free(h->u), free(h->v);
+    memset(h, 0, sizeof *h);
+}
+
+/* ---- tracing ---- */
+
+typedef struct trace_job {
+    RTCScene scene;
+    const pgt_facade_camera *cam;
+    pgt_facade_embree_hits *out;
+    uint32_t tiles_x;
+    struct RTCRayHit *stream[PGT_MAX_THREADS]; /* per worker: one tile row of rays */
+} trace_job;
+
+static void store(trace_job *job, uint32_t x, uint32_t y, float tfar, unsigned geom, unsigned prim,
+                  float u, float v) {
+    const size_t i = (size_t)y * job->out->width + x;
+    if (geom == RTC_INVALID_GEOMETRY_ID) {
+        job->out->t[i] = INFINITY;
+        job->out->tri[i] = PGT_NONE;
+        job->out->u[i] = job->out->v[i] = 0.0f;
+    } else {
+        job->out->t[i] = tfar;
+        job->out->tri[i] = prim;
+        job->out->u[i] = u, job->out->v[i] = v;
+    }
+}
+
+static void trace_packets(void *ctx_, uint32_t begin, uint32_t end, uint32_t worker) {
+    (void)worker;
+    trace_job *job = ctx_;
+    const uint32_t W = job->out->width, H = job->out->height;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct RTCRayHit16 rh;
+    int valid[16];
+    for (uint32_t ty = begin; ty < end; ++ty)
+        for (uint32_t tx = 0; tx < job->tiles_x; ++tx) {
+            for (uint32_t i = 0; i < 16u; ++i) {
+                const uint32_t x = tx * TILE + i % TILE, y = ty * TILE + i / TILE;
+                float o[3] = {0, 0, 0}, d[3] = {0, 0, 1};
+                valid[i] = x < W && y < H ? -1 : 0;
+                if (valid[i]) pgt_facade_camera_ray(job->cam, x, y, o, d);
+                rh.ray.org_x[i] = o[0], rh.ray.org_y[i] = o[1], rh.ray.org_z[i] = o[2];
+                rh.ray.dir_x[i] = d[0], rh.ray.dir_y[i] = d[1], rh.ray.dir_z[i] = d[2];
+                rh.ray.tnear[i] = 0.0f, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0.0f;
+                rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.id[i] = i, rh.ray.flags[i] = 0;
+                rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect16(valid, job->scene, &ctx, &rh);
+            for (uint32_t i = 0; i < 16u; ++i)
+                if (valid[i])
+                    store(job, tx * TILE + i % TILE, ty * TILE + i / TILE, rh.ray.tfar[i],
+                          rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]);
+        }
+}
+
+static void trace_streams(void *ctx_, uint32_t begin, uint32_t end, uint32_t worker) {
+    trace_job *job = ctx_;
+    const uint32_t W = job->out->width, H = job->out->height;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct RTCRayHit *rays = job->stream[worker];
+    uint32_t *px = (uint32_t *)(rays + (size_t)job->tiles_x * 16u);
+    for (uint32_t ty = begin; ty < end; ++ty) {
+        uint32_t n = 0;
+        for (uint32_t tx = 0; tx < job->tiles_x; ++tx) /* tile by tile: coherent neighbours */
+            for (uint32_t i = 0; i < 16u; ++i) {
+                const uint32_t x = tx * TILE + i % TILE, y = ty * TILE + i / TILE;
+                if (x >= W || y >= H) continue;
+                struct RTCRayHit *r = &rays[n];
+                float o[3], d[3];
+                pgt_facade_camera_ray(job->cam, x, y, o, d);
+                memset(r, 0, sizeof *r);
+                r->ray.org_x = o[0], r->ray.org_y = o[1], r->ray.org_z = o[2];
+                r->ray.dir_x = d[0], r->ray.dir_y = d[1], r->ray.dir_z = d[2];
+                r->ray.tnear = 0.0f, r->ray.tfar = INFINITY, r->ray.mask = 0xFFFFFFFFu;
+                r->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                r->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                px[2u * n] = x, px[2u * n + 1u] = y;
+                ++n;
+            }
+        rtcIntersect1M(job->scene, &ctx, rays, n, sizeof *rays);
+        for (uint32_t k = 0; k < n; ++k)
+            store(job, px[2u * k], px[2u * k + 1u], rays[k].ray.tfar, rays[k].hit.geomID,
+                  rays[k].hit.primID, rays[k].hit.u, rays[k].hit.v);
+    }
+}
+
+pgt_result pgt_facade_embree_trace(pgt_facade_embree *e, const pgt_facade_camera *cam,
+                                   pgt_facade_embree_mode mode, pgt_facade_embree_hits *out,
+                                   double *ms, pgt_error *err) {
+    if (out->width != cam->width || out->height != cam->height)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "embree check: hits of %u x %u for a camera of %u x %u", out->width,
+                             out->height, cam->width, cam->height);
+    trace_job *job = calloc(1, sizeof *job);
+    if (!job) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "embree check: out of memory");
+    job->scene = (RTCScene)e->scene;
+    job->cam = cam;
+    job->out = out;
+    job->tiles_x = (cam->width + TILE - 1u) / TILE;
+    const uint32_t tiles_y = (cam->height + TILE - 1u) / TILE;
+    const uint32_t workers = e->threads < PGT_MAX_THREADS ? e->threads : PGT_MAX_THREADS;
+    pgt_result r = PGT_OK;
+    if (mode == PGT_FACADE_EMBREE_STREAMS)
+        for (uint32_t w = 0; w < workers; ++w) {
+            /* rays then their pixel coordinates */
+            const size_t n = (size_t)job->tiles_x * 16u;
+            job->stream[w] = aligned_alloc(
+                64, ((n * sizeof(struct RTCRayHit) + n * 2u * sizeof(uint32_t)) + 63u) / 64u * 64u);
+            if (!job->stream[w]) {
+                r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "embree check: out of memory");
+                goto done;
+            }
+        }
+    const double t0 = pgt_cli_now_ms();
+    pgt_parallel_for_items(tiles_y, job->tiles_x * 16u, workers,
+                           mode == PGT_FACADE_EMBREE_STREAMS ? trace_streams : trace_packets, job);
+    if (ms) *ms = pgt_cli_now_ms() - t0;
+    r = status((RTCDevice)e->device, e->monitor, "tracing", err);
+done:
+    for (uint32_t w = 0; w < PGT_MAX_THREADS; ++w) free(job->stream[w]);
+    free(job);
+    return r;
+}
+
+/* ---- comparison ---- */
+
+typedef struct rect_key {
+    uint32_t facade, node, kind, surface;
+} rect_key;
+
+static int key_cmp(const void *a_, const void *b_) {
+    const rect_key *a = a_, *b = b_;
+    if (a->facade != b->facade) return a->facade < b->facade ? -1 : 1;
+    if (a->node != b->node) return a->node < b->node ? -1 : 1;
+    if (a->kind != b->kind) return a->kind < b->kind ? -1 : 1;
+    if (a->surface != b->surface) return a->surface < b->surface ? -1 : 1;
+    return 0;
+}
+
+static double seg_dist(const double p[3], const float *a, const float *b) {
+    double ab[3], ap[3], t = 0.0, l2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        ab[k] = (double)b[k] - a[k], ap[k] = p[k] - a[k];
+        t += ab[k] * ap[k], l2 += ab[k] * ab[k];
+    }
+    t = l2 > 0.0 ? fmin(1.0, fmax(0.0, t / l2)) : 0.0;
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double q = ap[k] - t * ab[k];
+        d2 += q * q;
+    }
+    return sqrt(d2);
+}
+
+static int same_point(const float *a, const float *b) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* Distance from p to the boundary of the rectangle made of triangles tris[0 .. n): every
+ * triangle edge but those two triangles share (the diagonal). */
+static double rect_edge_dist(const pgt_facade_mesh *m, const uint32_t *tris, uint32_t n,
+                             const double p[3]) {
+    double best = INFINITY;
+    for (uint32_t a = 0; a < n; ++a)
+        for (uint32_t k = 0; k < 3; ++k) {
+            const float *e0 = m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[a] + k];
+            const float *e1 =
+                m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[a] + (k + 1u) % 3u];
+            int shared = 0;
+            for (uint32_t b = 0; b < n && !shared; ++b) {
+                if (b == a) continue;
+                for (uint32_t j = 0; j < 3 && !shared; ++j) {
+                    const float *f0 =
+                        m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[b] + j];
+                    const float *f1 = m->positions +
+                                      3u * (size_t)m->indices[3u * (size_t)tris[b] + (j + 1u) % 3u];
+                    shared = (same_point(e0, f0) && same_point(e1, f1)) ||
+                             (same_point(e0, f1) && same_point(e1, f0));
+                }
+            }
+            if (!shared) best = fmin(best, seg_dist(p, e0, e1));
+        }
+    return best;
+}
+
+/* A disagreement being explained: its keys and where their triangles are. */
+typedef struct wanted {
+    rect_key key;
+    uint32_t tris[4], n;
+} wanted;
+
+static int wanted_cmp(const void *a, const void *b) {
+    return key_cmp(&((const wanted *)a)->key, &((const wanted *)b)->key);
+}
+
+int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam,
+                              const pgt_facade_frame *frame, const pgt_facade_embree_hits *hits,
+                              pgt_facade_check *out) {
+    memset(out, 0, sizeof *out);
+    const uint32_t W = frame->width, H = frame->height;
+    const size_t n = (size_t)W * H;
+    out->pixels = n;
+    size_t *bad = NULL, bad_n = 0, bad_cap = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t of = frame->facade[i], et = hits->tri[i];
+        if (of == PGT_NONE && et == PGT_NONE) {
+            out->agree++, out->both_miss++;
+            continue;
+        }
+        if (of != PGT_NONE && et != PGT_NONE) {
+            const double t = frame->depth[i], te = hits->t[i], dt = fabs(t - te);
+            if (mesh->facade[et] == of && mesh->node[et] == frame->node[i] &&
+                mesh->kind[et] == (uint32_t)frame->terminal[i] &&
+                mesh->surface[et] == frame->surface[i] &&
+                dt <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t) {
+                out->agree++;
+                out->max_abs_dt = fmax(out->max_abs_dt, dt);
+                out->max_rel_dt = fmax(out->max_rel_dt, dt / t);
+                continue;
+            }
+        }
+        if (bad_n == bad_cap) {
+            bad_cap = bad_cap ? 2u * bad_cap : 64u;
+            size_t *b = realloc(bad, bad_cap * sizeof *b);
+            if (!b) { /* cannot explain them: every one counts as far from an edge */
+                free(bad);
+                bad = NULL, bad_cap = bad_n = 0;
+                out->disagree = n - out->agree;
+                goto finish;
+            }
+            bad = b;
+        }
+        bad[bad_n++] = i;
+    }
+    out->disagree = bad_n;
+    if (bad_n) {
+        /* the rectangles of both sides of every disagreement, found in one pass over the mesh */
+        wanted *w = calloc(2u * bad_n, sizeof *w);
+        size_t wn = 0;
+        if (!w) {
+            free(bad);
+            goto finish;
+        }
+        for (size_t b = 0; b < bad_n; ++b) {
+            const size_t i = bad[b];
+            if (frame->facade[i] != PGT_NONE)
+                w[wn++].key = (rect_key){frame->facade[i], frame->node[i],
+                                         (uint32_t)frame->terminal[i], frame->surface[i]};
+            const uint32_t et = hits->tri[i];
+            if (et != PGT_NONE)
+                w[wn++].key =
+                    (rect_key){mesh->facade[et], mesh->node[et], mesh->kind[et], mesh->surface[et]};
+        }
+        qsort(w, wn, sizeof *w, wanted_cmp);
+        size_t u = 0;
+        for (size_t k = 0; k < wn; ++k)
+            if (u == 0 || key_cmp(&w[u - 1].key, &w[k].key)) w[u++] = w[k];
+        wn = u;
+        for (uint32_t tri = 0; tri < mesh->triangle_count; ++tri) {
+            wanted probe;
+            probe.key =
+                (rect_key){mesh->facade[tri], mesh->node[tri], mesh->kind[tri], mesh->surface[tri]};
+            wanted *hit = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
+            if (hit && hit->n < 4u) hit->tris[hit->n++] = tri;
+        }
+        for (size_t b = 0; b < bad_n; ++b) {
+            const size_t i = bad[b];
+            const uint32_t x = (uint32_t)(i % W), y = (uint32_t)(i / W);
+            float o[3], d[3];
+            pgt_facade_camera_ray(cam, x, y, o, d);
+            pgt_facade_check_pixel px;
+            memset(&px, 0, sizeof px);
+            px.x = x, px.y = y;
+            px.edge[0] = px.edge[1] = INFINITY;
+            px.facade[0] = px.facade[1] = PGT_NONE;
+            px.t[0] = frame->depth[i], px.t[1] = hits->t[i];
+            if (frame->facade[i] != PGT_NONE) {
+                wanted probe;
+                probe.key = (rect_key){frame->facade[i], frame->node[i],
+                                       (uint32_t)frame->terminal[i], frame->surface[i]};
+                px.facade[0] = probe.key.facade, px.node[0] = probe.key.node;
+                px.kind[0] = probe.key.kind, px.surface[0] = probe.key.surface;
+                const wanted *r = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
+                const double t = frame->depth[i];
+                double p[3];
+                for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
+                if (r && r->n) px.edge[0] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / t);
+            }
+            const uint32_t et = hits->tri[i];
+            if (et != PGT_NONE) {
+                wanted probe;
+                probe.key =
+                    (rect_key){mesh->facade[et], mesh->node[et], mesh->kind[et], mesh->surface[et]};
+                px.facade[1] = probe.key.facade, px.node[1] = probe.key.node;
+                px.kind[1] = probe.key.kind, px.surface[1] = probe.key.surface;
+                const wanted *r = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
+                const uint32_t *tv = mesh->indices + 3u * (size_t)et;
+                const double bu = hits->u[i], bv = hits->v[i], b0 = 1.0 - bu - bv;
+                double p[3];
+                for (int k = 0; k < 3; ++k)
+                    p[k] = b0 * mesh->positions[3u * (size_t)tv[0] + k] +
+                           bu * mesh->positions[3u * (size_t)tv[1] + k] +
+                           bv * mesh->positions[3u * (size_t)tv[2] + k];
+                if (r && r->n)
+                    px.edge[1] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / hits->t[i]);
+            }
+            if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||
+                px.edge[1] <= PGT_FACADE_CHECK_EDGE_EPS_REL)
+                out->near_edge++;
+            else if (out->reported < PGT_FACADE_CHECK_MAX_REPORTED)
+                out->far[out->reported++] = px;
+        }
+        free(w);
+    }
+    free(bad);
+finish:
+    out->agreement_pct = n ? 100.0 * (double)out->agree / (double)n : 100.0;
+    return out->disagree == out->near_edge && out->agreement_pct >= PGT_FACADE_CHECK_MIN_AGREEMENT;
+}
+
+/* ---- PLY ---- */
+
+size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m) {
+    return 3u * (size_t)m->vertex_count * sizeof(float) +
+           7u * (size_t)m->triangle_count * sizeof(uint32_t);
+}
+
+pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path, pgt_error *err) {
+    const uint32_t one = 1;
+    uint8_t little;
+    memcpy(&little, &one, 1);
+    if (!little)
+        return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
+                             "%s: writing PLY needs a little-endian host", path);
+    char tmp[4200];
+    FILE *f = pgt_cli_tmp_open(path, tmp, sizeof tmp);
+    if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\ncomment pgt facade --explicit: every terminal "
+            "of every facade (paper 003)\nelement vertex %u\nproperty float x\nproperty float "
+            "y\nproperty float z\nelement face %u\nproperty list uchar uint vertex_indices\n"
+            "property uint facade\nproperty uint node\nproperty uint kind\nproperty uint "
+            "surface\nend_header\n",
+            m->vertex_count, m->triangle_count);
+    fwrite(m->positions, sizeof(float), 3u * (size_t)m->vertex_count, f);
+    uint8_t rec[29];
+    rec[0] = 3;
+    for (uint32_t t = 0; t < m->triangle_count; ++t) {
+        memcpy(rec + 1, m->indices + 3u * (size_t)t, 12);
+        memcpy(rec + 13, &m->facade[t], 4);
+        memcpy(rec + 17, &m->node[t], 4);
+        memcpy(rec + 21, &m->kind[t], 4);
+        memcpy(rec + 25, &m->surface[t], 4);
+        fwrite(rec, 1, sizeof rec, f);
+    }
+    const int bad = ferror(f);
+    if (fclose(f) != 0 || bad || rename(tmp, path) != 0) {
+        const int e = errno;
+        remove(tmp);
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot write: %s", path, strerror(e));
+    }
+    return PGT_OK;
+}

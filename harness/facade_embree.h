@@ -1,0 +1,118 @@
+/* pgt harness: the Embree cross-check of per-pixel procedural facades (issue 6 item 9).
+ *
+ * The explicit twin of a facade scene (pgt_facade_explicit: every terminal's rectangles as two
+ * triangles each) goes into an Embree 3 scene (one triangle geometry sharing the mesh's vertex
+ * and index arrays, RTC_BUILD_QUALITY_HIGH, no robust or compact flag: Embree at its fastest).
+ * The rays are exactly pgt_facade_render's: pgt_facade_camera_ray per pixel centre. Embree
+ * traces them on the same number of threads (pgt_parallel_for over rows of 4 x 4 pixel tiles)
+ * either as rtcIntersect16 packets of one tile each or as rtcIntersect1M streams of a tile row
+ * with RTC_INTERSECT_CONTEXT_FLAG_COHERENT. Measured on 2 threads (results/facade.csv) neither
+ * mode wins consistently (within ~15 % of each other, each faster on some rows), so pgt bench
+ * facade times both and reports the faster; pgt facade uses packets unless told otherwise.
+ *
+ * Comparison per pixel with a rendered frame (frame.facade, node, terminal, surface, depth):
+ * agreement is both missing, or both hitting the same (facade, node, kind, surface) at distances
+ * t (ours) and t' (Embree) with |t - t'| <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t. A disagreement
+ * is "near an edge" when the hit point of either side lies within PGT_FACADE_CHECK_EDGE_EPS_REL
+ * * t of the boundary of the rectangle it hit (the rectangle found as its two triangles in the
+ * explicit mesh; the shared diagonal is not a boundary): there one float rounding decides which
+ * of two touching or overlapping rectangles a ray meets first. */
+#ifndef PGT_FACADE_EMBREE_H
+#define PGT_FACADE_EMBREE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "pgt/facade.h"
+#include "pgt/result.h"
+
+/* Relative depth tolerance of agreeing hits. Both sides intersect the same float rectangles:
+ * ours in facade space (one transform of the ray: origin and direction each rounded, ~1e-7 of
+ * the coordinates' magnitude), Embree in world space on rounded vertices (the same order). At a
+ * grazing angle a the depth error grows as 1 / cos(a); 1e-4 covers angles up to ~89.5 degrees
+ * at city coordinates of ~1000 with t ~ 100 (measured maximum in the tests: see
+ * test_facade_embree). */
+#define PGT_FACADE_CHECK_DEPTH_TOL_REL 1e-4
+/* Disagreements within this distance (relative to t) of a rectangle's boundary are rounding:
+ * a pixel's footprint at 512 pixels and 45 degrees is ~1.6e-3 t, float coordinates of a city
+ * ~1e-7 of 1000 = 1e-4 absolute; 1e-4 t is a tenth of a pixel at 512^2 and well above the
+ * rounding at every t > 1. */
+#define PGT_FACADE_CHECK_EDGE_EPS_REL 1e-4
+/* The agreement the check demands (percent), as the issue states it. */
+#define PGT_FACADE_CHECK_MIN_AGREEMENT 99.99
+
+typedef enum pgt_facade_embree_mode {
+    PGT_FACADE_EMBREE_PACKETS = 0, /* rtcIntersect16, one 4 x 4 tile per packet */
+    PGT_FACADE_EMBREE_STREAMS = 1  /* rtcIntersect1M of a tile row, coherent flag */
+} pgt_facade_embree_mode;
+#define PGT_FACADE_EMBREE_DEFAULT_MODE PGT_FACADE_EMBREE_PACKETS
+
+/* An Embree scene of an explicit facade mesh (opaque Embree handles). */
+typedef struct pgt_facade_embree {
+    void *device, *scene; /* RTCDevice, RTCScene */
+    const pgt_facade_mesh *mesh;
+    float *vertices; /* padded copy of mesh->positions (Embree reads 16 bytes a vertex) */
+    uint32_t threads;
+    double build_ms;     /* device, geometry and BVH build */
+    size_t embree_bytes; /* peak bytes Embree reported (rtcSetDeviceMemoryMonitorFunction) */
+    size_t buffer_bytes; /* the vertex and index buffers it reads */
+    void *monitor;       /* the memory counter */
+} pgt_facade_embree;
+
+/* Builds the scene on `threads` threads. The mesh must outlive e. PGT_ERROR_BACKEND with
+ * Embree's first message, PGT_ERROR_EMPTY for a mesh without triangles. */
+pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
+                                    uint32_t threads, pgt_error *err);
+void pgt_facade_embree_destroy(pgt_facade_embree *e);
+
+/* Embree's hits of one frame: per pixel (row-major, y = 0 at the top). */
+typedef struct pgt_facade_embree_hits {
+    uint32_t width, height;
+    float *t;      /* INFINITY on a miss */
+    uint32_t *tri; /* triangle, PGT_NONE on a miss */
+    float *u, *v;  /* barycentrics of the hit */
+} pgt_facade_embree_hits;
+
+pgt_result pgt_facade_embree_hits_create(pgt_facade_embree_hits *h, uint32_t width, uint32_t height,
+                                         pgt_error *err);
+void pgt_facade_embree_hits_destroy(pgt_facade_embree_hits *h);
+
+/* Traces one ray per pixel of cam (pgt_facade_camera_ray) on e->threads threads; *ms gets the
+ * wall time of the trace (ray generation included, as in our frame). */
+pgt_result pgt_facade_embree_trace(pgt_facade_embree *e, const pgt_facade_camera *cam,
+                                   pgt_facade_embree_mode mode, pgt_facade_embree_hits *out,
+                                   double *ms, pgt_error *err);
+
+/* One pixel the check could not explain (for messages). */
+typedef struct pgt_facade_check_pixel {
+    uint32_t x, y;
+    uint32_t facade[2], node[2], kind[2], surface[2]; /* ours, Embree's (PGT_NONE: miss) */
+    float t[2];
+    float edge[2]; /* distance to the rectangle's boundary / t; INFINITY when that side missed */
+} pgt_facade_check_pixel;
+
+#define PGT_FACADE_CHECK_MAX_REPORTED 8u
+
+typedef struct pgt_facade_check {
+    uint64_t pixels, agree, both_miss, disagree, near_edge;
+    double max_abs_dt, max_rel_dt; /* among agreeing hits */
+    double agreement_pct;
+    uint32_t reported;
+    pgt_facade_check_pixel far[PGT_FACADE_CHECK_MAX_REPORTED]; /* first disagreements not near
+                                                                  an edge */
+} pgt_facade_check;
+
+/* Compares a rendered frame with Embree's hits of the same camera. Nonzero return = the check
+ * passes: every disagreement near an edge and agreement >= PGT_FACADE_CHECK_MIN_AGREEMENT. */
+int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam,
+                              const pgt_facade_frame *frame, const pgt_facade_embree_hits *hits,
+                              pgt_facade_check *out);
+
+/* Writes the mesh as binary little-endian PLY: vertex x y z (float), face vertex_indices
+ * (uchar count, uint) then facade, node, kind, surface (uint). Temporary file + rename. */
+pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path, pgt_error *err);
+
+/* Bytes of the mesh's arrays (positions, indices, per-triangle ids). */
+size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m);
+
+#endif

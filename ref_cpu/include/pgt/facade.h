@@ -1,0 +1,329 @@
+/* pgt: per-pixel procedural facades (paper 003; issue 6): the facade scene, facade space, the
+ * coverage polygon, ray-dependent grammar development and its explicit twin.
+ *
+ * This work is based on:
+ *   Marvie, Gautron, Hirtzlin, Sourimant, "Render-Time Procedural Per-Pixel Geometry
+ *   Generation", GI 2011 (paper 003): sec. 3 (the facade grammar), 5.1 (facade space: origin
+ *   at the bottom left, t along the facade, b up, n out), 5.2 (the facade volume: the facade
+ *   rectangle thickened by the largest protrusion F in front and recess B behind), 5.3 (the
+ *   coverage polygon: orientation selection and projection), 6.1 (Algorithm 1, ray-dependent
+ *   grammar development), 6.2.1 (parametric surface sets: the window block of Fig. 7).
+ *
+ * Data. A scene is flat arrays (uploadable as they are): buildings, their footprint corners and
+ * one vector of grammar param values per building (the grammar's params in order: the paper's
+ * "grammar parameters and building footprints"). pgt_facade_prepare derives one pgt_facade per
+ * footprint edge (its facade space and volume); that array is working data, recomputed from the
+ * scene in O(facades).
+ *
+ * Facade space (5.1): x along t from the edge's first corner, y up (b = +Y of the world), z
+ * along n = t x b, out of the building. A footprint's corners are ordered so that n points out:
+ * counter-clockwise seen from above (looking down -Y with +X to the right, so +Z runs down the
+ * page), i.e. a negative signed area sum(x_k z_k+1 - x_k+1 z_k) / 2; pgt_facade_scene_check
+ * refuses the other order.
+ * The volume (5.2) is [0, width] x [0, height] x [-recess, protrusion], where recess and
+ * protrusion are the grammar params `recess` and `protrusion` (B and F: bounds the grammar
+ * declares, as in the paper; the explicit expansion verifies every terminal against them).
+ *
+ * Grammar (3, 6.1). The axiom is the facade: its scope is the facade rectangle. A rule body is
+ * a sequence of items applied to the same scope: split(x) / split(y) (split.h's CGA layout),
+ * rule calls (with case/else conditions) and the facade terminals below. Several items in one
+ * sequence overlap in the scope (a window and a balcony in front of it); the nearest hit wins.
+ * Random numbers (rand) are keyed by the node, not by draw order: a node's stream is the hash of
+ * its parent's stream and its child index (pgt_facade_child_key), so every ray, and the explicit
+ * expansion, sees the same random layout whatever it develops.
+ *
+ * Terminals (6.2.1) are parametric surface sets: axis-aligned rectangles in the terminal's
+ * block, which is the scope [0, w] x [0, h] placed at (X_B, Y_B) on the facade. Every terminal
+ * stays inside its scope in x and y and inside [-recess, protrusion] in z (the paper's sec. 8
+ * condition for the grammar to be a BVH). pgt_facade_terminal_quads is the one definition that
+ * the ray test and the explicit expansion both use. In the grammar:
+ *   Wall()                                     the scope's rectangle at z = 0.
+ *   Window(margin, frame, frameDepth, recess, sillHeight, sillDepth)
+ *                                              Fig. 7: wall around, a frame protruding by
+ *                                              frameDepth, the opening recessed to z = -recess
+ *                                              (reveal and glass), a sill box below the frame
+ *                                              protruding by sillDepth.
+ *   Door(margin, frame, frameDepth, recess)    a window without sill whose opening reaches the
+ *                                              bottom of the scope.
+ *   Ledge(depth)                               a box over the whole scope protruding by depth.
+ *   Balcony(depth, slab, railing)              a slab (height slab) protruding by depth with a
+ *                                              railing of height railing at its front and sides;
+ *                                              the back is open (a window behind it shows).
+ * A terminal whose scope is too small for its layout degrades to Wall() (documented per kind in
+ * facade.c); sizes are clamped to the scope.
+ *
+ * Ray development (Algorithm 1): intersect the volume; from the entry point, the child of each
+ * split that holds the point (pgt_split_child_at), terminals tested, then the next child in the
+ * ray's direction along the split axis, until a hit or the exit; explicit stack, nothing
+ * generated. A ray that misses the volume develops nothing. */
+#ifndef PGT_FACADE_H
+#define PGT_FACADE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "grammar.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Terminal kinds: the `terminal` channel of a frame (0 = no hit). */
+typedef enum pgt_facade_kind {
+    PGT_FACADE_MISS = 0,
+    PGT_FACADE_WALL = 1,
+    PGT_FACADE_WINDOW = 2,
+    PGT_FACADE_DOOR = 3,
+    PGT_FACADE_LEDGE = 4,
+    PGT_FACADE_BALCONY = 5,
+    PGT_FACADE_KIND_COUNT = 6
+} pgt_facade_kind;
+
+/* Depth of the development stack (split and sequence frames): the facade grammar nests 3 deep,
+ * a CGA building a dozen. Deeper is an error (PGT_FACADE_ERR_DEPTH), never a crash. */
+#define PGT_FACADE_MAX_DEPTH 32u
+/* Parts of one split that a ray development can hold (a repeat group's parts included): a frame
+ * keeps one pgt_split_slot per part. */
+#define PGT_FACADE_MAX_PARTS 16u
+/* Nodes one ray may develop before it gives up (PGT_FACADE_ERR_BUDGET): a grammar that never
+ * stops splitting (A --> split(x) { '1 : A }) would otherwise loop forever; rule calls that
+ * never split (A --> B, B --> A) are refused earlier by pgt_facade_scene_check. A ray along a
+ * facade of a few hundred windows develops about a thousand nodes. */
+#define PGT_FACADE_NODE_BUDGET 65536u
+/* Rectangles of one terminal at most (the window block has 27). */
+#define PGT_FACADE_MAX_QUADS 32u
+
+/* Facades per scene, and pixels per image side, at most (sizes stay far inside 32 bits). */
+#define PGT_FACADE_MAX_FACADES (1u << 26)
+#define PGT_FACADE_MAX_SIDE 16384u
+
+/* pgt_facade_ray_stats.errors bits: what went wrong in some ray (rendering goes on; the CLI
+ * reports them as errors). */
+#define PGT_FACADE_ERR_DEPTH 1u  /* the stack was full */
+#define PGT_FACADE_ERR_BUDGET 2u /* PGT_FACADE_NODE_BUDGET reached */
+#define PGT_FACADE_ERR_EVAL 4u   /* an expression gave NaN/inf or read what it may not */
+#define PGT_FACADE_ERR_PARTS 8u  /* a split with more than PGT_FACADE_MAX_PARTS parts */
+#define PGT_FACADE_ERR_ITEM                                                                        \
+    16u /* an item a facade cannot hold (Marching, Branch, Bark, split(z)) */
+
+/* One building: an extruded footprint. */
+typedef struct pgt_facade_building {
+    uint32_t first_corner, corner_count; /* corners[2 * first_corner ..]: (x, z) pairs */
+    float base, height;                  /* ground y and height of the extrusion */
+    uint32_t grammar;                    /* index into the scene's grammars */
+    uint32_t first_param;                /* params[first_param .. + the grammar's param_count) */
+    uint32_t seed;                       /* the building's random seed (rand in its grammar) */
+    uint32_t colour;                     /* 0xRRGGBB, the wall's base colour */
+} pgt_facade_building;
+
+/* A scene: every array is flat. grammars are borrowed (not freed by pgt_facade_scene_destroy). */
+typedef struct pgt_facade_scene {
+    uint32_t grammar_count;
+    const pgt_grammar *grammars; /* grammars[k] */
+    uint32_t building_count;
+    pgt_facade_building *buildings;
+    uint32_t corner_count;
+    float *corners; /* 2 * corner_count */
+    uint32_t param_count;
+    float *params;
+} pgt_facade_scene;
+
+/* One facade (derived): facade space and volume. 15 words. */
+typedef struct pgt_facade {
+    float origin[3];          /* world position of facade space's origin (bottom left) */
+    float t[3];               /* unit tangent (x axis); b is +Y; n = t x b */
+    float n[3];               /* unit normal (z axis), out of the building */
+    float width, height;      /* the facade rectangle */
+    float protrusion, recess; /* F and B (5.2) */
+    uint32_t building;        /* index of its building; grammar, params, seed from there */
+    uint32_t edge;            /* footprint edge k (corner k to k + 1) of its building */
+} pgt_facade;
+
+/* Pinhole camera: one ray per pixel centre, fov_deg is the vertical field of view. */
+typedef struct pgt_facade_camera {
+    float eye[3], at[3], up[3];
+    float fov_deg;
+    uint32_t width, height;
+    float forward[3], right[3], upward[3]; /* orthonormal, derived by pgt_facade_camera_init */
+    float tan_half;                        /* tan(fov / 2) */
+} pgt_facade_camera;
+
+/* The nearest hit of a ray. */
+typedef struct pgt_facade_hit {
+    float t;          /* distance along the unit direction; INFINITY when nothing was hit */
+    uint32_t facade;  /* PGT_NONE when nothing was hit */
+    uint32_t node;    /* the terminal instance's node key (pgt_facade_child_key chain) */
+    uint32_t kind;    /* pgt_facade_kind */
+    uint32_t surface; /* index of the rectangle within the terminal */
+    uint32_t item;    /* grammar item of the terminal */
+    float n[3];       /* world normal of the rectangle (its +axis side, not flipped) */
+    float p[3];       /* facade-space hit point */
+} pgt_facade_hit;
+
+/* Counters of ray development. */
+typedef struct pgt_facade_ray_stats {
+    uint64_t rays;        /* rays given to pgt_facade_intersect */
+    uint64_t volume_hits; /* rays that entered a facade volume */
+    uint64_t nodes;       /* nodes developed (split and sequence frames pushed) */
+    uint64_t terminals;   /* terminal intersection tests */
+    uint64_t quads;       /* rectangle tests */
+    uint32_t errors;      /* PGT_FACADE_ERR_* bits */
+} pgt_facade_ray_stats;
+
+/* ---- scene ---- */
+
+/* Checks a scene: indices in range, finite coordinates, footprints of >= 3 corners with no edge
+ * shorter than 1e-4, ordered so that normals point out (negative signed area), params finite, every
+ * grammar having the params `protrusion` and `recess` (>= 0), an axiom without parameters and no
+ * rule that calls itself through rule calls alone.
+ * what names the scene in messages ("city.scene"). */
+pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, pgt_error *err);
+
+/* Frees the scene's own arrays (not the grammars) and zeroes it. */
+void pgt_facade_scene_destroy(pgt_facade_scene *s);
+
+/* Bytes of the procedural representation: buildings, corners, params and the grammars' arrays
+ * (what a GPU would hold; the derived facades are counted apart by the caller). */
+size_t pgt_facade_scene_bytes(const pgt_facade_scene *s);
+
+/* Derives the facades of every building, in building then edge order. *out is malloc'd. */
+pgt_result pgt_facade_prepare(const pgt_facade_scene *s, pgt_facade **out, uint32_t *count,
+                              pgt_error *err);
+
+/* ---- camera and rays ---- */
+
+/* Derives the camera basis. Errors: eye == at, up parallel to the view, fov outside (0, 180),
+ * zero size, non-finite values. */
+pgt_result pgt_facade_camera_init(pgt_facade_camera *cam, const float eye[3], const float at[3],
+                                  const float up[3], float fov_deg, uint32_t width, uint32_t height,
+                                  pgt_error *err);
+
+/* The ray through the centre of pixel (x, y) (y = 0 is the top row): org = eye, dir unit, with
+ * harness/render.h's convention (w = normalize(eye - at), right = normalize(up x w), upward = w x
+ * right, dir = normalize(-w + sx right + sy upward), sx = (2 (x + 0.5) / W - 1) tan(fov / 2) W / H,
+ * sy = (1 - 2 (y + 0.5) / H) tan(fov / 2)). The one definition of the rays; the Embree check uses
+ * it too. */
+void pgt_facade_camera_ray(const pgt_facade_camera *cam, uint32_t x, uint32_t y, float org[3],
+                           float dir[3]);
+
+/* ---- development ---- */
+
+/* The node key of child k of a node with key parent (a 32-bit hash). The axiom's key is
+ * pgt_facade_child_key(building seed, facade index within its building). */
+uint32_t pgt_facade_child_key(uint32_t parent, uint32_t k);
+
+/* Rectangles of a terminal in facade space: kind, its evaluated arguments, its scope
+ * [x0, x0 + w] x [y0, y0 + h]. Each quad is axis-aligned: axis (0 x, 1 y, 2 z) is its normal's
+ * axis, c the plane's coordinate, lo/hi the bounds on the other two axes in increasing axis
+ * order; the index in out is the surface id (facade_terminals.c lists them). A rectangle of zero
+ * area (hi[0] == lo[0]) keeps its id and is skipped by the ray test and the expansion. Returns
+ * the count (<= PGT_FACADE_MAX_QUADS). */
+typedef struct pgt_facade_quad {
+    uint32_t axis;
+    float c;
+    float lo[2], hi[2];
+} pgt_facade_quad;
+uint32_t pgt_facade_terminal_quads(uint32_t kind, const float *args, uint32_t arg_count, float x0,
+                                   float y0, float w, float h, pgt_facade_quad *out);
+
+/* The facade kind of a grammar terminal id, or PGT_FACADE_MISS for a terminal a facade cannot
+ * hold (Bark, Leaves). */
+uint32_t pgt_facade_kind_of(uint32_t grammar_terminal);
+
+/* Intersects one ray (world space, dir unit) with facade f (index fi of the scene's facades)
+ * for t in [0, hit->t): on a nearer hit, overwrites *hit and returns 1. stats may be NULL. */
+int pgt_facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                         const float org[3], const float dir[3], pgt_facade_hit *hit,
+                         pgt_facade_ray_stats *stats);
+
+/* ---- coverage polygon (5.3) ---- */
+
+/* The coverage polygon of facade f seen from eye: the axis of facade space along which the eye
+ * is farthest outside the volume (relative to the volume's extent: the major axis of the view
+ * direction, 5.3.1) selects the plane (the volume's face towards the eye), and the volume's 8
+ * corners projected from the eye onto it bound the polygon (5.3.2): corners[4][3] in world
+ * space, in order around the rectangle. Among the axes along which the eye lies outside the
+ * volume, the one with the largest component of (volume centre - eye) is taken, so the plane
+ * always separates the eye from the volume and every ray from eye that meets the volume crosses
+ * the polygon. Returns 0 when the eye is inside the volume (then every pixel is covered), 1
+ * otherwise. */
+int pgt_facade_coverage(const pgt_facade *f, const float eye[3], float corners[4][3],
+                        uint32_t *axis);
+
+/* ---- frames ---- */
+
+/* Shading of a frame: albedo by terminal surface (wall in the building's colour, glass, frames,
+ * sills...) times ambient + (1 - ambient) max(0, n . l) for a point light, n turned to face the
+ * camera; misses get a constant sky colour. (Relief mapping and LOD come with sec. 6.3 and 7.) */
+typedef struct pgt_facade_shading {
+    float light[3]; /* point light, world space */
+    float ambient;  /* share of the albedo lit whatever the light (0..1) */
+    int shadows;    /* 1: self-shadowing (6.4): a shadow ray toward the light through the same
+                       facade's development */
+} pgt_facade_shading;
+
+/* One frame: planes of width * height values, row-major, y = 0 at the top. */
+typedef struct pgt_facade_frame {
+    uint32_t width, height;
+    float *rgb;          /* 3 per pixel, linear */
+    float *depth;        /* distance along the ray, INFINITY when nothing was hit */
+    float *terminal;     /* pgt_facade_kind as a float */
+    float *normal;       /* 3 per pixel, world space, facing the camera; 0 when missed */
+    uint32_t *facade;    /* PGT_NONE when missed */
+    uint32_t *node;      /* terminal node key */
+    uint32_t *surface;   /* rectangle within the terminal */
+    uint32_t *developed; /* nodes developed for this pixel, summed over the facades it was
+                            tested against */
+} pgt_facade_frame;
+
+pgt_result pgt_facade_frame_create(pgt_facade_frame *out, uint32_t width, uint32_t height,
+                                   pgt_error *err);
+void pgt_facade_frame_destroy(pgt_facade_frame *f);
+
+/* Timing and counts of one rendered frame. */
+typedef struct pgt_facade_render_stats {
+    double ms_total, ms_cover, ms_rays; /* coverage + binning, ray development + shading */
+    uint64_t covered_pixels;            /* pixel-facade pairs generated by coverage polygons */
+    uint32_t visible_facades;           /* facades with a non-empty coverage on screen */
+    pgt_facade_ray_stats rays;
+} pgt_facade_render_stats;
+
+/* Renders one ray per pixel: every facade's coverage polygon is rasterized (5.3), each covered
+ * pixel's ray is developed against that facade (6.1) with the depth so far as its far bound
+ * (facades sorted near to far). threads as pgt_parallel_for (0 is 1); the bytes of the frame do
+ * not depend on threads. */
+pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facades,
+                             uint32_t facade_count, const pgt_facade_camera *cam,
+                             const pgt_facade_shading *shading, uint32_t threads,
+                             pgt_facade_frame *frame, pgt_facade_render_stats *stats,
+                             pgt_error *err);
+
+/* ---- explicit geometry (issue 6 item 8) ---- */
+
+/* Every terminal of every facade instantiated as triangles (two per rectangle, in world
+ * space, corners computed from the same facade-space rectangles the ray test uses), with per
+ * triangle ids to compare hits. */
+typedef struct pgt_facade_mesh {
+    uint32_t vertex_count, triangle_count;
+    float *positions;  /* 3 * vertex_count */
+    uint32_t *indices; /* 3 * triangle_count */
+    uint32_t *facade;  /* per triangle */
+    uint32_t *node;    /* per triangle: terminal node key */
+    uint32_t *kind;    /* per triangle: pgt_facade_kind */
+    uint32_t *surface; /* per triangle: rectangle within the terminal */
+} pgt_facade_mesh;
+
+/* Expands every facade completely. Errors: a terminal outside [-recess, protrusion] or outside
+ * its scope (the grammar is not a BVH, sec. 8), the errors of pgt_facade_ray_stats (as messages
+ * naming the grammar FILE:LINE:COL), more than 2^30 triangles. */
+pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
+                               uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err);
+
+void pgt_facade_mesh_destroy(pgt_facade_mesh *m);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

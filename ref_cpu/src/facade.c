@@ -1,0 +1,706 @@
+/* pgt: facade scenes, facade space, the camera, ray-dependent grammar development (paper 003
+ * Algorithm 1) and its explicit twin (every terminal instantiated). See facade.h. */
+#include "pgt/facade.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "facade_internal.h"
+#include "pgt/rng.h"
+#include "pgt/split.h"
+#include "vec3_internal.h"
+
+/* A footprint edge shorter than this (metres) has no facade direction. */
+#define FACADE_MIN_EDGE 1e-4f
+
+/* ---- scene ---- */
+
+static const char *gname(const pgt_grammar *g) { return g->names + g->file_name; }
+
+/* A rule that calls itself through rule calls alone (no split between: the scope never shrinks)
+ * would be developed forever: Kahn's algorithm on the graph "rule r's cases call rule q". */
+static pgt_result check_call_cycles(const pgt_grammar *g, const char *what, pgt_error *err) {
+    const uint32_t R = g->rule_count;
+    uint32_t *indeg = calloc(R ? R : 1u, sizeof *indeg),
+             *queue = malloc((R ? R : 1u) * sizeof *queue);
+    if (!indeg || !queue) {
+        free(indeg), free(queue);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
+    }
+#define FOR_CALLS(r, body)                                                                         \
+    for (uint32_t c_ = 0; c_ < g->rules[r].case_count; ++c_) {                                     \
+        const pgt_grammar_sequence *sq_ =                                                          \
+            &g->sequences[g->cases[g->rules[r].first_case + c_].sequence];                         \
+        for (uint32_t i_ = 0; i_ < sq_->item_count; ++i_) {                                        \
+            const pgt_grammar_item *it_ = &g->items[sq_->first_item + i_];                         \
+            if (it_->kind == PGT_GRAMMAR_ITEM_CALL) {                                              \
+                const uint32_t q_ = it_->target;                                                   \
+                body                                                                               \
+            }                                                                                      \
+        }                                                                                          \
+    }
+    for (uint32_t r = 0; r < R; ++r) FOR_CALLS(r, indeg[q_]++;)
+    uint32_t head = 0, tail = 0;
+    for (uint32_t r = 0; r < R; ++r)
+        if (indeg[r] == 0) queue[tail++] = r;
+    while (head < tail) {
+        const uint32_t r = queue[head++];
+        FOR_CALLS(r, if (--indeg[q_] == 0) queue[tail++] = q_;)
+    }
+#undef FOR_CALLS
+    pgt_result res = PGT_OK;
+    for (uint32_t r = 0; r < R && tail < R; ++r)
+        if (indeg[r] > 0) {
+            res = pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                "%s:%u:%u: rule %s calls itself through rule calls without a split "
+                                "between (%s: a facade would develop it forever)",
+                                gname(g), g->rules[r].line, g->rules[r].col,
+                                g->names + g->rules[r].name, what);
+            break;
+        }
+    free(indeg), free(queue);
+    return res;
+}
+
+pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, pgt_error *err) {
+    if (!what) what = "scene";
+    if (!s || (s->building_count && !s->buildings) || (s->corner_count && !s->corners) ||
+        (s->param_count && !s->params) || (s->grammar_count && !s->grammars))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: missing arrays", what);
+    for (uint32_t k = 0; k < s->grammar_count; ++k) {
+        const pgt_grammar *g = &s->grammars[k];
+        if (g->rule_count == 0 || g->rules[0].param_count != 0)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: grammar %s has no axiom without parameters", what, gname(g));
+        if (pgt_grammar_find_param(g, "protrusion") == PGT_NONE ||
+            pgt_grammar_find_param(g, "recess") == PGT_NONE)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: grammar %s lacks the param protrusion or recess (the facade "
+                                 "volume's F and B, paper 003 sec. 5.2)",
+                                 what, gname(g));
+        const pgt_result r = check_call_cycles(g, what, err);
+        if (r != PGT_OK) return r;
+    }
+    for (uint32_t i = 0; i < s->corner_count * 2u; ++i)
+        if (!isfinite(s->corners[i]))
+            return pgt_error_set(err, PGT_ERROR_NOT_FINITE, "%s: corner %u is not finite", what,
+                                 i / 2);
+    for (uint32_t b = 0; b < s->building_count; ++b) {
+        const pgt_facade_building *B = &s->buildings[b];
+        if (B->grammar >= s->grammar_count)
+            return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                 "%s: building %u names grammar %u of %u", what, b, B->grammar,
+                                 s->grammar_count);
+        const pgt_grammar *g = &s->grammars[B->grammar];
+        if (B->corner_count < 3 || B->first_corner > s->corner_count ||
+            B->corner_count > s->corner_count - B->first_corner)
+            return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                 "%s: building %u has corners [%u, %u + %u) of %u (at least 3)",
+                                 what, b, B->first_corner, B->first_corner, B->corner_count,
+                                 s->corner_count);
+        if (B->first_param > s->param_count || g->param_count > s->param_count - B->first_param)
+            return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                 "%s: building %u has params [%u, %u + %u) of %u", what, b,
+                                 B->first_param, B->first_param, g->param_count, s->param_count);
+        if (!(isfinite(B->base) && isfinite(B->height) && B->height > 0.0f))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: building %u has base %g and height %g (height > 0)", what, b,
+                                 (double)B->base, (double)B->height);
+        for (uint32_t k = 0; k < g->param_count; ++k)
+            if (!isfinite(s->params[B->first_param + k]))
+                return pgt_error_set(err, PGT_ERROR_NOT_FINITE,
+                                     "%s: building %u: param %s is not finite", what, b,
+                                     g->names + g->params[k].name);
+        const float F = s->params[B->first_param + pgt_grammar_find_param(g, "protrusion")];
+        const float Bk = s->params[B->first_param + pgt_grammar_find_param(g, "recess")];
+        if (!(F >= 0.0f && Bk >= 0.0f))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: building %u: protrusion %g and recess %g must be >= 0", what,
+                                 b, (double)F, (double)Bk);
+        double area = 0.0;
+        const float *c = s->corners + 2u * B->first_corner;
+        for (uint32_t k = 0; k < B->corner_count; ++k) {
+            const uint32_t k1 = (k + 1u) % B->corner_count;
+            const float dx = c[2 * k1] - c[2 * k], dz = c[2 * k1 + 1] - c[2 * k + 1];
+            if (!(sqrtf(dx * dx + dz * dz) >= FACADE_MIN_EDGE))
+                return pgt_error_set(err, PGT_ERROR_DEGENERATE,
+                                     "%s: building %u: footprint edge %u is shorter than %g", what,
+                                     b, k, (double)FACADE_MIN_EDGE);
+            area += (double)c[2 * k] * c[2 * k1 + 1] - (double)c[2 * k1] * c[2 * k + 1];
+        }
+        /* n = t x (0,1,0) = (-t.z, 0, t.x) points out when the x-z signed area is negative:
+         * counter-clockwise seen from above (+Y down onto the ground, +X right, +Z down the
+         * page) */
+        if (!(area < 0.0))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: building %u: footprint corners run the wrong way (signed "
+                                 "x-z area %g, expected < 0; facade normals would point into the "
+                                 "building: list them counter-clockwise seen from above)",
+                                 what, b, 0.5 * area);
+    }
+    return PGT_OK;
+}
+
+void pgt_facade_scene_destroy(pgt_facade_scene *s) {
+    if (!s) return;
+    free(s->buildings);
+    free(s->corners);
+    free(s->params);
+    memset(s, 0, sizeof *s);
+}
+
+static size_t grammar_bytes(const pgt_grammar *g) {
+    return sizeof *g + g->rule_count * sizeof *g->rules + g->case_count * sizeof *g->cases +
+           g->sequence_count * sizeof *g->sequences + g->item_count * sizeof *g->items +
+           g->part_count * sizeof *g->parts + g->arg_count * sizeof *g->args +
+           g->sub_count * sizeof *g->subs + g->expr_count * sizeof *g->exprs +
+           g->code_count * sizeof *g->code + g->const_count * sizeof *g->consts +
+           g->param_count * (sizeof *g->params + sizeof *g->param_values) +
+           g->rule_param_count * sizeof *g->rule_params + g->names_size;
+}
+
+size_t pgt_facade_scene_bytes(const pgt_facade_scene *s) {
+    size_t n = (size_t)s->building_count * sizeof *s->buildings +
+               (size_t)s->corner_count * 2u * sizeof *s->corners +
+               (size_t)s->param_count * sizeof *s->params;
+    for (uint32_t k = 0; k < s->grammar_count; ++k) n += grammar_bytes(&s->grammars[k]);
+    return n;
+}
+
+pgt_result pgt_facade_prepare(const pgt_facade_scene *s, pgt_facade **out, uint32_t *count,
+                              pgt_error *err) {
+    *out = NULL, *count = 0;
+    uint64_t n = 0;
+    for (uint32_t b = 0; b < s->building_count; ++b) n += s->buildings[b].corner_count;
+    if (n > PGT_FACADE_MAX_FACADES)
+        return pgt_error_set(err, PGT_ERROR_LIMIT, "%llu facades, more than %u",
+                             (unsigned long long)n, PGT_FACADE_MAX_FACADES);
+    pgt_facade *f = malloc((size_t)(n ? n : 1) * sizeof *f);
+    if (!f) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "facades: out of memory");
+    uint32_t i = 0;
+    for (uint32_t b = 0; b < s->building_count; ++b) {
+        const pgt_facade_building *B = &s->buildings[b];
+        const pgt_grammar *g = &s->grammars[B->grammar];
+        const float *par = s->params + B->first_param;
+        const float *c = s->corners + 2u * B->first_corner;
+        for (uint32_t k = 0; k < B->corner_count; ++k, ++i) {
+            const uint32_t k1 = (k + 1u) % B->corner_count;
+            const float dx = c[2 * k1] - c[2 * k], dz = c[2 * k1 + 1] - c[2 * k + 1];
+            const float len = sqrtf(dx * dx + dz * dz);
+            pgt_facade *F = &f[i];
+            F->origin[0] = c[2 * k], F->origin[1] = B->base, F->origin[2] = c[2 * k + 1];
+            F->t[0] = dx / len, F->t[1] = 0.0f, F->t[2] = dz / len;
+            /* n = t x b with b = +Y: (t.y * 0 - t.z * 1, t.z * 0 - t.x * 0, t.x * 1 - t.y * 0) */
+            F->n[0] = -F->t[2], F->n[1] = 0.0f, F->n[2] = F->t[0];
+            F->width = len, F->height = B->height;
+            F->protrusion = par[pgt_grammar_find_param(g, "protrusion")];
+            F->recess = par[pgt_grammar_find_param(g, "recess")];
+            F->building = b, F->edge = k;
+        }
+    }
+    *out = f, *count = i;
+    return PGT_OK;
+}
+
+/* ---- camera ---- */
+
+static int normalize3(float v[3]) {
+    const float l = sqrtf(dot3(v, v));
+    if (!(l > 0.0f) || !isfinite(l)) return 0;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return 1;
+}
+
+pgt_result pgt_facade_camera_init(pgt_facade_camera *cam, const float eye[3], const float at[3],
+                                  const float up[3], float fov_deg, uint32_t width, uint32_t height,
+                                  pgt_error *err) {
+    memset(cam, 0, sizeof *cam);
+    for (int k = 0; k < 3; ++k)
+        if (!isfinite(eye[k]) || !isfinite(at[k]) || !isfinite(up[k]))
+            return pgt_error_set(err, PGT_ERROR_NOT_FINITE, "camera: a coordinate is not finite");
+    if (!(fov_deg > 0.0f && fov_deg < 180.0f))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "camera: fov %g degrees, expected 0 < fov < 180", (double)fov_deg);
+    if (width == 0 || height == 0 || width > PGT_FACADE_MAX_SIDE || height > PGT_FACADE_MAX_SIDE)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "camera: %u x %u pixels, expected 1 to %u per side", width, height,
+                             PGT_FACADE_MAX_SIDE);
+    float w[3] = {eye[0] - at[0], eye[1] - at[1], eye[2] - at[2]}, u[3], v[3];
+    if (!normalize3(w))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "camera: eye and at coincide");
+    cross3(up, w, u);
+    if (!normalize3(u) || sqrtf(dot3(up, up)) * 1e-6f > sqrtf(dot3(u, u)))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "camera: up is zero or parallel to the view direction");
+    cross3(w, u, v);
+    memcpy(cam->eye, eye, sizeof cam->eye);
+    memcpy(cam->at, at, sizeof cam->at);
+    memcpy(cam->up, up, sizeof cam->up);
+    for (int k = 0; k < 3; ++k)
+        cam->forward[k] = -w[k], cam->right[k] = u[k], cam->upward[k] = v[k];
+    cam->fov_deg = fov_deg;
+    cam->width = width, cam->height = height;
+    cam->tan_half = (float)tan((double)fov_deg * 0.5 * 3.14159265358979323846 / 180.0);
+    return PGT_OK;
+}
+
+void pgt_facade_camera_ray(const pgt_facade_camera *cam, uint32_t x, uint32_t y, float org[3],
+                           float dir[3]) {
+    const float W = (float)cam->width, H = (float)cam->height;
+    const float sx = (2.0f * ((float)x + 0.5f) / W - 1.0f) * cam->tan_half * (W / H);
+    const float sy = (1.0f - 2.0f * ((float)y + 0.5f) / H) * cam->tan_half;
+    for (int k = 0; k < 3; ++k) {
+        org[k] = cam->eye[k];
+        dir[k] = cam->forward[k] + sx * cam->right[k] + sy * cam->upward[k];
+    }
+    normalize3(dir);
+}
+
+/* ---- development ---- */
+
+uint32_t pgt_facade_child_key(uint32_t parent, uint32_t k) {
+    return (uint32_t)(pgt_rng_mix64(((uint64_t)parent << 32 | k) + 0x9E3779B97F4A7C15ull) >> 32);
+}
+
+uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f) {
+    return pgt_facade_child_key(s->buildings[f->building].seed, f->edge);
+}
+
+/* Evaluates expression e of g for node `key`: rand draws (seed, key, counter++). */
+static int eval(const facade_ctx *c, uint32_t e, const float *args, uint32_t argc, uint32_t key,
+                uint64_t *counter, float *out) {
+    const pgt_grammar_expr *x = &c->g->exprs[e];
+    if (x->code_count == 1) { /* a number or a param: most split sizes and arguments */
+        const uint32_t ins = c->g->code[x->first_code];
+        const uint32_t op = ins & PGT_GRAMMAR_OP_MASK, a = ins >> PGT_GRAMMAR_OP_BITS;
+        if (op == PGT_GRAMMAR_OP_CONST) return *out = c->g->consts[a], 1;
+        if (op == PGT_GRAMMAR_OP_PARAM) return *out = c->params[a], 1;
+    }
+    pgt_grammar_env env;
+    memset(&env, 0, sizeof env);
+    env.seed = c->seed, env.stream = key, env.counter = counter, env.params = c->params;
+    pgt_error e2;
+    if (pgt_grammar_eval(c->g, e, args, argc, &env, out, &e2) != PGT_OK) {
+        c->stats->errors |= PGT_FACADE_ERR_EVAL;
+        if (c->err && !c->err->code) *c->err = e2;
+        return 0;
+    }
+    return 1;
+}
+
+uint32_t facade_select_case(const facade_ctx *c, uint32_t rule, const float *args, uint32_t argc,
+                            uint32_t key) {
+    const pgt_grammar_rule *r = &c->g->rules[rule];
+    uint64_t counter = 0;
+    for (uint32_t k = 0; k < r->case_count; ++k) {
+        const pgt_grammar_case *cs = &c->g->cases[r->first_case + k];
+        if (cs->condition == PGT_NONE) return cs->sequence;
+        float v;
+        if (!eval(c, cs->condition, args, argc, key, &counter, &v)) return PGT_NONE;
+        if (v != 0.0f) return cs->sequence;
+    }
+    return PGT_NONE; /* no case holds: nothing (CGA's NIL) */
+}
+
+int facade_call(const facade_ctx *c, const pgt_grammar_item *it, const float *args, uint32_t argc,
+                uint32_t key, float *out_args, uint32_t *out_seq) {
+    uint64_t counter = 0;
+    for (uint32_t k = 0; k < it->arg_count; ++k)
+        if (!eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &out_args[k]))
+            return 0;
+    *out_seq = facade_select_case(c, it->target, out_args, it->arg_count, key);
+    return 1;
+}
+
+uint32_t facade_terminal(const facade_ctx *c, const pgt_grammar_item *it, const float *args,
+                         uint32_t argc, uint32_t key, float x0, float y0, float w, float h,
+                         pgt_facade_quad *q) {
+    float v[PGT_GRAMMAR_MAX_RULE_PARAMS];
+    uint64_t counter = 0;
+    for (uint32_t k = 0; k < it->arg_count && k < PGT_GRAMMAR_MAX_RULE_PARAMS; ++k)
+        if (!eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &v[k])) return 0;
+    return pgt_facade_terminal_quads(pgt_facade_kind_of(it->target), v, it->arg_count, x0, y0, w, h,
+                                     q);
+}
+
+int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *args, uint32_t argc,
+                 uint32_t key, float length, facade_split_state *st) {
+    const pgt_grammar *g = c->g;
+    pgt_split_part parts[PGT_FACADE_MAX_PARTS];
+    uint32_t n = 0, group_first = 0, group_count = 0;
+    uint64_t counter = 0;
+    for (uint32_t k = 0; k < it->sub_count; ++k) {
+        const uint32_t pi = it->first_sub + k;
+        const pgt_grammar_part *p = &g->parts[pi];
+        const uint32_t first = p->kind == PGT_GRAMMAR_PART_REPEAT ? p->first_part : pi;
+        const uint32_t cnt = p->kind == PGT_GRAMMAR_PART_REPEAT ? p->part_count : 1u;
+        if (p->kind == PGT_GRAMMAR_PART_REPEAT) group_first = n, group_count = cnt;
+        for (uint32_t j = 0; j < cnt; ++j) {
+            if (n == PGT_FACADE_MAX_PARTS) {
+                c->stats->errors |= PGT_FACADE_ERR_PARTS;
+                return 0;
+            }
+            const pgt_grammar_part *q = &g->parts[first + j];
+            parts[n].kind = q->kind;
+            if (!eval(c, q->size, args, argc, key, &counter, &parts[n].size)) return 0;
+            st->seq[n++] = q->sequence;
+        }
+    }
+    pgt_split_build(&st->plan, st->slots, parts, n, group_first, group_count, length);
+    return 1;
+}
+
+/* Slab of the ray a + t v with [lo, hi] on one axis, intersected into [*t0, *t1]. */
+static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
+    if (v == 0.0f) {
+        if (a < lo || a > hi) *t0 = INFINITY, *t1 = -INFINITY;
+        return;
+    }
+    const float inv = 1.0f / v;
+    float ta = (lo - a) * inv, tb = (hi - a) * inv;
+    if (ta > tb) {
+        const float s = ta;
+        ta = tb, tb = s;
+    }
+    if (ta > *t0) *t0 = ta;
+    if (tb < *t1) *t1 = tb;
+}
+
+void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
+                     float v[3]) {
+    const float d[3] = {org[0] - f->origin[0], org[1] - f->origin[1], org[2] - f->origin[2]};
+    a[0] = dot3(d, f->t), a[1] = d[1], a[2] = dot3(d, f->n);
+    v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
+}
+
+void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
+    for (int k = 0; k < 3; ++k) out[k] = f->origin[k] + p[0] * f->t[k] + p[2] * f->n[k];
+    out[1] = f->origin[1] + p[1];
+}
+
+/* Nearest rectangle of q[0 .. n) hit at t in [0, *best): returns its index or PGT_NONE. */
+static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3], const float v[3],
+                          const float inv[3], float *best, uint64_t *tests) {
+    static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+    uint32_t found = PGT_NONE;
+    *tests += n;
+    for (uint32_t k = 0; k < n; ++k) {
+        /* inv is infinite where v is 0: t is then infinite or NaN and fails the test */
+        const uint32_t ax = q[k].axis;
+        const float t = (q[k].c - a[ax]) * inv[ax];
+        if (!(t >= 0.0f && t < *best)) continue;
+        const uint32_t o0 = other[ax][0], o1 = other[ax][1];
+        const float u0 = a[o0] + t * v[o0], u1 = a[o1] + t * v[o1];
+        if (u0 < q[k].lo[0] || u0 > q[k].hi[0] || u1 < q[k].lo[1] || u1 > q[k].hi[1]) continue;
+        *best = t, found = k;
+    }
+    return found;
+}
+
+/* Drops the zero-area rectangles of q[0 .. n), keeping each one's surface id in surf. */
+static uint32_t compact_quads(pgt_facade_quad *q, uint32_t n, uint8_t *surf) {
+    uint32_t m = 0;
+    for (uint32_t k = 0; k < n; ++k)
+        if (q[k].hi[0] > q[k].lo[0]) q[m] = q[k], surf[m++] = (uint8_t)k;
+    return m;
+}
+
+/* The development stack. */
+typedef enum { FR_SEQ = 0, FR_SPLIT = 1 } frame_type;
+
+typedef struct frame {
+    uint32_t type, key;
+    float x0, y0, w, h; /* scope on the facade */
+    float t_in, t_out;  /* the ray's interval inside the scope */
+    uint32_t argc;
+    float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+    /* FR_SEQ */
+    uint32_t seq, pos;
+    /* FR_SPLIT */
+    uint32_t axis, next;
+    int dir;
+    float t_cur;
+    facade_split_state split;
+} frame;
+
+/* The child of a split after a gap at local coordinate p in direction dir: the first child
+ * ending after p (dir > 0) or the last starting before p (dir < 0); PGT_NONE if none. */
+static uint32_t child_after_gap(const facade_split_state *st, float p, int dir) {
+    const uint32_t n = st->plan.child_count;
+    uint32_t lo = 0, hi = n; /* dir > 0: first k with end > p; dir < 0: last k with start < p */
+    pgt_split_child ch;
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2u;
+        pgt_split_child_get(&st->plan, st->slots, mid, &ch);
+        if (dir > 0 ? ch.end > p : !(ch.start < p))
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    if (dir > 0) return lo < n ? lo : PGT_NONE;
+    return lo > 0 ? lo - 1u : PGT_NONE;
+}
+
+void facade_cache_clear(facade_cache *c) {
+    for (uint32_t k = 0; k < FACADE_CACHE_SPLITS; ++k) c->split[k].valid = 0;
+    for (uint32_t k = 0; k < FACADE_CACHE_TERMINALS; ++k) c->term[k].n = PGT_NONE;
+}
+
+/* Does any argument (terminal) or part size (split) of item `it` draw rand? */
+static int item_draws(const pgt_grammar *g, const pgt_grammar_item *it) {
+    if (it->kind == PGT_GRAMMAR_ITEM_TERMINAL) {
+        for (uint32_t k = 0; k < it->arg_count; ++k)
+            if (g->exprs[g->args[it->first_arg + k]].flags & PGT_GRAMMAR_EXPR_RAND) return 1;
+        return 0;
+    }
+    if (it->kind != PGT_GRAMMAR_ITEM_SPLIT) return 0;
+    for (uint32_t k = 0; k < it->sub_count; ++k) {
+        const pgt_grammar_part *p = &g->parts[it->first_sub + k];
+        const uint32_t first =
+            p->kind == PGT_GRAMMAR_PART_REPEAT ? p->first_part : it->first_sub + k;
+        const uint32_t cnt = p->kind == PGT_GRAMMAR_PART_REPEAT ? p->part_count : 1u;
+        for (uint32_t j = 0; j < cnt; ++j)
+            if (g->exprs[g->parts[first + j].size].flags & PGT_GRAMMAR_EXPR_RAND) return 1;
+    }
+    return 0;
+}
+
+uint8_t *facade_draws_table(const pgt_grammar *g) {
+    uint8_t *t = malloc(g->item_count ? g->item_count : 1u);
+    for (uint32_t i = 0; t && i < g->item_count; ++i) t[i] = (uint8_t)item_draws(g, &g->items[i]);
+    return t;
+}
+
+/* The memo key of an item on a scope of w x h with the frame's arguments (node: the node key
+ * when the item draws rand, else 0); returns its hash. */
+static uint32_t cache_key(facade_cache_key *k, uint32_t building, uint32_t item, uint32_t node,
+                          float w, float h, const float *args, uint32_t argc) {
+    k->building = building, k->item = item, k->key = node, k->argc = argc, k->w = w, k->h = h;
+    for (uint32_t i = 0; i < argc; ++i) k->args[i] = args[i];
+    uint32_t wb, hb;
+    memcpy(&wb, &w, sizeof wb);
+    memcpy(&hb, &h, sizeof hb);
+    return pgt_facade_child_key(pgt_facade_child_key(building ^ item * 0x9E3779B9u, node ^ wb), hb);
+}
+
+static int key_equal(const facade_cache_key *a, const facade_cache_key *b) {
+    if (a->building != b->building || a->item != b->item || a->key != b->key ||
+        a->argc != b->argc || a->w != b->w || a->h != b->h)
+        return 0;
+    for (uint32_t i = 0; i < a->argc; ++i)
+        if (a->args[i] != b->args[i]) return 0;
+    return 1;
+}
+
+int pgt_facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                         const float org[3], const float dir[3], pgt_facade_hit *hit,
+                         pgt_facade_ray_stats *stats) {
+    return facade_intersect(s, f, fi, org, dir, hit, stats, NULL);
+}
+
+int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                     const float org[3], const float dir[3], pgt_facade_hit *hit,
+                     pgt_facade_ray_stats *stats, facade_cache *cache) {
+    pgt_facade_ray_stats dummy;
+    if (!stats) memset(&dummy, 0, sizeof dummy), stats = &dummy;
+    stats->rays++;
+    float a[3], v[3];
+    facade_to_local(f, org, dir, a, v);
+    float t0 = 0.0f, t1 = hit->t;
+    slab(a[0], v[0], 0.0f, f->width, &t0, &t1);
+    slab(a[1], v[1], 0.0f, f->height, &t0, &t1);
+    slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
+    if (!(t0 <= t1)) return 0; /* misses the volume: nothing developed */
+    const float inv[3] = {1.0f / v[0], 1.0f / v[1], 1.0f / v[2]}; /* inf where v is 0: unused */
+    stats->volume_hits++;
+    const pgt_facade_building *B = &s->buildings[f->building];
+    facade_ctx c = {&s->grammars[B->grammar], s->params + B->first_param, B->seed, stats, NULL};
+    const pgt_grammar *g = c.g;
+    frame stack[PGT_FACADE_MAX_DEPTH];
+    uint32_t sp = 0, budget = PGT_FACADE_NODE_BUDGET;
+    float best = hit->t;
+    uint32_t best_kind = 0, best_surface = 0, best_key = 0, best_item = 0, best_axis = 0;
+    pgt_facade_quad quads[PGT_FACADE_MAX_QUADS];
+
+    const uint32_t key0 = facade_axiom_key(s, f);
+    const uint32_t seq0 = facade_select_case(&c, 0, NULL, 0, key0);
+    if (seq0 == PGT_NONE) return 0;
+    frame *fr = &stack[sp++];
+    fr->type = FR_SEQ, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->width;
+    fr->h = f->height, fr->t_in = t0, fr->t_out = t1, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
+    stats->nodes++;
+
+    while (sp > 0) {
+        fr = &stack[sp - 1];
+        if (fr->type == FR_SPLIT) {
+            /* Algorithm 1's loop: the next child along the ray while inside the split's scope */
+            if (best <= fr->t_cur || fr->t_cur >= fr->t_out || fr->next == PGT_NONE ||
+                fr->next >= fr->split.plan.child_count) {
+                --sp;
+                continue;
+            }
+            pgt_split_child ch;
+            pgt_split_child_get(&fr->split.plan, fr->split.slots, fr->next, &ch);
+            const uint32_t ax = fr->axis;
+            const float o = ax == 0 ? fr->x0 : fr->y0;
+            float t_near = fr->t_cur, t_far = fr->t_out;
+            if (v[ax] != 0.0f) {
+                const float ts = (o + ch.start - a[ax]) / v[ax], te = (o + ch.end - a[ax]) / v[ax];
+                const float tn = fr->dir > 0 ? ts : te, tf = fr->dir > 0 ? te : ts;
+                if (tn > t_near) t_near = tn;
+                if (tf < t_far) t_far = tf;
+            }
+            fr->t_cur = t_far > fr->t_cur ? t_far : fr->t_cur;
+            const uint32_t cur = fr->next;
+            fr->next = fr->dir > 0 ? cur + 1u : (cur == 0 ? PGT_NONE : cur - 1u);
+            const uint32_t seq = fr->split.seq[ch.part];
+            if (seq == PGT_NONE || !(t_near <= t_far) || t_near >= best) continue;
+            if (sp == PGT_FACADE_MAX_DEPTH) {
+                stats->errors |= PGT_FACADE_ERR_DEPTH;
+                break;
+            }
+            if (--budget == 0) {
+                stats->errors |= PGT_FACADE_ERR_BUDGET;
+                break;
+            }
+            frame *nf = &stack[sp++];
+            stats->nodes++;
+            nf->type = FR_SEQ, nf->key = pgt_facade_child_key(fr->key, cur);
+            nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
+            if (ax == 0)
+                nf->x0 = fr->x0 + ch.start, nf->w = ch.end - ch.start;
+            else
+                nf->y0 = fr->y0 + ch.start, nf->h = ch.end - ch.start;
+            nf->t_in = t_near, nf->t_out = t_far;
+            nf->argc = fr->argc;
+            memcpy(nf->args, fr->args, fr->argc * sizeof(float));
+            nf->seq = seq, nf->pos = 0;
+            continue;
+        }
+        /* FR_SEQ: the next item of the sequence, on the same scope */
+        const pgt_grammar_sequence *sq = &g->sequences[fr->seq];
+        if (fr->pos >= sq->item_count || best <= fr->t_in) {
+            --sp;
+            continue;
+        }
+        const uint32_t pos = fr->pos++;
+        const pgt_grammar_item *it = &g->items[sq->first_item + pos];
+        const uint32_t key = pgt_facade_child_key(fr->key, pos);
+        if (it->kind == PGT_GRAMMAR_ITEM_TERMINAL) {
+            if (pgt_facade_kind_of(it->target) == PGT_FACADE_MISS) {
+                stats->errors |= PGT_FACADE_ERR_ITEM;
+                break;
+            }
+            stats->terminals++;
+            const uint32_t item = sq->first_item + pos;
+            const pgt_facade_quad *qs = quads;
+            const uint8_t *surf = NULL;
+            uint8_t surf_local[PGT_FACADE_MAX_QUADS];
+            uint32_t n;
+            facade_cache_key ck;
+            facade_cache_terminal *ce = NULL;
+            if (cache) {
+                const uint32_t node = cache->draws[B->grammar][item] ? key : 0u;
+                const uint32_t slot =
+                    cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
+                ce = &cache->term[slot % FACADE_CACHE_TERMINALS];
+            }
+            if (ce && ce->n != PGT_NONE && key_equal(&ce->k, &ck)) {
+                qs = ce->q, n = ce->n, surf = ce->surf;
+            } else {
+                /* in block coordinates: the ray is shifted to the scope's corner below */
+                pgt_facade_quad *dst = ce ? ce->q : quads;
+                uint8_t *sd = ce ? ce->surf : surf_local;
+                n = facade_terminal(&c, it, fr->args, fr->argc, key, 0.0f, 0.0f, fr->w, fr->h, dst);
+                n = compact_quads(dst, n, sd);
+                qs = dst, surf = sd;
+                if (ce) ce->n = stats->errors ? PGT_NONE : n, ce->k = ck;
+            }
+            const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
+            const uint32_t k = hit_quads(qs, n, al, v, inv, &best, &stats->quads);
+            if (k != PGT_NONE) {
+                best_kind = pgt_facade_kind_of(it->target), best_surface = surf[k], best_key = key;
+                best_item = item, best_axis = qs[k].axis;
+            }
+            continue;
+        }
+        /* An item in tail position (the sequence's last) takes over its sequence's frame, so
+         * F --> split ..., part --> FL, FL --> split ... costs one frame per split level. */
+        const int tail = fr->pos == sq->item_count;
+        if (!tail && sp == PGT_FACADE_MAX_DEPTH) {
+            stats->errors |= PGT_FACADE_ERR_DEPTH;
+            break;
+        }
+        if (--budget == 0) {
+            stats->errors |= PGT_FACADE_ERR_BUDGET;
+            break;
+        }
+        if (it->kind == PGT_GRAMMAR_ITEM_CALL) {
+            frame *nf = tail ? fr : &stack[sp];
+            float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+            uint32_t seq;
+            if (!facade_call(&c, it, fr->args, fr->argc, key, args, &seq)) break;
+            if (seq == PGT_NONE) continue;
+            if (!tail) ++sp;
+            stats->nodes++;
+            nf->type = FR_SEQ, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
+            nf->h = fr->h, nf->t_in = fr->t_in, nf->t_out = fr->t_out, nf->argc = it->arg_count;
+            memcpy(nf->args, args, it->arg_count * sizeof(float));
+            nf->seq = seq, nf->pos = 0;
+            continue;
+        }
+        if (it->kind != PGT_GRAMMAR_ITEM_SPLIT || it->target > 1u) {
+            stats->errors |= PGT_FACADE_ERR_ITEM;
+            break;
+        }
+        frame *nf = tail ? fr : &stack[sp];
+        const uint32_t ax = it->target, item = sq->first_item + pos;
+        facade_cache_key ck;
+        facade_cache_split *cs = NULL;
+        if (cache) {
+            const uint32_t node = cache->draws[B->grammar][item] ? key : 0u;
+            const uint32_t slot =
+                cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
+            cs = &cache->split[slot % FACADE_CACHE_SPLITS];
+        }
+        if (cs && cs->valid && key_equal(&cs->k, &ck)) {
+            memcpy(&nf->split, &cs->st, sizeof nf->split);
+        } else {
+            if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &nf->split))
+                break;
+            if (cs) {
+                memcpy(&cs->st, &nf->split, sizeof cs->st);
+                cs->valid = 1, cs->k = ck;
+            }
+        }
+        if (!tail) {
+            ++sp;
+            nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h, nf->t_in = fr->t_in;
+            nf->t_out = fr->t_out, nf->argc = fr->argc;
+            memcpy(nf->args, fr->args, fr->argc * sizeof(float));
+        }
+        stats->nodes++;
+        nf->type = FR_SPLIT, nf->key = key;
+        nf->axis = ax, nf->dir = v[ax] < 0.0f ? -1 : 1, nf->t_cur = fr->t_in;
+        /* getSplitIndex(p): the child holding the entry point */
+        const float L = ax == 0 ? fr->w : fr->h;
+        float p = a[ax] + fr->t_in * v[ax] - (ax == 0 ? fr->x0 : fr->y0);
+        p = p < 0.0f ? 0.0f : (p > L ? L : p);
+        pgt_split_child ch;
+        uint32_t k = pgt_split_child_at(&nf->split.plan, nf->split.slots, p, nf->dir, &ch);
+        if (k == PGT_NONE) k = child_after_gap(&nf->split, p, nf->dir);
+        nf->next = k;
+    }
+    if (best_kind == 0) return 0;
+    hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
+    hit->surface = best_surface, hit->item = best_item;
+    const float *nrm = best_axis == 0 ? f->t : f->n;
+    if (best_axis == 1)
+        hit->n[0] = 0.0f, hit->n[1] = 1.0f, hit->n[2] = 0.0f;
+    else
+        hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];
+    for (int k = 0; k < 3; ++k) hit->p[k] = a[k] + best * v[k];
+    return 1;
+}

@@ -1,0 +1,241 @@
+/* pgt: explicit generation of facades (issue 6 item 8): the grammar of every facade developed
+ * completely, every terminal's rectangles turned into two world-space triangles each. The same
+ * evaluation helpers as the ray development (facade_internal.h), so the two see the same split
+ * layouts, the same random draws (keyed by node) and the same rectangles; only the order of the
+ * traversal differs (every child, depth first, explicit stack). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "facade_internal.h"
+
+/* Triangles at most: every per-triangle index stays far inside 32 bits (4 vertices a quad). */
+#define FACADE_MAX_TRIANGLES (1u << 29)
+
+typedef struct xframe {
+    uint32_t type; /* 0: sequence, 1: split */
+    uint32_t key;
+    float x0, y0, w, h;
+    uint32_t argc;
+    float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+    uint32_t seq, pos;        /* sequence */
+    uint32_t axis, next;      /* split */
+    facade_split_state split; /* split */
+} xframe;
+
+typedef struct xmesh {
+    pgt_facade_mesh *m;
+    uint32_t vcap, tcap;
+} xmesh;
+
+static int grow(void **p, uint32_t cap, size_t elem) {
+    void *q = realloc(*p, (size_t)cap * elem);
+    if (!q) return 0;
+    *p = q;
+    return 1;
+}
+
+static int reserve(xmesh *x, uint32_t add_v, uint32_t add_t) {
+    pgt_facade_mesh *m = x->m;
+    if (m->vertex_count + add_v > x->vcap) {
+        uint32_t cap = x->vcap ? x->vcap : 4096u;
+        while (cap < m->vertex_count + add_v) cap *= 2u;
+        if (!grow((void **)&m->positions, cap, 3 * sizeof(float))) return 0;
+        x->vcap = cap;
+    }
+    if (m->triangle_count + add_t > x->tcap) {
+        uint32_t cap = x->tcap ? x->tcap : 2048u;
+        while (cap < m->triangle_count + add_t) cap *= 2u;
+        if (!grow((void **)&m->indices, cap, 3 * sizeof(uint32_t)) ||
+            !grow((void **)&m->facade, cap, sizeof(uint32_t)) ||
+            !grow((void **)&m->node, cap, sizeof(uint32_t)) ||
+            !grow((void **)&m->kind, cap, sizeof(uint32_t)) ||
+            !grow((void **)&m->surface, cap, sizeof(uint32_t)))
+            return 0;
+        x->tcap = cap;
+    }
+    return 1;
+}
+
+void pgt_facade_mesh_destroy(pgt_facade_mesh *m) {
+    if (!m) return;
+    free(m->positions);
+    free(m->indices);
+    free(m->facade);
+    free(m->node);
+    free(m->kind);
+    free(m->surface);
+    memset(m, 0, sizeof *m);
+}
+
+static const char *gfile(const pgt_grammar *g) { return g->names + g->file_name; }
+
+/* Appends the rectangles of one terminal. */
+static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_grammar *g,
+                       const pgt_grammar_item *it, uint32_t key, const pgt_facade_quad *q,
+                       uint32_t n, pgt_error *err) {
+    static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+    const uint32_t kind = pgt_facade_kind_of(it->target);
+    for (uint32_t k = 0; k < n; ++k) {
+        if (!(q[k].hi[0] > q[k].lo[0])) continue;
+        const uint32_t ax = q[k].axis;
+        const float zlo = ax == 2 ? q[k].c : q[k].lo[1], zhi = ax == 2 ? q[k].c : q[k].hi[1];
+        if (zlo < -f->recess || zhi > f->protrusion)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s:%u:%u: building %u facade %u: %s surface %u spans z [%g, %g] "
+                                 "outside the facade volume [-recess, protrusion] = [%g, %g] (the "
+                                 "grammar must bound its terminals, paper 003 sec. 8)",
+                                 gfile(g), it->line, it->col, f->building, f->edge,
+                                 pgt_grammar_terminal_name(it->target), k, (double)zlo, (double)zhi,
+                                 -(double)f->recess, (double)f->protrusion);
+        if (x->m->triangle_count + 2u > FACADE_MAX_TRIANGLES)
+            return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
+                                 FACADE_MAX_TRIANGLES);
+        if (!reserve(x, 4, 2))
+            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit facades: out of memory");
+        pgt_facade_mesh *m = x->m;
+        const uint32_t v0 = m->vertex_count;
+        const float u0[4] = {q[k].lo[0], q[k].hi[0], q[k].hi[0], q[k].lo[0]};
+        const float u1[4] = {q[k].lo[1], q[k].lo[1], q[k].hi[1], q[k].hi[1]};
+        for (int c = 0; c < 4; ++c) {
+            float p[3];
+            p[ax] = q[k].c, p[other[ax][0]] = u0[c], p[other[ax][1]] = u1[c];
+            facade_to_world(f, p, &m->positions[3u * (v0 + (uint32_t)c)]);
+        }
+        m->vertex_count += 4;
+        static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+        for (int t = 0; t < 2; ++t) {
+            const uint32_t ti = m->triangle_count++;
+            for (int c = 0; c < 3; ++c) m->indices[3u * ti + (uint32_t)c] = v0 + tri[t][c];
+            m->facade[ti] = fi, m->node[ti] = key, m->kind[ti] = kind, m->surface[ti] = k;
+        }
+    }
+    return PGT_OK;
+}
+
+static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_facade *f,
+                                uint32_t fi, xframe *stack, pgt_error *err) {
+    const pgt_facade_building *B = &s->buildings[f->building];
+    pgt_facade_ray_stats st;
+    memset(&st, 0, sizeof st);
+    pgt_error eerr;
+    memset(&eerr, 0, sizeof eerr);
+    const facade_ctx c = {&s->grammars[B->grammar], s->params + B->first_param, B->seed, &st,
+                          &eerr};
+    const pgt_grammar *g = c.g;
+    pgt_facade_quad quads[PGT_FACADE_MAX_QUADS];
+    uint32_t sp = 0;
+    const uint32_t key0 = facade_axiom_key(s, f);
+    const uint32_t seq0 = facade_select_case(&c, 0, NULL, 0, key0);
+    const pgt_grammar_item *where = NULL;
+    if (seq0 != PGT_NONE) {
+        xframe *fr = &stack[sp++];
+        fr->type = 0, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->width;
+        fr->h = f->height, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
+    }
+    while (sp > 0 && !st.errors) {
+        xframe *fr = &stack[sp - 1];
+        if (fr->type == 1) {
+            pgt_split_child ch;
+            if (fr->next >= fr->split.plan.child_count) {
+                --sp;
+                continue;
+            }
+            const uint32_t cur = fr->next++;
+            pgt_split_child_get(&fr->split.plan, fr->split.slots, cur, &ch);
+            const uint32_t seq = fr->split.seq[ch.part];
+            if (seq == PGT_NONE || !(ch.end > ch.start)) continue;
+            if (sp == PGT_FACADE_MAX_DEPTH) {
+                st.errors |= PGT_FACADE_ERR_DEPTH;
+                break;
+            }
+            xframe *nf = &stack[sp++];
+            nf->type = 0, nf->key = pgt_facade_child_key(fr->key, cur);
+            nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
+            if (fr->axis == 0)
+                nf->x0 = fr->x0 + ch.start, nf->w = ch.end - ch.start;
+            else
+                nf->y0 = fr->y0 + ch.start, nf->h = ch.end - ch.start;
+            nf->argc = fr->argc;
+            memcpy(nf->args, fr->args, fr->argc * sizeof(float));
+            nf->seq = seq, nf->pos = 0;
+            continue;
+        }
+        const pgt_grammar_sequence *sq = &g->sequences[fr->seq];
+        if (fr->pos >= sq->item_count) {
+            --sp;
+            continue;
+        }
+        const uint32_t pos = fr->pos++;
+        const pgt_grammar_item *it = &g->items[sq->first_item + pos];
+        const uint32_t key = pgt_facade_child_key(fr->key, pos);
+        where = it;
+        if (it->kind == PGT_GRAMMAR_ITEM_TERMINAL) {
+            if (pgt_facade_kind_of(it->target) == PGT_FACADE_MISS) {
+                st.errors |= PGT_FACADE_ERR_ITEM;
+                break;
+            }
+            const uint32_t n = facade_terminal(&c, it, fr->args, fr->argc, key, fr->x0, fr->y0,
+                                               fr->w, fr->h, quads);
+            if (st.errors) break;
+            const pgt_result r = emit(x, f, fi, g, it, key, quads, n, err);
+            if (r != PGT_OK) return r;
+            continue;
+        }
+        if (sp == PGT_FACADE_MAX_DEPTH) {
+            st.errors |= PGT_FACADE_ERR_DEPTH;
+            break;
+        }
+        if (it->kind == PGT_GRAMMAR_ITEM_CALL) {
+            xframe *nf = &stack[sp];
+            uint32_t seq;
+            if (!facade_call(&c, it, fr->args, fr->argc, key, nf->args, &seq)) break;
+            if (seq == PGT_NONE) continue;
+            ++sp;
+            nf->type = 0, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
+            nf->h = fr->h, nf->argc = it->arg_count, nf->seq = seq, nf->pos = 0;
+            continue;
+        }
+        if (it->kind != PGT_GRAMMAR_ITEM_SPLIT || it->target > 1u) {
+            st.errors |= PGT_FACADE_ERR_ITEM;
+            break;
+        }
+        xframe *nf = &stack[sp];
+        if (!facade_split(&c, it, fr->args, fr->argc, key, it->target == 0 ? fr->w : fr->h,
+                          &nf->split))
+            break;
+        ++sp;
+        nf->type = 1, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
+        nf->h = fr->h, nf->argc = fr->argc;
+        memcpy(nf->args, fr->args, fr->argc * sizeof(float));
+        nf->axis = it->target, nf->next = 0;
+    }
+    if (!st.errors) return PGT_OK;
+    const uint32_t line = where ? where->line : 1u, col = where ? where->col : 1u;
+    if (st.errors & PGT_FACADE_ERR_EVAL)
+        return pgt_error_set(err, eerr.code ? eerr.code : PGT_ERROR_INVALID_ARGUMENT,
+                             "building %u facade %u: %s", f->building, f->edge, eerr.message);
+    const char *why = (st.errors & PGT_FACADE_ERR_DEPTH)
+                          ? "the development is deeper than PGT_FACADE_MAX_DEPTH (a rule that "
+                            "calls itself without splitting?)"
+                      : (st.errors & PGT_FACADE_ERR_PARTS)
+                          ? "a split has more parts than PGT_FACADE_MAX_PARTS"
+                          : "a facade holds split(x), split(y), rule calls and the facade "
+                            "terminals only (no Marching, Branch, Bark, Leaves or split(z))";
+    return pgt_error_set(err, PGT_ERROR_UNSUPPORTED, "%s:%u:%u: building %u facade %u: %s",
+                         gfile(g), line, col, f->building, f->edge, why);
+}
+
+pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
+                               uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err) {
+    memset(out, 0, sizeof *out);
+    xmesh x = {out, 0, 0};
+    xframe *stack = malloc(PGT_FACADE_MAX_DEPTH * sizeof *stack);
+    if (!stack) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit: out of memory");
+    pgt_result r = PGT_OK;
+    for (uint32_t i = 0; i < facade_count && r == PGT_OK; ++i)
+        r = expand_facade(&x, s, &facades[i], i, stack, err);
+    free(stack);
+    if (r != PGT_OK) pgt_facade_mesh_destroy(out);
+    return r;
+}

@@ -1,0 +1,96 @@
+/* pgt: what facade.c, facade_explicit.c and facade_render.c share. Private to ref_cpu. */
+#ifndef PGT_FACADE_INTERNAL_H
+#define PGT_FACADE_INTERNAL_H
+
+#include <stdint.h>
+
+#include "pgt/facade.h"
+#include "pgt/grammar.h"
+#include "pgt/split.h"
+
+/* A split resolved for one scope: the plan, its slots and each flattened part's successor. */
+typedef struct facade_split_state {
+    pgt_split_plan plan;
+    pgt_split_slot slots[PGT_FACADE_MAX_PARTS];
+    uint32_t seq[PGT_FACADE_MAX_PARTS];
+} facade_split_state;
+
+/* Memo of split layouts and terminal rectangles a thread evaluated: a pure function of the
+ * building (its params and seed), the grammar item, the scope's size, the enclosing rule's
+ * arguments and, only when the item's expressions draw rand, the node key. The windows of one
+ * building share one entry, whatever their position: rectangles are kept in the terminal's own
+ * block coordinates (origin at the scope's corner) and the ray is shifted instead. Direct
+ * mapped by a hash of those inputs; an entry is used only when all of them are equal. */
+#define FACADE_CACHE_SPLITS 128u
+#define FACADE_CACHE_TERMINALS 256u
+typedef struct facade_cache_key {
+    uint32_t building, item, key, argc; /* key is 0 for items without rand */
+    float w, h;                         /* the scope (a split's length is w or h by axis) */
+    float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+} facade_cache_key;
+typedef struct facade_cache_split {
+    facade_cache_key k;
+    uint32_t valid;
+    facade_split_state st;
+} facade_cache_split;
+typedef struct facade_cache_terminal {
+    facade_cache_key k;
+    uint32_t n;                         /* PGT_NONE: empty */
+    uint8_t surf[PGT_FACADE_MAX_QUADS]; /* surface id of q[i] (zero-area ones left out) */
+    pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
+} facade_cache_terminal;
+typedef struct facade_cache {
+    const uint8_t *const *draws; /* per grammar of the scene, per item: 1 if it draws rand */
+    facade_cache_split split[FACADE_CACHE_SPLITS];
+    facade_cache_terminal term[FACADE_CACHE_TERMINALS];
+} facade_cache;
+
+/* The draws table of grammar g (malloc'd, g->item_count bytes; NULL when out of memory). */
+uint8_t *facade_draws_table(const pgt_grammar *g);
+
+/* Empties a cache. */
+void facade_cache_clear(facade_cache *c);
+
+/* Evaluation context of one facade: its grammar, its building's param vector and seed. */
+typedef struct facade_ctx {
+    const pgt_grammar *g;
+    const float *params;
+    uint32_t seed;
+    pgt_facade_ray_stats *stats; /* errors are or-ed in */
+    pgt_error *err;              /* the first evaluation error's message, or NULL */
+} facade_ctx;
+
+/* pgt_facade_intersect with a memo (NULL: none). */
+int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                     const float org[3], const float dir[3], pgt_facade_hit *hit,
+                     pgt_facade_ray_stats *stats, facade_cache *cache);
+
+/* The axiom's node key of facade f. */
+uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f);
+
+/* The sequence of the first case of `rule` whose condition holds (PGT_NONE: none holds, or an
+ * evaluation failed: c->stats->errors says which). */
+uint32_t facade_select_case(const facade_ctx *c, uint32_t rule, const float *args, uint32_t argc,
+                            uint32_t key);
+
+/* A rule call: evaluates its arguments into out_args and selects the case. 0 on failure. */
+int facade_call(const facade_ctx *c, const pgt_grammar_item *it, const float *args, uint32_t argc,
+                uint32_t key, float *out_args, uint32_t *out_seq);
+
+/* The rectangles of terminal item `it` on scope [x0, x0 + w] x [y0, y0 + h]; 0 on failure (or
+ * for a terminal without rectangles). */
+uint32_t facade_terminal(const facade_ctx *c, const pgt_grammar_item *it, const float *args,
+                         uint32_t argc, uint32_t key, float x0, float y0, float w, float h,
+                         pgt_facade_quad *q);
+
+/* Evaluates the parts of split item `it` (flattening its repeat group) and builds the layout on
+ * a scope of `length`. 0 on failure. */
+int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *args, uint32_t argc,
+                 uint32_t key, float length, facade_split_state *st);
+
+/* World ray to facade space (a + t v), and a facade-space point to the world. */
+void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
+                     float v[3]);
+void facade_to_world(const pgt_facade *f, const float p[3], float out[3]);
+
+#endif

@@ -1,0 +1,471 @@
+/* pgt: rendering facades per pixel (paper 003 sec. 5.3, 6.1, 6.4): coverage polygons rasterized
+ * into screen tiles, one ray per covered pixel developed against that facade with the depth so
+ * far as its far bound (facades near to far: the depth test of the paper's rasterizer), then
+ * shading with self-shadowing.
+ *
+ * Order and threads. Facades are sorted by their volume's distance to the eye (ties by index);
+ * tiles are independent and each pixel's facades are tested in that order, so a frame is the
+ * same bytes for any thread count. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "facade_internal.h"
+#include "pgt/parallel.h"
+#include "time_internal.h"
+#include "vec3_internal.h"
+
+/* Screen tiles of TILE x TILE pixels: a tile's rays and depths stay in L1. */
+#define TILE 16u
+/* A pixel is covered when its ray passes inside the cone from the eye over the coverage polygon
+ * (the pixel centre inside the projected polygon, tested in 3D so that polygon corners far off
+ * screen or just in front of the eye lose no precision), with this margin in radians: rounding
+ * never drops a pixel whose ray meets the volume (an extra one only costs a slab test that
+ * misses). */
+#define COVER_MARGIN_RAD 1e-6f
+/* The pixel box of a projected polygon is grown by this many pixels. */
+#define COVER_MARGIN_PX 0.01f
+/* Camera-space depth below which a coverage polygon is clipped (metres): a point closer than
+ * this to the eye's image plane has no pixel. */
+#define COVER_NEAR 1e-5f
+/* Shadow rays start this far (relative to the hit distance, plus an absolute 1e-4 m) off the
+ * surface towards the camera side, so they do not hit the surface they leave. */
+#define SHADOW_OFFSET_REL 1e-4f
+#define SHADOW_OFFSET_ABS 1e-4f
+
+pgt_result pgt_facade_frame_create(pgt_facade_frame *out, uint32_t width, uint32_t height,
+                                   pgt_error *err) {
+    memset(out, 0, sizeof *out);
+    if (width == 0 || height == 0 || width > PGT_FACADE_MAX_SIDE || height > PGT_FACADE_MAX_SIDE)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "frame: %u x %u pixels, expected 1 to %u per side", width, height,
+                             PGT_FACADE_MAX_SIDE);
+    const size_t n = (size_t)width * height;
+    out->width = width, out->height = height;
+    out->rgb = malloc(3 * n * sizeof(float));
+    out->depth = malloc(n * sizeof(float));
+    out->terminal = malloc(n * sizeof(float));
+    out->normal = malloc(3 * n * sizeof(float));
+    out->facade = malloc(n * sizeof(uint32_t));
+    out->node = malloc(n * sizeof(uint32_t));
+    out->surface = malloc(n * sizeof(uint32_t));
+    out->developed = malloc(n * sizeof(uint32_t));
+    if (!out->rgb || !out->depth || !out->terminal || !out->normal || !out->facade || !out->node ||
+        !out->surface || !out->developed) {
+        pgt_facade_frame_destroy(out);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "frame %u x %u: out of memory", width,
+                             height);
+    }
+    return PGT_OK;
+}
+
+void pgt_facade_frame_destroy(pgt_facade_frame *f) {
+    if (!f) return;
+    free(f->rgb);
+    free(f->depth);
+    free(f->terminal);
+    free(f->normal);
+    free(f->facade);
+    free(f->node);
+    free(f->surface);
+    free(f->developed);
+    memset(f, 0, sizeof *f);
+}
+
+/* ---- coverage polygon (5.3) ---- */
+
+int pgt_facade_coverage(const pgt_facade *f, const float eye[3], float corners[4][3],
+                        uint32_t *axis) {
+    static const float zero[3] = {0.0f, 0.0f, 0.0f};
+    float e[3], unused[3];
+    facade_to_local(f, eye, zero, e, unused);
+    const float lo[3] = {0.0f, 0.0f, -f->recess}, hi[3] = {f->width, f->height, f->protrusion};
+    /* 5.3.1: the major axis of the view direction among those separating the eye */
+    int best = -1;
+    float best_v = -1.0f;
+    for (int k = 0; k < 3; ++k) {
+        if (!(e[k] < lo[k] || e[k] > hi[k])) continue;
+        const float v = fabsf(0.5f * (lo[k] + hi[k]) - e[k]);
+        if (v > best_v) best_v = v, best = k;
+    }
+    if (best < 0) return 0;
+    const int a = best, o0 = a == 0 ? 1 : 0, o1 = a == 2 ? 1 : 2;
+    const float c = e[a] > hi[a] ? hi[a] : lo[a];
+    /* 5.3.2: the 8 corners projected from the eye onto the plane x_a = c */
+    float mn0 = INFINITY, mx0 = -INFINITY, mn1 = INFINITY, mx1 = -INFINITY;
+    for (int k = 0; k < 8; ++k) {
+        const float P[3] = {(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1],
+                            (k & 4) ? hi[2] : lo[2]};
+        const float s = (c - e[a]) / (P[a] - e[a]);
+        const float q0 = e[o0] + (P[o0] - e[o0]) * s, q1 = e[o1] + (P[o1] - e[o1]) * s;
+        mn0 = fminf(mn0, q0), mx0 = fmaxf(mx0, q0), mn1 = fminf(mn1, q1), mx1 = fmaxf(mx1, q1);
+    }
+    const float u0[4] = {mn0, mx0, mx0, mn0}, u1[4] = {mn1, mn1, mx1, mx1};
+    for (int k = 0; k < 4; ++k) {
+        float p[3];
+        p[a] = c, p[o0] = u0[k], p[o1] = u1[k];
+        facade_to_world(f, p, corners[k]);
+    }
+    if (axis) *axis = (uint32_t)a;
+    return 1;
+}
+
+/* A facade's footprint on screen: a convex polygon in pixel coordinates and its pixel box. */
+typedef struct cover {
+    float cone[4][3];        /* unit inward normals of the cone's 4 sides */
+    uint32_t n;              /* 0: not on screen */
+    uint32_t x0, y0, x1, y1; /* pixel box, inclusive */
+    int full;                /* the eye is inside the volume: every pixel */
+    float dist;              /* distance from the eye to the volume */
+} cover;
+
+typedef struct render_ctx {
+    const pgt_facade_scene *s;
+    const pgt_facade *f;
+    uint32_t fcount;
+    const pgt_facade_camera *cam;
+    const pgt_facade_shading *sh;
+    pgt_facade_frame *frame;
+    cover *cov;
+    uint32_t *order; /* visible facades near to far */
+    uint32_t visible;
+    uint32_t tiles_x, tiles_y;
+    uint32_t *tile_first; /* tiles + 1 */
+    uint32_t *tile_list;
+    pgt_facade_ray_stats *wstats; /* per worker */
+    uint64_t *wcovered;           /* per worker */
+    facade_cache *caches;         /* per worker */
+} render_ctx;
+
+static void to_camera(const pgt_facade_camera *cam, const float p[3], float out[3]) {
+    const float d[3] = {p[0] - cam->eye[0], p[1] - cam->eye[1], p[2] - cam->eye[2]};
+    out[0] = dot3(d, cam->right), out[1] = dot3(d, cam->upward), out[2] = dot3(d, cam->forward);
+}
+
+/* Distance from the eye to facade f's volume (0 inside). */
+static float volume_distance(const pgt_facade *f, const float eye[3]) {
+    static const float zero[3] = {0.0f, 0.0f, 0.0f};
+    float e[3], unused[3];
+    facade_to_local(f, eye, zero, e, unused);
+    const float lo[3] = {0.0f, 0.0f, -f->recess}, hi[3] = {f->width, f->height, f->protrusion};
+    float d2 = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        const float d = e[k] < lo[k] ? lo[k] - e[k] : (e[k] > hi[k] ? e[k] - hi[k] : 0.0f);
+        d2 += d * d;
+    }
+    return sqrtf(d2);
+}
+
+static void cover_facade(const render_ctx *c, uint32_t i) {
+    cover *cv = &c->cov[i];
+    const pgt_facade_camera *cam = c->cam;
+    memset(cv, 0, sizeof *cv);
+    cv->dist = volume_distance(&c->f[i], cam->eye);
+    float q[4][3];
+    const uint32_t W = cam->width, H = cam->height;
+    if (!pgt_facade_coverage(&c->f[i], cam->eye, q, NULL)) {
+        cv->full = 1, cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = W - 1u, cv->y1 = H - 1u;
+        return;
+    }
+    /* clip against the near plane in camera space (Sutherland-Hodgman, one plane) */
+    float in[4][3], out[8][3];
+    for (int k = 0; k < 4; ++k) to_camera(cam, q[k], in[k]);
+    uint32_t n = 0;
+    for (int k = 0; k < 4; ++k) {
+        const float *A = in[k], *B = in[(k + 1) % 4];
+        const int ia = A[2] >= COVER_NEAR, ib = B[2] >= COVER_NEAR;
+        if (ia) memcpy(out[n++], A, sizeof out[0]);
+        if (ia != ib) {
+            const float s = (COVER_NEAR - A[2]) / (B[2] - A[2]);
+            for (int j = 0; j < 3; ++j) out[n][j] = A[j] + (B[j] - A[j]) * s;
+            out[n++][2] = COVER_NEAR;
+        }
+    }
+    if (n < 3) return;
+    const float sxs = (float)W / (2.0f * cam->tan_half * ((float)W / (float)H));
+    const float sys = (float)H / (2.0f * cam->tan_half);
+    float mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
+    for (uint32_t k = 0; k < n; ++k) {
+        /* inverse of pgt_facade_camera_ray: pixel-centre coordinates, x + 0.5 and y + 0.5 */
+        const float px = (float)W * 0.5f + out[k][0] / out[k][2] * sxs;
+        const float py = (float)H * 0.5f - out[k][1] / out[k][2] * sys;
+        mnx = fminf(mnx, px), mxx = fmaxf(mxx, px), mny = fminf(mny, py), mxy = fmaxf(mxy, py);
+    }
+    /* pixel (x, y) has its centre at (x + 0.5, y + 0.5) */
+    const float fx0 = floorf(mnx - 0.5f - COVER_MARGIN_PX),
+                fx1 = ceilf(mxx - 0.5f + COVER_MARGIN_PX);
+    const float fy0 = floorf(mny - 0.5f - COVER_MARGIN_PX),
+                fy1 = ceilf(mxy - 0.5f + COVER_MARGIN_PX);
+    if (!(fx1 >= 0.0f && fy1 >= 0.0f && fx0 <= (float)(W - 1u) && fy0 <= (float)(H - 1u))) return;
+    cv->x0 = fx0 < 0.0f ? 0u : (uint32_t)fx0;
+    cv->y0 = fy0 < 0.0f ? 0u : (uint32_t)fy0;
+    cv->x1 = fx1 > (float)(W - 1u) ? W - 1u : (uint32_t)fx1;
+    cv->y1 = fy1 > (float)(H - 1u) ? H - 1u : (uint32_t)fy1;
+    /* the cone's sides, oriented so that the polygon's centre is inside */
+    float d[4][3], ctr[3] = {0.0f, 0.0f, 0.0f};
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 3; ++j) d[k][j] = q[k][j] - cam->eye[j], ctr[j] += 0.25f * d[k][j];
+    for (int k = 0; k < 4; ++k) {
+        float *c = cv->cone[k];
+        cross3(d[k], d[(k + 1) % 4], c);
+        const float l = sqrtf(dot3(c, c));
+        if (!(l > 0.0f)) { /* the eye is on the polygon's plane: no cone, every pixel */
+            cv->full = 1;
+            break;
+        }
+        const float sg = dot3(c, ctr) < 0.0f ? -1.0f : 1.0f;
+        for (int j = 0; j < 3; ++j) c[j] *= sg / l;
+    }
+    cv->n = 4;
+}
+
+static void cover_range(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
+    (void)worker;
+    for (uint32_t i = b; i < e; ++i) cover_facade(vc, i);
+}
+
+/* The ray direction d (unit) inside the cone over the coverage polygon. */
+static int inside(const cover *cv, const float d[3]) {
+    if (cv->full) return 1;
+    for (int k = 0; k < 4; ++k)
+        if (dot3(cv->cone[k], d) < -COVER_MARGIN_RAD) return 0;
+    return 1;
+}
+
+typedef struct albedo_rgb {
+    float r, g, b;
+} albedo_rgb;
+
+static albedo_rgb albedo(uint32_t kind, uint32_t surface, uint32_t colour) {
+    const albedo_rgb wall = {(float)((colour >> 16) & 255u) / 255.0f,
+                             (float)((colour >> 8) & 255u) / 255.0f,
+                             (float)(colour & 255u) / 255.0f};
+    const albedo_rgb frame = {0.88f, 0.87f, 0.84f}, sill = {0.72f, 0.70f, 0.66f},
+                     glass = {0.12f, 0.17f, 0.24f}, leaf = {0.33f, 0.20f, 0.11f},
+                     stone = {0.78f, 0.76f, 0.71f}, rail = {0.22f, 0.22f, 0.24f};
+    const albedo_rgb reveal = {wall.r * 0.8f, wall.g * 0.8f, wall.b * 0.8f};
+    switch (kind) {
+    case PGT_FACADE_WINDOW:
+        return surface <= 3u    ? wall
+               : surface <= 9u  ? sill
+               : surface <= 16u ? frame
+               : surface <= 20u ? reveal
+                                : glass;
+    case PGT_FACADE_DOOR:
+        return surface <= 2u ? wall : surface <= 8u ? frame : surface == 12u ? leaf : reveal;
+    case PGT_FACADE_LEDGE:
+        return stone;
+    case PGT_FACADE_BALCONY:
+        return surface <= 4u ? stone : rail;
+    default:
+        return wall;
+    }
+}
+
+/* Sky colour of a missed pixel (linear). */
+static const float SKY[3] = {0.62f, 0.74f, 0.88f};
+
+static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
+    const render_ctx *c = vc;
+    const pgt_facade_camera *cam = c->cam;
+    pgt_facade_frame *fr = c->frame;
+    pgt_facade_ray_stats *st = &c->wstats[worker];
+    const uint32_t W = cam->width, H = cam->height;
+    float dirs[TILE * TILE][3], org[3];
+    pgt_facade_hit hits[TILE * TILE];
+    uint32_t dev[TILE * TILE];
+    facade_cache *cache = &c->caches[worker];
+    facade_cache_clear(cache);
+    for (uint32_t tile = b; tile < e; ++tile) {
+        const uint32_t tx = tile % c->tiles_x, ty = tile / c->tiles_x;
+        const uint32_t X0 = tx * TILE, Y0 = ty * TILE;
+        const uint32_t X1 = X0 + TILE < W ? X0 + TILE : W, Y1 = Y0 + TILE < H ? Y0 + TILE : H;
+        const uint32_t tw = X1 - X0;
+        for (uint32_t y = Y0; y < Y1; ++y)
+            for (uint32_t x = X0; x < X1; ++x) {
+                const uint32_t k = (y - Y0) * tw + (x - X0);
+                pgt_facade_camera_ray(cam, x, y, org, dirs[k]);
+                hits[k].t = INFINITY, hits[k].facade = PGT_NONE, hits[k].kind = 0;
+                dev[k] = 0;
+            }
+        for (uint32_t l = c->tile_first[tile]; l < c->tile_first[tile + 1]; ++l) {
+            const uint32_t fi = c->tile_list[l];
+            const cover *cv = &c->cov[fi];
+            const uint32_t x0 = cv->x0 > X0 ? cv->x0 : X0, x1 = cv->x1 + 1u < X1 ? cv->x1 + 1u : X1;
+            const uint32_t y0 = cv->y0 > Y0 ? cv->y0 : Y0, y1 = cv->y1 + 1u < Y1 ? cv->y1 + 1u : Y1;
+            for (uint32_t y = y0; y < y1; ++y)
+                for (uint32_t x = x0; x < x1; ++x) {
+                    const uint32_t k = (y - Y0) * tw + (x - X0);
+                    /* the depth test: nothing of this volume can be nearer than the hit */
+                    if (cv->dist >= hits[k].t || !inside(cv, dirs[k])) continue;
+                    c->wcovered[worker]++;
+                    const uint64_t before = st->nodes;
+                    facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[k], &hits[k], st, cache);
+                    dev[k] += (uint32_t)(st->nodes - before);
+                }
+        }
+        /* shading */
+        for (uint32_t y = Y0; y < Y1; ++y)
+            for (uint32_t x = X0; x < X1; ++x) {
+                const uint32_t k = (y - Y0) * tw + (x - X0);
+                const size_t p = (size_t)y * W + x;
+                const pgt_facade_hit *h = &hits[k];
+                fr->developed[p] = dev[k];
+                if (h->facade == PGT_NONE) {
+                    fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
+                    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
+                    for (int j = 0; j < 3; ++j)
+                        fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
+                    continue;
+                }
+                const pgt_facade *f = &c->f[h->facade];
+                float n[3] = {h->n[0], h->n[1], h->n[2]};
+                if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+                float P[3], L[3];
+                for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
+                for (int j = 0; j < 3; ++j) L[j] = c->sh->light[j] - P[j];
+                const float dl = sqrtf(dot3(L, L));
+                float diffuse = 0.0f;
+                if (dl > 0.0f) {
+                    for (int j = 0; j < 3; ++j) L[j] /= dl;
+                    diffuse = dot3(n, L);
+                }
+                if (diffuse > 0.0f && c->sh->shadows) {
+                    const float off = SHADOW_OFFSET_REL * h->t + SHADOW_OFFSET_ABS;
+                    float so[3];
+                    for (int j = 0; j < 3; ++j) so[j] = P[j] + off * n[j];
+                    pgt_facade_hit sh;
+                    sh.t = dl;
+                    sh.facade = PGT_NONE;
+                    pgt_facade_ray_stats ss; /* shadow rays are not counted as view rays */
+                    memset(&ss, 0, sizeof ss);
+                    if (facade_intersect(c->s, f, h->facade, so, L, &sh, &ss, cache))
+                        diffuse = 0.0f;
+                    st->errors |= ss.errors;
+                }
+                if (diffuse < 0.0f) diffuse = 0.0f;
+                const albedo_rgb a =
+                    albedo(h->kind, h->surface, c->s->buildings[f->building].colour);
+                const float light = c->sh->ambient + (1.0f - c->sh->ambient) * diffuse;
+                fr->rgb[3 * p + 0] = a.r * light, fr->rgb[3 * p + 1] = a.g * light;
+                fr->rgb[3 * p + 2] = a.b * light;
+                fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
+                for (int j = 0; j < 3; ++j) fr->normal[3 * p + j] = n[j];
+                fr->facade[p] = h->facade, fr->node[p] = h->node, fr->surface[p] = h->surface;
+            }
+    }
+}
+
+typedef struct order_key {
+    float dist;
+    uint32_t index;
+} order_key;
+
+static int by_distance(const void *a, const void *b) {
+    const order_key *x = a, *y = b;
+    if (x->dist != y->dist) return x->dist < y->dist ? -1 : 1;
+    return x->index < y->index ? -1 : (x->index > y->index);
+}
+
+pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facades,
+                             uint32_t facade_count, const pgt_facade_camera *cam,
+                             const pgt_facade_shading *shading, uint32_t threads,
+                             pgt_facade_frame *frame, pgt_facade_render_stats *stats,
+                             pgt_error *err) {
+    const double t_start = pgt_now_ms();
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (frame->width != cam->width || frame->height != cam->height)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "render: frame %u x %u for a camera of %u x %u", frame->width,
+                             frame->height, cam->width, cam->height);
+    render_ctx c;
+    memset(&c, 0, sizeof c);
+    c.s = s, c.f = facades, c.fcount = facade_count, c.cam = cam, c.sh = shading, c.frame = frame;
+    c.tiles_x = (cam->width + TILE - 1u) / TILE, c.tiles_y = (cam->height + TILE - 1u) / TILE;
+    const uint32_t tiles = c.tiles_x * c.tiles_y;
+    c.cov = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *c.cov);
+    c.order = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *c.order);
+    c.tile_first = calloc((size_t)tiles + 1u, sizeof *c.tile_first);
+    c.wstats = calloc(PGT_MAX_THREADS, sizeof *c.wstats);
+    c.wcovered = calloc(PGT_MAX_THREADS, sizeof *c.wcovered);
+    const uint32_t workers =
+        threads == 0 ? 1u : (threads > PGT_MAX_THREADS ? PGT_MAX_THREADS : threads);
+    c.caches = malloc(workers * sizeof *c.caches);
+    uint8_t **draws = calloc(s->grammar_count ? s->grammar_count : 1u, sizeof *draws);
+    int draws_ok = draws != NULL;
+    for (uint32_t k = 0; draws_ok && k < s->grammar_count; ++k)
+        draws_ok = (draws[k] = facade_draws_table(&s->grammars[k])) != NULL;
+    for (uint32_t w = 0; c.caches && w < workers; ++w)
+        c.caches[w].draws = (const uint8_t *const *)draws;
+    pgt_result r = PGT_OK;
+    if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.wcovered || !c.caches || !draws_ok) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
+        goto done;
+    }
+    pgt_parallel_for(facade_count, threads, cover_range, &c);
+    order_key *keys = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *keys);
+    if (!keys) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
+        goto done;
+    }
+    for (uint32_t i = 0; i < facade_count; ++i)
+        if (c.cov[i].n) keys[c.visible].dist = c.cov[i].dist, keys[c.visible++].index = i;
+    qsort(keys, c.visible, sizeof *keys, by_distance);
+    for (uint32_t v = 0; v < c.visible; ++v) c.order[v] = keys[v].index;
+    free(keys);
+    /* bin into tiles, near to far */
+    uint64_t total = 0;
+    for (uint32_t v = 0; v < c.visible; ++v) {
+        const cover *cv = &c.cov[c.order[v]];
+        for (uint32_t ty = cv->y0 / TILE; ty <= cv->y1 / TILE; ++ty)
+            for (uint32_t tx = cv->x0 / TILE; tx <= cv->x1 / TILE; ++tx)
+                c.tile_first[ty * c.tiles_x + tx + 1u]++, total++;
+    }
+    if (total > UINT32_MAX) {
+        r = pgt_error_set(err, PGT_ERROR_LIMIT, "render: %llu facade-tile pairs",
+                          (unsigned long long)total);
+        goto done;
+    }
+    for (uint32_t t = 0; t < tiles; ++t) c.tile_first[t + 1] += c.tile_first[t];
+    c.tile_list = malloc((size_t)(total ? total : 1) * sizeof *c.tile_list);
+    uint32_t *fill = malloc((size_t)tiles * sizeof *fill);
+    if (!c.tile_list || !fill) {
+        free(fill);
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
+        goto done;
+    }
+    memcpy(fill, c.tile_first, (size_t)tiles * sizeof *fill);
+    for (uint32_t v = 0; v < c.visible; ++v) {
+        const cover *cv = &c.cov[c.order[v]];
+        for (uint32_t ty = cv->y0 / TILE; ty <= cv->y1 / TILE; ++ty)
+            for (uint32_t tx = cv->x0 / TILE; tx <= cv->x1 / TILE; ++tx)
+                c.tile_list[fill[ty * c.tiles_x + tx]++] = c.order[v];
+    }
+    free(fill);
+    const double t_cover = pgt_now_ms();
+    pgt_parallel_for_items(tiles, TILE * TILE, threads, render_tiles, &c);
+    const double t_end = pgt_now_ms();
+    if (stats) {
+        for (uint32_t w = 0; w < PGT_MAX_THREADS; ++w) {
+            const pgt_facade_ray_stats *ws = &c.wstats[w];
+            stats->rays.rays += ws->rays, stats->rays.volume_hits += ws->volume_hits;
+            stats->rays.nodes += ws->nodes, stats->rays.terminals += ws->terminals;
+            stats->rays.quads += ws->quads, stats->rays.errors |= ws->errors;
+            stats->covered_pixels += c.wcovered[w];
+        }
+        stats->visible_facades = c.visible;
+        stats->ms_cover = t_cover - t_start, stats->ms_rays = t_end - t_cover;
+        stats->ms_total = t_end - t_start;
+    }
+done:
+    free(c.cov);
+    free(c.order);
+    free(c.tile_first);
+    free(c.tile_list);
+    free(c.wstats);
+    free(c.wcovered);
+    free(c.caches);
+    for (uint32_t k = 0; draws && k < s->grammar_count; ++k) free(draws[k]);
+    free(draws);
+    return r;
+}

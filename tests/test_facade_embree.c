@@ -1,0 +1,235 @@
+/* pgt tests: per-pixel procedural facades against Embree on their explicit twin (issue 6,
+ * "Ray versus explicit geometry"; harness/facade_embree.h), rays that miss every facade volume
+ * developing nothing, and facade scene files (harness/facade_scene.h) written and read back.
+ *
+ * The city: pgt_gen_city(100 buildings, seed 1) with grammars/facade.grammar, 512 x 512 pixels,
+ * 2 threads. Cameras: the default aerial view, a street-level camera looking down a street
+ * between two columns of lots (the facades beside it seen at grazing angles), one 0.5 m in
+ * front of a facade looking along it (nearly parallel: the worst case for both tracers), and
+ * one looking almost straight down. Each must agree on >= 99.99 % of the pixels with every
+ * disagreement within PGT_FACADE_CHECK_EDGE_EPS_REL of a rectangle's edge. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "facade_embree.h"
+#include "facade_scene.h"
+#include "gen.h"
+#include "pgt/facade.h"
+#include "test_util.h"
+
+#define GRAMMAR PGT_SOURCE_DIR "/grammars/facade.grammar"
+#define SIDE 512u
+#define THREADS 2u
+
+/* The shared city, its explicit twin and Embree scene (built once: the BVH takes ~1 s). */
+static struct {
+    int ready, failed;
+    pgt_facade_file file;
+    pgt_facade *facades;
+    uint32_t facade_count;
+    pgt_facade_mesh mesh;
+    pgt_facade_embree eb;
+} city;
+
+static void city_teardown(void);
+
+static int city_setup(void) {
+    if (city.ready) return !city.failed;
+    city.ready = 1;
+    atexit(city_teardown); /* whichever cases run, the city is freed once (LeakSanitizer) */
+    pgt_error err = {0};
+    if (pgt_facade_file_city(&city.file, GRAMMAR, 100, 1, &err) != PGT_OK ||
+        pgt_facade_prepare(&city.file.scene, &city.facades, &city.facade_count, &err) != PGT_OK ||
+        pgt_facade_explicit(&city.file.scene, city.facades, city.facade_count, &city.mesh, &err) !=
+            PGT_OK ||
+        pgt_facade_embree_create(&city.eb, &city.mesh, THREADS, &err) != PGT_OK) {
+        fprintf(stderr, "  city setup: %s\n", err.message);
+        city.failed = 1;
+    }
+    return !city.failed;
+}
+
+static void city_teardown(void) {
+    pgt_facade_embree_destroy(&city.eb);
+    pgt_facade_mesh_destroy(&city.mesh);
+    free(city.facades);
+    pgt_facade_file_free(&city.file);
+    memset(&city, 0, sizeof city);
+}
+
+/* Renders the city from cam and checks it against Embree in both modes. */
+static void check_camera(const char *name, const float eye[3], const float at[3], float fov) {
+    REQUIRE(city_setup());
+    const float up[3] = {0.0f, 1.0f, 0.0f};
+    pgt_error err = {0};
+    pgt_facade_camera cam;
+    REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, fov, SIDE, SIDE, &err) == PGT_OK);
+    pgt_facade_frame frame;
+    REQUIRE(pgt_facade_frame_create(&frame, SIDE, SIDE, &err) == PGT_OK);
+    pgt_facade_embree_hits hits;
+    REQUIRE(pgt_facade_embree_hits_create(&hits, SIDE, SIDE, &err) == PGT_OK);
+    pgt_facade_shading sh = {{0.0f, 500.0f, 0.0f}, 0.25f, 0};
+    pgt_facade_render_stats st;
+    CHECK(pgt_facade_render(&city.file.scene, city.facades, city.facade_count, &cam, &sh, THREADS,
+                            &frame, &st, &err) == PGT_OK);
+    CHECK(st.rays.errors == 0);
+    for (uint32_t m = 0; m < 2; ++m) {
+        double ms = 0.0;
+        CHECK(pgt_facade_embree_trace(&city.eb, &cam, (pgt_facade_embree_mode)m, &hits, &ms,
+                                      &err) == PGT_OK);
+        pgt_facade_check chk;
+        const int pass = pgt_facade_embree_compare(&city.mesh, &cam, &frame, &hits, &chk);
+        const uint64_t hit = chk.pixels - chk.both_miss;
+        printf("  %s (%s): %llu pixels hit, agreement %.4f %%, %llu disagreements (%llu near an "
+               "edge), max depth error %.3g (relative %.3g)\n",
+               name, m ? "streams" : "packets", (unsigned long long)hit, chk.agreement_pct,
+               (unsigned long long)chk.disagree, (unsigned long long)chk.near_edge, chk.max_abs_dt,
+               chk.max_rel_dt);
+        /* a camera that sees nothing would pass trivially */
+        CHECK_MSG(hit > SIDE * SIDE / 20u, "%s sees only %llu hits", name, (unsigned long long)hit);
+        CHECK_MSG(pass, "%s: agreement %.4f %%, %llu of %llu disagreements not near an edge", name,
+                  chk.agreement_pct, (unsigned long long)(chk.disagree - chk.near_edge),
+                  (unsigned long long)chk.disagree);
+        for (uint32_t k = 0; k < chk.reported; ++k)
+            fprintf(stderr,
+                    "    pixel %u,%u: ours facade %d t %.7g edge %.3g; Embree facade %d t "
+                    "%.7g edge %.3g\n",
+                    chk.far[k].x, chk.far[k].y, (int)chk.far[k].facade[0], (double)chk.far[k].t[0],
+                    (double)chk.far[k].edge[0], (int)chk.far[k].facade[1], (double)chk.far[k].t[1],
+                    (double)chk.far[k].edge[1]);
+    }
+    pgt_facade_embree_hits_destroy(&hits);
+    pgt_facade_frame_destroy(&frame);
+}
+
+static void test_aerial(void) {
+    REQUIRE(city_setup());
+    float eye[3], at[3], up[3], fov;
+    pgt_facade_default_view(&city.file.scene, SIDE, SIDE, eye, at, up, &fov);
+    check_camera("aerial (default camera)", eye, at, fov);
+}
+
+/* Lots are PGT_GEN_CITY_LOT apart and buildings at most 26 m wide within them: x in
+ * (26, 30) of a lot is street. Eye at pedestrian height looking down it. */
+static void test_street(void) {
+    const float x = (float)(2.0 * PGT_GEN_CITY_LOT) - 2.0f;
+    const float eye[3] = {x, 1.7f, -15.0f}, at[3] = {x + 0.3f, 4.0f, 300.0f};
+    check_camera("street level along a street", eye, at, 60.0f);
+}
+
+/* 0.5 m in front of the first facade of building 0, looking along it from beyond its start:
+ * the facade's rectangles are seen at ~89 degrees from their normal. */
+static void test_grazing(void) {
+    REQUIRE(city_setup());
+    const pgt_facade *f = &city.facades[0];
+    float eye[3], at[3];
+    for (int k = 0; k < 3; ++k) {
+        eye[k] = f->origin[k] - 10.0f * f->t[k] + 0.5f * f->n[k];
+        at[k] = f->origin[k] + f->width * f->t[k] + 0.3f * f->n[k];
+    }
+    eye[1] += 0.5f * f->height, at[1] += 0.5f * f->height;
+    check_camera("nearly parallel to a facade", eye, at, 50.0f);
+}
+
+static void test_top_down(void) {
+    REQUIRE(city_setup());
+    float lo[3], hi[3];
+    REQUIRE(pgt_facade_file_bounds(&city.file.scene, lo, hi));
+    const float c[3] = {0.5f * (lo[0] + hi[0]), 0.0f, 0.5f * (lo[2] + hi[2])};
+    const float eye[3] = {c[0] + 20.0f, 400.0f, c[2] + 40.0f};
+    check_camera("almost straight down", eye, c, 50.0f);
+}
+
+/* A ray that misses a facade's volume develops nothing: directly, and in a frame whose upper
+ * pixels look at the sky above every building. */
+static void test_miss_develops_nothing(void) {
+    REQUIRE(city_setup());
+    const pgt_facade_scene *s = &city.file.scene;
+    float lo[3], hi[3];
+    REQUIRE(pgt_facade_file_bounds(s, lo, hi));
+    /* straight up from above the roofs, and horizontally above them */
+    const float org[2][3] = {{0.5f * (lo[0] + hi[0]), hi[1] + 10.0f, 0.5f * (lo[2] + hi[2])},
+                             {lo[0] - 50.0f, hi[1] + 5.0f, 0.5f * (lo[2] + hi[2])}};
+    const float dir[2][3] = {{0.0f, 1.0f, 0.0f}, {1.0f, 0.0f, 0.0f}};
+    for (int r = 0; r < 2; ++r) {
+        pgt_facade_ray_stats stats;
+        memset(&stats, 0, sizeof stats);
+        for (uint32_t fi = 0; fi < city.facade_count; ++fi) {
+            pgt_facade_hit hit;
+            memset(&hit, 0, sizeof hit);
+            hit.t = INFINITY, hit.facade = PGT_NONE;
+            CHECK(pgt_facade_intersect(s, &city.facades[fi], fi, org[r], dir[r], &hit, &stats) ==
+                  0);
+        }
+        CHECK(stats.rays == city.facade_count);
+        CHECK(stats.volume_hits == 0);
+        CHECK_MSG(stats.nodes == 0, "ray %d developed %llu nodes", r,
+                  (unsigned long long)stats.nodes);
+        CHECK(stats.terminals == 0 && stats.quads == 0);
+    }
+    /* a street-level camera looking up: pixels whose rays pass above the roofs */
+    const float eye[3] = {lo[0] - 40.0f, 2.0f, 0.5f * (lo[2] + hi[2])};
+    const float at[3] = {eye[0] + 100.0f, eye[1] + 120.0f, eye[2]}; /* 50 degrees up */
+    const float up[3] = {0.0f, 1.0f, 0.0f};
+    pgt_error err = {0};
+    pgt_facade_camera cam;
+    REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 60.0f, 128, 128, &err) == PGT_OK);
+    pgt_facade_frame frame;
+    REQUIRE(pgt_facade_frame_create(&frame, 128, 128, &err) == PGT_OK);
+    pgt_facade_shading sh = {{0.0f, 500.0f, 0.0f}, 0.25f, 0};
+    pgt_facade_render_stats st;
+    CHECK(pgt_facade_render(s, city.facades, city.facade_count, &cam, &sh, THREADS, &frame, &st,
+                            &err) == PGT_OK);
+    uint32_t sky = 0, developed = 0;
+    for (uint32_t y = 0; y < 128; ++y)
+        for (uint32_t x = 0; x < 128; ++x) {
+            float o[3], d[3];
+            pgt_facade_camera_ray(&cam, x, y, o, d);
+            if (!(d[1] > 0.0f)) continue;
+            /* above every roof from x = lo[0] on: the ray is above hi[1] before it gets there */
+            const float y_at = o[1] + d[1] * ((lo[0] - o[0]) / d[0]);
+            if (!(d[0] > 0.0f) || !(y_at > hi[1] + 1.0f)) continue;
+            const size_t i = (size_t)y * 128u + x;
+            sky++;
+            CHECK(isinf(frame.depth[i]));
+            developed += frame.developed[i];
+        }
+    CHECK_MSG(sky > 1000u, "only %u sky pixels", sky);
+    CHECK_MSG(developed == 0, "%u nodes developed by sky pixels", developed);
+    pgt_facade_frame_destroy(&frame);
+}
+
+/* The writer's file reads back as the same scene: buildings, corners and params bit for bit. */
+static void test_scene_round_trip(void) {
+    REQUIRE(city_setup());
+    const char *path = PGT_BINARY_DIR "/tests/facade_round_trip.scene";
+    pgt_error err = {0};
+    const pgt_facade_scene *s = &city.file.scene;
+    REQUIRE(pgt_facade_file_write(path, s, (const char *const *)city.file.names,
+                                  (const char *const *)city.file.paths, "round trip",
+                                  &err) == PGT_OK);
+    pgt_facade_file back;
+    CHECK_MSG(pgt_facade_file_read(&back, path, &err) == PGT_OK, "%s", err.message);
+    const pgt_facade_scene *b = &back.scene;
+    REQUIRE(b->building_count == s->building_count && b->corner_count == s->corner_count &&
+            b->param_count == s->param_count && b->grammar_count == 1);
+    CHECK(!memcmp(b->buildings, s->buildings, s->building_count * sizeof *s->buildings));
+    CHECK(!memcmp(b->corners, s->corners, 2u * s->corner_count * sizeof(float)));
+    CHECK(!memcmp(b->params, s->params, s->param_count * sizeof(float)));
+    pgt_facade_file_free(&back);
+    remove(path);
+}
+
+static const pgt_test_case cases[] = {
+    {"aerial", test_aerial},
+    {"street", test_street},
+    {"grazing", test_grazing},
+    {"top_down", test_top_down},
+    {"miss_develops_nothing", test_miss_develops_nothing},
+    {"scene_round_trip", test_scene_round_trip},
+};
+
+PGT_TEST_MAIN(cases)
