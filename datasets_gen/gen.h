@@ -114,7 +114,7 @@ pgt_result pgt_gen_default(uint32_t i, pgt_mesh *out, pgt_error *err);
  * 2.0 m), protrusion and recess (0.2 to 0.5 m each), and its colour (a pastel). The height is
  * floors * floorHeight. Footprints are rectangles listed counter-clockwise seen from above
  * (facade normals out). The params named above must exist in g (others keep g's values); g is
- * borrowed by *out (grammars[0]). */
+ * borrowed by *out (grammars[0]). The built-in geometry images are added (Mesh(0): facade.h). */
 #define PGT_GEN_CITY_LOT 30.0
 pgt_result pgt_gen_city(pgt_facade_scene *out, const pgt_grammar *g, uint32_t n, uint32_t seed,
                         pgt_error *err);

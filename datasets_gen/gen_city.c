@@ -70,5 +70,7 @@ pgt_result pgt_gen_city(pgt_facade_scene *out, const pgt_grammar *g, uint32_t n,
         B->seed = (uint32_t)pgt_rng_u64(seed, PGT_GEN_STREAM_CITY, 16ull * k + 13u);
         B->colour = rgb;
     }
-    return PGT_OK;
+    const pgt_result r = pgt_facade_add_builtin_gimages(out, err);
+    if (r != PGT_OK) pgt_facade_scene_destroy(out);
+    return r;
 }

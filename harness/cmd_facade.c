@@ -26,6 +26,7 @@ static const char *facade_usage =
     "                  [--threads N] [--explicit OUT.ply] [--embree-check] [--grammar FILE]\n"
     "                  [--seed S] [--light X,Y,Z] [--save-scene FILE] [--frames F]\n"
     "                  [--embree-mode packets|streams] [--shadows]\n"
+    "                  [--detail geometry|flat|normal|relief|lod]\n"
     "\n"
     "Renders building facades without generating geometry (paper 003): every facade's coverage\n"
     "polygon (sec. 5.3) selects the pixels whose rays develop its split grammar along the ray\n"
@@ -68,6 +69,12 @@ static const char *facade_usage2 =
     "  --seed S        the city's seed (default 1)\n"
     "  --light X,Y,Z   the point light (default: above the scene, 2 bounding radii up)\n"
     "  --shadows       self-shadowing (sec. 6.4): a shadow ray toward the light per hit\n"
+    "  --detail D      terminal detail (sec. 6.3, 7): geometry (the default: procedural\n"
+    "                  geometry, flat-shaded), flat (LOD 0: thickness 0, a textured plane),\n"
+    "                  normal (normal mapping), relief (relief mapping, self-shadowed with\n"
+    "                  --shadows), lod (the four levels by distance, linear transitions: relief\n"
+    "                  to 10-20 m, normal mapping to 20-40 m, thickness 150-300 m).\n"
+    "                  --embree-check takes geometry or normal only\n"
     "  --save-scene F  writes the scene (of --city or --scene) as a scene file\n"
     "  --frames F      renders (and, with --embree-check, traces) F times, 1 to 1000, and\n"
     "                  reports the median (default 1)\n"
@@ -86,6 +93,7 @@ typedef struct facade_args {
     const char *camera_text;
     uint32_t city, width, height, threads, seed, frames;
     int embree_check, have_light, shadows;
+    uint32_t detail;
     pgt_facade_embree_mode mode;
     float light[3];
 } facade_args;
@@ -146,6 +154,17 @@ static int parse_args(int argc, char **argv, facade_args *a) {
             a->have_light = 1;
         } else if (!strcmp(s, "--shadows")) {
             a->shadows = 1;
+        } else if (!strcmp(s, "--detail")) {
+            static const char *const names[] = {"geometry", "flat", "normal", "relief", "lod"};
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            uint32_t d = 0;
+            while (d < 5 && strcmp(v, names[d])) ++d;
+            if (d == 5) {
+                fprintf(stderr, "%s: --detail %s: expected geometry, flat, normal, relief or lod\n",
+                        verb, v);
+                return PGT_EXIT_USAGE;
+            }
+            a->detail = d;
         } else if (!strcmp(s, "--embree-check")) {
             a->embree_check = 1;
         } else if (!strcmp(s, "--embree-mode")) {
@@ -168,6 +187,11 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         return pgt_cli_fail(verb, "--grammar and --seed are for --city (a scene file names its "
                                   "grammars and seeds)");
     if (!a->out_path) return pgt_cli_fail(verb, "no output: give -o FRAME.exr");
+    if (a->embree_check && a->detail != PGT_FACADE_DETAIL_GEOMETRY &&
+        a->detail != PGT_FACADE_DETAIL_NORMAL)
+        return pgt_cli_fail(verb, "--embree-check compares the procedural geometry: only with "
+                                  "--detail geometry or normal (flat and lod thin it, relief "
+                                  "moves the depth into the relief)");
     if (!pgt_cli_ends_with_ci(a->out_path, ".exr"))
         return pgt_cli_fail(verb, "-o %s: the frame is an .exr file", a->out_path);
     if (a->png_path && !pgt_cli_ends_with_ci(a->png_path, ".png"))
@@ -338,6 +362,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         pgt_facade_default_light(s, shading.light);
     shading.ambient = PGT_FACADE_DEFAULT_AMBIENT;
     shading.shadows = a.shadows;
+    shading.detail = a.detail;
 
     /* the frame(s) */
     if (pgt_facade_frame_create(&frame, a.width, a.height, &err) != PGT_OK) {

@@ -409,6 +409,8 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
         r = pgt_error_set(err, PGT_ERROR_EMPTY, "%s: no building", path);
         goto done;
     }
+    /* the built-in geometry images (Mesh(0) is the oculus, facade.h) */
+    if ((r = pgt_facade_add_builtin_gimages(&out->scene, err)) != PGT_OK) goto done;
     /* the whole scene once more: the same checks, nothing new can fail here but indices */
     r = pgt_facade_scene_check(&out->scene, path, err);
 done:

@@ -132,28 +132,40 @@ typedef struct agreement {
     double max_rel;
 } agreement;
 
-/* Distance from point X to the nearest edge of the rectangle (facade, node, surface) of the
- * explicit mesh (its two triangles; the diagonal is not an edge of the rectangle). */
+static int same_point(const float *a, const float *b) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* Distance from point X to the boundary of surface (facade, node, surface) of the explicit mesh:
+ * every edge of its triangles except those two of them share (a rectangle's diagonal). */
 static double rect_edge_distance(const pgt_facade_mesh *m, uint32_t facade, uint32_t node,
                                  uint32_t surface, const double X[3]) {
+    uint32_t tris[4], n = 0;
+    for (uint32_t t = 0; t < m->triangle_count && n < 4; ++t)
+        if (m->facade[t] == facade && m->node[t] == node && m->surface[t] == surface) tris[n++] = t;
     double best = INFINITY;
-    for (uint32_t t = 0; t < m->triangle_count; ++t) {
-        if (m->facade[t] != facade || m->node[t] != node || m->surface[t] != surface) continue;
-        for (int c = 0; c < 3; ++c) {
-            const float *A = &m->positions[3u * m->indices[3u * t + (uint32_t)c]];
-            const float *B = &m->positions[3u * m->indices[3u * t + (uint32_t)((c + 1) % 3)]];
-            /* edge 0-2 of each triangle is the rectangle's diagonal (corners 0, 2 of the quad) */
-            if ((c == 2 && (t & 1u) == 0u) || (c == 0 && (t & 1u) == 1u)) continue;
+    for (uint32_t a = 0; a < n; ++a)
+        for (uint32_t c = 0; c < 3; ++c) {
+            const float *A = &m->positions[3u * m->indices[3u * tris[a] + c]];
+            const float *B = &m->positions[3u * m->indices[3u * tris[a] + (c + 1u) % 3u]];
+            int shared = 0;
+            for (uint32_t b2 = 0; b2 < n; ++b2)
+                for (uint32_t j = 0; j < 3 && b2 != a; ++j) {
+                    const float *C = &m->positions[3u * m->indices[3u * tris[b2] + j]];
+                    const float *D = &m->positions[3u * m->indices[3u * tris[b2] + (j + 1u) % 3u]];
+                    shared |= (same_point(A, C) && same_point(B, D)) ||
+                              (same_point(A, D) && same_point(B, C));
+                }
+            if (shared) continue;
             double e[3], w[3];
             for (int k = 0; k < 3; ++k) e[k] = (double)B[k] - A[k], w[k] = X[k] - A[k];
             const double ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-            double s = ee > 0.0 ? (w[0] * e[0] + w[1] * e[1] + w[2] * e[2]) / ee : 0.0;
-            s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+            double sp = ee > 0.0 ? (w[0] * e[0] + w[1] * e[1] + w[2] * e[2]) / ee : 0.0;
+            sp = sp < 0.0 ? 0.0 : (sp > 1.0 ? 1.0 : sp);
             double d2 = 0.0;
-            for (int k = 0; k < 3; ++k) d2 += (w[k] - s * e[k]) * (w[k] - s * e[k]);
+            for (int k = 0; k < 3; ++k) d2 += (w[k] - sp * e[k]) * (w[k] - sp * e[k]);
             if (sqrt(d2) < best) best = sqrt(d2);
         }
-    }
     return best;
 }
 
@@ -163,7 +175,7 @@ static void compare_camera(const pgt_facade_scene *s, const pgt_facade *fa, uint
     pgt_facade_frame fr;
     pgt_error err = {0};
     if (pgt_facade_frame_create(&fr, cam->width, cam->height, &err) != PGT_OK) return;
-    const pgt_facade_shading sh = {{0.0f, 500.0f, 0.0f}, 0.3f, 0};
+    const pgt_facade_shading sh = {.light = {0.0f, 500.0f, 0.0f}, .ambient = 0.3f};
     pgt_facade_render_stats st;
     if (pgt_facade_render(s, fa, fc, cam, &sh, 2, &fr, &st, &err) != PGT_OK) {
         fprintf(stderr, "  %s\n", err.message);
@@ -277,6 +289,9 @@ static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
 static void test_paper_grammar_vs_explicit(void) { check_city("facade.grammar", 9, 3); }
 
 static void test_rich_grammar_vs_explicit(void) { check_city("facade_rich.grammar", 9, 3); }
+
+/* Geometry-image terminals (6.2.2): the oculus windows, triangles tested brute force. */
+static void test_gimage_grammar_vs_explicit(void) { check_city("facade_gimage.grammar", 2, 2); }
 
 /* Every rectangle lies in its scope (x, y) and the terminal's stated depth range. */
 static void test_terminals_in_scope(void) {
@@ -424,7 +439,8 @@ static void test_threads_same_frame(void) {
     pgt_facade_frame a, b;
     REQUIRE(pgt_facade_frame_create(&a, 80, 60, &err) == PGT_OK);
     REQUIRE(pgt_facade_frame_create(&b, 80, 60, &err) == PGT_OK);
-    const pgt_facade_shading sh = {{100.0f, 200.0f, -50.0f}, 0.3f, 1};
+    const pgt_facade_shading sh = {
+        .light = {100.0f, 200.0f, -50.0f}, .ambient = 0.3f, .shadows = 1};
     pgt_facade_render_stats s1, s2;
     CHECK(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &a, &s1, &err) == PGT_OK);
     CHECK(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &b, &s2, &err) == PGT_OK);
@@ -535,14 +551,167 @@ static void test_errors(void) {
     CHECK(pgt_facade_camera_init(&cam, e, at, up, 60, 0, 10, &err) == PGT_ERROR_INVALID_ARGUMENT);
 }
 
+/* One building of a 20 x 10 m footprint whose facades are Wall() only, and its facades. */
+static int wall_scene(pgt_grammar *g, pgt_facade_scene *s, float *corners, float *params,
+                      pgt_facade_building *b, pgt_facade **fa, uint32_t *fc) {
+    static const char text[] = "param protrusion = 0.2\nparam recess = 0.1\nF --> Wall()\n";
+    pgt_error err = {0};
+    if (pgt_grammar_compile(g, text, sizeof text - 1, "wall.grammar", &err) != PGT_OK) return 0;
+    make_one(s, g, corners, params, b);
+    return pgt_facade_prepare(s, fa, fc, &err) == PGT_OK;
+}
+
+/* Relief mapping (6.3): a ray goes on into the relief until it meets the height field; the
+ * distance it goes on is checked against a double-precision search (fine sampling then
+ * bisection of s |v_z| = D (1 - h(u + s v_u, v + s v_v))) over the same height field. */
+static void test_relief_depth(void) {
+    pgt_grammar g;
+    float corners[8], params[8];
+    pgt_facade_building b;
+    pgt_facade_scene s;
+    pgt_facade *fa = NULL;
+    uint32_t fc = 0;
+    REQUIRE(wall_scene(&g, &s, corners, params, &b, &fa, &fc));
+    /* facade 3 runs from (20, 0) to (20... ): pick the facade facing -z: corner (20,0)->(0,0) */
+    uint32_t fi = PGT_NONE;
+    for (uint32_t i = 0; i < fc; ++i)
+        if (fa[i].n[2] == -1.0f) fi = i;
+    REQUIRE(fi != PGT_NONE);
+    const pgt_facade *f = &fa[fi];
+    const float eye[3] = {10.0f, 4.0f, -3.0f}, at[3] = {9.0f, 4.5f, 0.0f}, up[3] = {0, 1, 0};
+    pgt_facade_camera cam;
+    pgt_error err = {0};
+    REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 30, 64, 48, &err) == PGT_OK);
+    pgt_facade_frame geo, rel;
+    REQUIRE(pgt_facade_frame_create(&geo, 64, 48, &err) == PGT_OK);
+    REQUIRE(pgt_facade_frame_create(&rel, 64, 48, &err) == PGT_OK);
+    pgt_facade_shading sh = {.light = {10.0f, 20.0f, -20.0f}, .ambient = 0.3f};
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &geo, NULL, &err) == PGT_OK);
+    sh.detail = PGT_FACADE_DETAIL_RELIEF;
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &rel, NULL, &err) == PGT_OK);
+    const double D = pgt_facade_relief_depth(PGT_FACADE_WALL, 0);
+    CHECK(D > 0.0);
+    uint32_t n = 0, deep = 0;
+    double worst = 0.0;
+    for (uint32_t y = 0; y < 48; ++y)
+        for (uint32_t x = 0; x < 64; ++x) {
+            const size_t p = (size_t)y * 64 + x;
+            if (geo.facade[p] != fi) continue;
+            CHECK(rel.facade[p] == fi && rel.node[p] == geo.node[p]);
+            float o[3], d[3];
+            pgt_facade_camera_ray(&cam, x, y, o, d);
+            /* facade space: x along t, y up, z along n */
+            const double vx = (double)d[0] * f->t[0] + (double)d[2] * f->t[2];
+            const double vy = d[1], vz = (double)d[0] * f->n[0] + (double)d[2] * f->n[2];
+            double px = 0.0, py = 0.0;
+            for (int k = 0; k < 3; k += 2)
+                px += ((double)o[k] + geo.depth[p] * (double)d[k] - f->origin[k]) * f->t[k];
+            py = (double)o[1] + geo.depth[p] * (double)d[1] - f->origin[1];
+            const double down = fabs(vz), smax = D / down;
+            double s0 = 0.0, s1 = smax;
+            int found = 0;
+            for (int i = 1; i <= 20000 && !found; ++i) {
+                const double sv = smax * i / 20000.0;
+                const double hh = pgt_facade_pattern_height(
+                    PGT_FACADE_WALL, 0, (float)(px + sv * vx), (float)(py + sv * vy));
+                if (sv * down >= D * (1.0 - hh))
+                    s1 = sv, found = 1;
+                else
+                    s0 = sv;
+            }
+            for (int i = 0; i < 40 && found; ++i) {
+                const double sv = 0.5 * (s0 + s1);
+                const double hh = pgt_facade_pattern_height(
+                    PGT_FACADE_WALL, 0, (float)(px + sv * vx), (float)(py + sv * vy));
+                if (sv * down >= D * (1.0 - hh))
+                    s1 = sv;
+                else
+                    s0 = sv;
+            }
+            const double got = (double)rel.depth[p] - geo.depth[p];
+            /* the reference searches in 24 linear steps and 6 bisections: a 1536th of the
+             * depth range along the ray, plus float rounding of the two depths */
+            const double tol = smax / 1536.0 + 4e-6 * geo.depth[p];
+            worst = fmax(worst, fabs(got - s1));
+            CHECK_MSG(fabs(got - s1) <= tol, "pixel (%u, %u): relief %.6g, expected %.6g", x, y,
+                      got, s1);
+            n++, deep += s1 > 0.5 * smax;
+        }
+    printf("  relief: %u pixels, %u in joints, worst |ds| %.3g m (D = %.3g m)\n", n, deep, worst,
+           D);
+    CHECK(n > 1000 && deep > 20);
+    pgt_facade_frame_destroy(&geo);
+    pgt_facade_frame_destroy(&rel);
+    free(fa);
+    pgt_grammar_destroy(&g);
+}
+
+/* LOD (sec. 7): level 0 lays every terminal into the wall plane; with the thickness ramp beyond
+ * the scene and the detail ramps before the camera, LOD is the geometry level exactly. */
+static void test_lod_levels(void) {
+    pgt_grammar g;
+    REQUIRE(load(&g, "facade_rich.grammar"));
+    pgt_facade_scene s;
+    pgt_error err = {0};
+    REQUIRE(pgt_gen_city(&s, &g, 4, 5, &err) == PGT_OK);
+    pgt_facade *fa = NULL;
+    uint32_t fc = 0;
+    REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+    const float eye[3] = {-15, 12, -20}, at[3] = {30, 5, 30}, up[3] = {0, 1, 0};
+    pgt_facade_camera cam;
+    REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 50, 96, 64, &err) == PGT_OK);
+    pgt_facade_frame geo, lod, flat;
+    REQUIRE(pgt_facade_frame_create(&geo, 96, 64, &err) == PGT_OK);
+    REQUIRE(pgt_facade_frame_create(&lod, 96, 64, &err) == PGT_OK);
+    REQUIRE(pgt_facade_frame_create(&flat, 96, 64, &err) == PGT_OK);
+    pgt_facade_shading sh = {.light = {0.0f, 80.0f, -60.0f}, .ambient = 0.3f, .shadows = 1};
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &geo, NULL, &err) == PGT_OK);
+    sh.detail = PGT_FACADE_DETAIL_LOD;
+    sh.relief_near = 1e-3f, sh.relief_far = 2e-3f, sh.normal_near = 1e-3f, sh.normal_far = 2e-3f;
+    sh.thick_near = 1e6f, sh.thick_far = 2e6f;
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &lod, NULL, &err) == PGT_OK);
+    const size_t n = 96u * 64u;
+    CHECK(memcmp(geo.depth, lod.depth, n * sizeof(float)) == 0);
+    CHECK(memcmp(geo.node, lod.node, n * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(geo.rgb, lod.rgb, 3 * n * sizeof(float)) == 0);
+    sh.detail = PGT_FACADE_DETAIL_FLAT;
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &flat, NULL, &err) == PGT_OK);
+    uint32_t hits = 0, differ = 0;
+    for (size_t p = 0; p < n; ++p) {
+        if (flat.facade[p] == PGT_NONE) continue;
+        const pgt_facade *f = &fa[flat.facade[p]];
+        float o[3], d[3];
+        pgt_facade_camera_ray(&cam, (uint32_t)(p % 96), (uint32_t)(p / 96), o, d);
+        double z = 0.0;
+        for (int k = 0; k < 3; ++k)
+            z += ((double)o[k] + flat.depth[p] * (double)d[k] - f->origin[k]) * f->n[k];
+        /* level 0 keeps a thousandth of the thickness, plus float rounding of the hit */
+        CHECK_MSG(fabs(z) <= 1e-3 * fmax(f->protrusion, f->recess) + 2e-6 * flat.depth[p],
+                  "pixel %zu: z %.3g", p, z);
+        hits++, differ += flat.node[p] != geo.node[p];
+    }
+    printf("  flat: %u pixels on facades, %u see another terminal than the geometry level\n", hits,
+           differ);
+    CHECK(hits > n / 10 && differ > 0);
+    pgt_facade_frame_destroy(&geo);
+    pgt_facade_frame_destroy(&lod);
+    pgt_facade_frame_destroy(&flat);
+    free(fa);
+    pgt_facade_scene_destroy(&s);
+    pgt_grammar_destroy(&g);
+}
+
 static const pgt_test_case cases[] = {
     {"terminals_in_scope", test_terminals_in_scope},
     {"miss_develops_nothing", test_miss_develops_nothing},
     {"coverage_polygon", test_coverage_polygon},
     {"paper_grammar_vs_explicit", test_paper_grammar_vs_explicit},
     {"rich_grammar_vs_explicit", test_rich_grammar_vs_explicit},
+    {"gimage_grammar_vs_explicit", test_gimage_grammar_vs_explicit},
     {"threads_same_frame", test_threads_same_frame},
     {"errors", test_errors},
+    {"relief_depth", test_relief_depth},
+    {"lod_levels", test_lod_levels},
 };
 
 PGT_TEST_MAIN(cases)

@@ -71,7 +71,7 @@ static void check_camera(const char *name, const float eye[3], const float at[3]
     REQUIRE(pgt_facade_frame_create(&frame, SIDE, SIDE, &err) == PGT_OK);
     pgt_facade_embree_hits hits;
     REQUIRE(pgt_facade_embree_hits_create(&hits, SIDE, SIDE, &err) == PGT_OK);
-    pgt_facade_shading sh = {{0.0f, 500.0f, 0.0f}, 0.25f, 0};
+    pgt_facade_shading sh = {.light = {0.0f, 500.0f, 0.0f}, .ambient = 0.25f};
     pgt_facade_render_stats st;
     CHECK(pgt_facade_render(&city.file.scene, city.facades, city.facade_count, &cam, &sh, THREADS,
                             &frame, &st, &err) == PGT_OK);
@@ -179,7 +179,7 @@ static void test_miss_develops_nothing(void) {
     REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 60.0f, 128, 128, &err) == PGT_OK);
     pgt_facade_frame frame;
     REQUIRE(pgt_facade_frame_create(&frame, 128, 128, &err) == PGT_OK);
-    pgt_facade_shading sh = {{0.0f, 500.0f, 0.0f}, 0.25f, 0};
+    pgt_facade_shading sh = {.light = {0.0f, 500.0f, 0.0f}, .ambient = 0.25f};
     pgt_facade_render_stats st;
     CHECK(pgt_facade_render(s, city.facades, city.facade_count, &cam, &sh, THREADS, &frame, &st,
                             &err) == PGT_OK);

@@ -83,6 +83,33 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
         const pgt_result r = check_call_cycles(g, what, err);
         if (r != PGT_OK) return r;
     }
+    if ((s->gimage_count && !s->gimages) ||
+        (s->gimage_triangle_count && (!s->gimage_data || !s->gimage_roles)))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: missing geometry images", what);
+    for (uint32_t k = 0; k < s->gimage_count; ++k) {
+        const pgt_facade_gimage *gi = &s->gimages[k];
+        if (gi->first > s->gimage_triangle_count ||
+            gi->count > s->gimage_triangle_count - gi->first ||
+            gi->count > PGT_FACADE_MAX_GIMAGE_TRIANGLES)
+            return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                 "%s: geometry image %u has triangles [%u, %u + %u) of %u (at most "
+                                 "%u)",
+                                 what, k, gi->first, gi->first, gi->count, s->gimage_triangle_count,
+                                 PGT_FACADE_MAX_GIMAGE_TRIANGLES);
+    }
+    for (uint32_t i = 0; i < s->gimage_triangle_count; ++i)
+        if (s->gimage_roles[i] >= PGT_FACADE_ROLE_COUNT)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: geometry image triangle %u has role %u (0 to %u)", what, i,
+                                 s->gimage_roles[i], PGT_FACADE_ROLE_COUNT - 1u);
+    for (uint32_t i = 0; i < s->gimage_triangle_count * 9u; ++i) {
+        const float x = s->gimage_data[i];
+        if (!isfinite(x) || (i % 3u < 2u && (x < 0.0f || x > 1.0f)))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: geometry image triangle %u: coordinate %g (x and y in [0, 1] "
+                                 "across the scope, z finite)",
+                                 what, i / 9u, (double)x);
+    }
     for (uint32_t i = 0; i < s->corner_count * 2u; ++i)
         if (!isfinite(s->corners[i]))
             return pgt_error_set(err, PGT_ERROR_NOT_FINITE, "%s: corner %u is not finite", what,
@@ -148,6 +175,9 @@ void pgt_facade_scene_destroy(pgt_facade_scene *s) {
     free(s->buildings);
     free(s->corners);
     free(s->params);
+    free(s->gimages);
+    free(s->gimage_data);
+    free(s->gimage_roles);
     memset(s, 0, sizeof *s);
 }
 
@@ -164,7 +194,9 @@ static size_t grammar_bytes(const pgt_grammar *g) {
 size_t pgt_facade_scene_bytes(const pgt_facade_scene *s) {
     size_t n = (size_t)s->building_count * sizeof *s->buildings +
                (size_t)s->corner_count * 2u * sizeof *s->corners +
-               (size_t)s->param_count * sizeof *s->params;
+               (size_t)s->param_count * sizeof *s->params +
+               (size_t)s->gimage_count * sizeof *s->gimages +
+               (size_t)s->gimage_triangle_count * (9u * sizeof *s->gimage_data + 1u);
     for (uint32_t k = 0; k < s->grammar_count; ++k) n += grammar_bytes(&s->grammars[k]);
     return n;
 }
@@ -497,17 +529,18 @@ static int key_equal(const facade_cache_key *a, const facade_cache_key *b) {
 int pgt_facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
                          const float org[3], const float dir[3], pgt_facade_hit *hit,
                          pgt_facade_ray_stats *stats) {
-    return facade_intersect(s, f, fi, org, dir, hit, stats, NULL);
+    return facade_intersect(s, f, fi, org, dir, hit, stats, NULL, 1.0f);
 }
 
 int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
                      const float org[3], const float dir[3], pgt_facade_hit *hit,
-                     pgt_facade_ray_stats *stats, facade_cache *cache) {
+                     pgt_facade_ray_stats *stats, facade_cache *cache, float zscale) {
     pgt_facade_ray_stats dummy;
     if (!stats) memset(&dummy, 0, sizeof dummy), stats = &dummy;
     stats->rays++;
     float a[3], v[3];
     facade_to_local(f, org, dir, a, v);
+    if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
     float t0 = 0.0f, t1 = hit->t;
     slab(a[0], v[0], 0.0f, f->width, &t0, &t1);
     slab(a[1], v[1], 0.0f, f->height, &t0, &t1);
@@ -522,6 +555,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     uint32_t sp = 0, budget = PGT_FACADE_NODE_BUDGET;
     float best = hit->t;
     uint32_t best_kind = 0, best_surface = 0, best_key = 0, best_item = 0, best_axis = 0;
+    float best_n[3] = {0.0f, 0.0f, 0.0f}; /* a geometry image's triangle normal (best_axis 3) */
     pgt_facade_quad quads[PGT_FACADE_MAX_QUADS];
 
     const uint32_t key0 = facade_axiom_key(s, f);
@@ -595,6 +629,28 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             }
             stats->terminals++;
             const uint32_t item = sq->first_item + pos;
+            if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
+                float id, nrm[3];
+                uint64_t counter = 0;
+                const float *td = NULL;
+                if (!eval(&c, g->args[it->first_arg], fr->args, fr->argc, key, &counter, &id))
+                    break;
+                uint32_t first = 0;
+                const uint32_t n = facade_gimage_triangles(s, id, &td, &first);
+                if (n == 0) {
+                    stats->errors |= PGT_FACADE_ERR_ITEM;
+                    break;
+                }
+                stats->quads += n;
+                const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
+                const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, v, &best, nrm);
+                if (k != PGT_NONE) {
+                    best_kind = PGT_FACADE_MESH, best_surface = first + k, best_key = key;
+                    best_item = item, best_axis = 3u;
+                    memcpy(best_n, nrm, sizeof best_n);
+                }
+                continue;
+            }
             const pgt_facade_quad *qs = quads;
             const uint8_t *surf = NULL;
             uint8_t surf_local[PGT_FACADE_MAX_QUADS];
@@ -697,10 +753,14 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
     hit->surface = best_surface, hit->item = best_item;
     const float *nrm = best_axis == 0 ? f->t : f->n;
-    if (best_axis == 1)
+    if (best_axis == 3) {
+        for (int k = 0; k < 3; ++k) hit->n[k] = best_n[0] * f->t[k] + best_n[2] * f->n[k];
+        hit->n[1] += best_n[1];
+    } else if (best_axis == 1)
         hit->n[0] = 0.0f, hit->n[1] = 1.0f, hit->n[2] = 0.0f;
     else
         hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];
     for (int k = 0; k < 3; ++k) hit->p[k] = a[k] + best * v[k];
+    hit->p[2] *= zscale; /* the scaled geometry's z */
     return 1;
 }

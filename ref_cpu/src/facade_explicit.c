@@ -113,6 +113,41 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
     return PGT_OK;
 }
 
+/* Appends the triangles of a geometry image on the scope [x0, x0 + w] x [y0, y0 + h]. */
+static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_grammar *g,
+                              const pgt_grammar_item *it, uint32_t key, const float *td, uint32_t n,
+                              uint32_t first, float x0, float y0, float w, float h,
+                              pgt_error *err) {
+    for (uint32_t k = 0; k < n; ++k) {
+        const float *T = td + 9u * k;
+        for (int c = 0; c < 3; ++c)
+            if (T[3 * c + 2] < -f->recess || T[3 * c + 2] > f->protrusion)
+                return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                     "%s:%u:%u: building %u facade %u: Mesh triangle %u reaches z "
+                                     "%g outside the facade volume [-recess, protrusion] = [%g, "
+                                     "%g] (paper 003 sec. 8)",
+                                     gfile(g), it->line, it->col, f->building, f->edge, k,
+                                     (double)T[3 * c + 2], -(double)f->recess,
+                                     (double)f->protrusion);
+        if (x->m->triangle_count + 1u > FACADE_MAX_TRIANGLES)
+            return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
+                                 FACADE_MAX_TRIANGLES);
+        if (!reserve(x, 3, 1))
+            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit facades: out of memory");
+        pgt_facade_mesh *m = x->m;
+        const uint32_t v0 = m->vertex_count, ti = m->triangle_count++;
+        for (int c = 0; c < 3; ++c) {
+            const float p[3] = {x0 + T[3 * c] * w, y0 + T[3 * c + 1] * h, T[3 * c + 2]};
+            facade_to_world(f, p, &m->positions[3u * (v0 + (uint32_t)c)]);
+            m->indices[3u * ti + (uint32_t)c] = v0 + (uint32_t)c;
+        }
+        m->vertex_count += 3;
+        m->facade[ti] = fi, m->node[ti] = key, m->kind[ti] = PGT_FACADE_MESH,
+        m->surface[ti] = first + k;
+    }
+    return PGT_OK;
+}
+
 static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_facade *f,
                                 uint32_t fi, xframe *stack, pgt_error *err) {
     const pgt_facade_building *B = &s->buildings[f->building];
@@ -174,6 +209,32 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
             if (pgt_facade_kind_of(it->target) == PGT_FACADE_MISS) {
                 st.errors |= PGT_FACADE_ERR_ITEM;
                 break;
+            }
+            if (it->target == PGT_GRAMMAR_TERMINAL_MESH) {
+                float id;
+                uint64_t counter = 0;
+                pgt_grammar_env env;
+                memset(&env, 0, sizeof env);
+                env.seed = c.seed, env.stream = key, env.counter = &counter, env.params = c.params;
+                const float *td = NULL;
+                uint32_t n = 0, first = 0;
+                if (pgt_grammar_eval(g, g->args[it->first_arg], fr->args, fr->argc, &env, &id,
+                                     &eerr) == PGT_OK)
+                    n = facade_gimage_triangles(s, id, &td, &first);
+                else
+                    st.errors |= PGT_FACADE_ERR_EVAL;
+                if (st.errors) break;
+                if (n == 0)
+                    return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
+                                         "%s:%u:%u: building %u facade %u: Mesh(%g): the scene has "
+                                         "%u geometry images (ids 0 to %u)",
+                                         gfile(g), it->line, it->col, f->building, f->edge,
+                                         (double)id, s->gimage_count,
+                                         s->gimage_count ? s->gimage_count - 1u : 0u);
+                const pgt_result r = emit_gimage(x, f, fi, g, it, key, td, n, first, fr->x0, fr->y0,
+                                                 fr->w, fr->h, err);
+                if (r != PGT_OK) return r;
+                continue;
             }
             const uint32_t n = facade_terminal(&c, it, fr->args, fr->argc, key, fr->x0, fr->y0,
                                                fr->w, fr->h, quads);

@@ -60,10 +60,49 @@ typedef struct facade_ctx {
     pgt_error *err;              /* the first evaluation error's message, or NULL */
 } facade_ctx;
 
-/* pgt_facade_intersect with a memo (NULL: none). */
+/* pgt_facade_intersect with a memo (NULL: none) and the terminals' z (protrusions and recesses,
+ * and the volume's F and B) scaled by zscale in (0, 1] (LOD, sec. 7): the ray's z is divided by
+ * zscale instead, which meets the scaled geometry at the same t. */
 int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
                      const float org[3], const float dir[3], pgt_facade_hit *hit,
-                     pgt_facade_ray_stats *stats, facade_cache *cache);
+                     pgt_facade_ray_stats *stats, facade_cache *cache, float zscale);
+
+/* ---- geometry images (facade_gimage.c) ---- */
+
+/* The triangles of geometry image id (a whole number below gimage_count) and the index of its
+ * first in the scene's image (a hit's surface is first + the triangle); 0 for a bad id. */
+uint32_t facade_gimage_triangles(const pgt_facade_scene *s, float id, const float **data,
+                                 uint32_t *first);
+/* Nearest triangle of d[0 .. n) (x, y scaled by w, h) hit at t in [0, *best) by the block-local
+ * ray a + t v; writes its unit normal (facade space, not turned). PGT_NONE if none. */
+uint32_t facade_gimage_hit(const float *d, uint32_t n, float w, float h, const float a[3],
+                           const float v[3], float *best, float nrm[3]);
+
+/* ---- terminal space detail (facade_shade.c) ---- */
+
+enum { FACADE_MAT_NONE = 0, FACADE_MAT_BRICK, FACADE_MAT_STONE, FACADE_MAT_WOOD, FACADE_MAT_COUNT };
+
+/* The material of surface `surface` of a terminal of kind `kind`. */
+uint32_t facade_material(uint32_t kind, uint32_t surface);
+/* Its relief depth D (metres) and height field h(u, v) in [0, 1]. */
+float facade_relief_depth(uint32_t material);
+float facade_height(uint32_t material, float u, float v);
+
+typedef struct facade_detail_in {
+    uint32_t material, axis; /* the rectangle's material and normal axis */
+    float p[3];              /* the macroscopic hit, facade space */
+    float v[3];              /* the ray's unit direction, facade space */
+    float l[3];              /* unit direction towards the light, facade space */
+    float normal, relief;    /* weights in [0, 1] of normal mapping and relief mapping */
+    int relief_shadows;      /* 1: self-shadowing in the relief */
+} facade_detail_in;
+typedef struct facade_detail_out {
+    float s;      /* how far the ray went on below the surface (metres) */
+    float h;      /* the height field where it stopped */
+    float n[3];   /* shading normal, facade space, facing the ray */
+    int shadowed; /* the relief hides the light */
+} facade_detail_out;
+void facade_detail(const facade_detail_in *in, facade_detail_out *out);
 
 /* The axiom's node key of facade f. */
 uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f);

@@ -32,6 +32,28 @@
  * surface towards the camera side, so they do not hit the surface they leave. */
 #define SHADOW_OFFSET_REL 1e-4f
 #define SHADOW_OFFSET_ABS 1e-4f
+/* The thinnest a facade gets in LOD level 0 (a share of its thickness): not 0, so that the
+ * development still orders the terminals front to back (at 300 m a 0.3 m protrusion becomes
+ * 0.3 mm, under a pixel's depth resolution and invisible). */
+#define LOD_ZSCALE_MIN 1e-3f
+/* Albedo = base x (PATTERN_DARK + (1 - PATTERN_DARK) h): joints of the material pattern darker. */
+#define PATTERN_DARK 0.72f
+
+/* 1 at or below near, 0 at or beyond far, linear between. */
+static float ramp(float d, float near, float far) {
+    if (d <= near) return 1.0f;
+    if (d >= far) return 0.0f;
+    return (far - d) / (far - near);
+}
+
+/* The thickness scale of a facade at distance d (from the eye to its volume). */
+static float zscale_of(const pgt_facade_shading *sh, float d) {
+    if (sh->detail == PGT_FACADE_DETAIL_FLAT) return LOD_ZSCALE_MIN;
+    if (sh->detail != PGT_FACADE_DETAIL_LOD) return 1.0f;
+    const float n = sh->thick_near > 0.0f ? sh->thick_near : PGT_FACADE_LOD_THICK_NEAR;
+    const float f = sh->thick_far > 0.0f ? sh->thick_far : PGT_FACADE_LOD_THICK_FAR;
+    return fmaxf(ramp(d, n, f), LOD_ZSCALE_MIN);
+}
 
 pgt_result pgt_facade_frame_create(pgt_facade_frame *out, uint32_t width, uint32_t height,
                                    pgt_error *err) {
@@ -232,11 +254,18 @@ static int inside(const cover *cv, const float d[3]) {
     return 1;
 }
 
+/* The normal axis (0 x, 1 y, 2 z of facade space) of the rectangle with world normal n. */
+static uint32_t axis_of(const float n[3], const pgt_facade *f) {
+    if (n[1] == 1.0f && n[0] == 0.0f && n[2] == 0.0f) return 1u;
+    return fabsf(dot3(n, f->t)) > 0.5f ? 0u : 2u;
+}
+
 typedef struct albedo_rgb {
     float r, g, b;
 } albedo_rgb;
 
-static albedo_rgb albedo(uint32_t kind, uint32_t surface, uint32_t colour) {
+static albedo_rgb albedo(const pgt_facade_scene *sc, uint32_t kind, uint32_t surface,
+                         uint32_t colour) {
     const albedo_rgb wall = {(float)((colour >> 16) & 255u) / 255.0f,
                              (float)((colour >> 8) & 255u) / 255.0f,
                              (float)(colour & 255u) / 255.0f};
@@ -250,13 +279,21 @@ static albedo_rgb albedo(uint32_t kind, uint32_t surface, uint32_t colour) {
                : surface <= 9u  ? sill
                : surface <= 16u ? frame
                : surface <= 20u ? reveal
-                                : glass;
+               : surface == 21u ? glass
+                                : wall;
     case PGT_FACADE_DOOR:
         return surface <= 2u ? wall : surface <= 8u ? frame : surface == 12u ? leaf : reveal;
     case PGT_FACADE_LEDGE:
         return stone;
     case PGT_FACADE_BALCONY:
         return surface <= 4u ? stone : rail;
+    case PGT_FACADE_MESH: {
+        const uint32_t role = surface < sc->gimage_triangle_count ? sc->gimage_roles[surface] : 0u;
+        return role == PGT_FACADE_ROLE_FRAME    ? frame
+               : role == PGT_FACADE_ROLE_REVEAL ? reveal
+               : role == PGT_FACADE_ROLE_GLASS  ? glass
+                                                : wall;
+    }
     default:
         return wall;
     }
@@ -300,7 +337,8 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                     if (cv->dist >= hits[k].t || !inside(cv, dirs[k])) continue;
                     c->wcovered[worker]++;
                     const uint64_t before = st->nodes;
-                    facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[k], &hits[k], st, cache);
+                    facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[k], &hits[k], st, cache,
+                                     zscale_of(c->sh, cv->dist));
                     dev[k] += (uint32_t)(st->nodes - before);
                 }
         }
@@ -319,37 +357,68 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                     continue;
                 }
                 const pgt_facade *f = &c->f[h->facade];
+                const pgt_facade_shading *sh = c->sh;
+                const float zs = zscale_of(sh, c->cov[h->facade].dist);
                 float n[3] = {h->n[0], h->n[1], h->n[2]};
                 if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
                 float P[3], L[3];
                 for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
-                for (int j = 0; j < 3; ++j) L[j] = c->sh->light[j] - P[j];
+                for (int j = 0; j < 3; ++j) L[j] = sh->light[j] - P[j];
                 const float dl = sqrtf(dot3(L, L));
-                float diffuse = 0.0f;
-                if (dl > 0.0f) {
+                if (dl > 0.0f)
                     for (int j = 0; j < 3; ++j) L[j] /= dl;
-                    diffuse = dot3(n, L);
+                /* terminal space detail (6.3): the pattern always, normal and relief mapping by
+                 * detail level */
+                facade_detail_in din;
+                din.material = facade_material(h->kind, h->surface);
+                din.axis = axis_of(h->n, f);
+                for (int j = 0; j < 3; ++j) din.p[j] = h->p[j];
+                float unused[3];
+                static const float origin0[3] = {0.0f, 0.0f, 0.0f};
+                facade_to_local(f, origin0, dirs[k], unused, din.v);
+                facade_to_local(f, origin0, L, unused, din.l);
+                din.normal = din.relief = 0.0f;
+                if (sh->detail == PGT_FACADE_DETAIL_NORMAL) din.normal = 1.0f;
+                if (sh->detail == PGT_FACADE_DETAIL_RELIEF) din.normal = din.relief = 1.0f;
+                if (sh->detail == PGT_FACADE_DETAIL_LOD) {
+                    din.relief = ramp(
+                        h->t, sh->relief_far > 0.0f ? sh->relief_near : PGT_FACADE_LOD_RELIEF_NEAR,
+                        sh->relief_far > 0.0f ? sh->relief_far : PGT_FACADE_LOD_RELIEF_FAR);
+                    din.normal = ramp(
+                        h->t, sh->normal_far > 0.0f ? sh->normal_near : PGT_FACADE_LOD_NORMAL_NEAR,
+                        sh->normal_far > 0.0f ? sh->normal_far : PGT_FACADE_LOD_NORMAL_FAR);
                 }
-                if (diffuse > 0.0f && c->sh->shadows) {
+                din.relief_shadows = sh->shadows;
+                facade_detail_out dout;
+                facade_detail(&din, &dout);
+                if (din.normal > 0.0f || din.relief > 0.0f)
+                    for (int j = 0; j < 3; ++j) n[j] = dout.n[0] * f->t[j] + dout.n[2] * f->n[j];
+                if (din.normal > 0.0f || din.relief > 0.0f) n[1] += dout.n[1];
+                float diffuse = dl > 0.0f ? dot3(n, L) : 0.0f;
+                if (diffuse > 0.0f && dout.shadowed) diffuse = 0.0f;
+                if (diffuse > 0.0f && sh->shadows) {
                     const float off = SHADOW_OFFSET_REL * h->t + SHADOW_OFFSET_ABS;
-                    float so[3];
-                    for (int j = 0; j < 3; ++j) so[j] = P[j] + off * n[j];
-                    pgt_facade_hit sh;
-                    sh.t = dl;
-                    sh.facade = PGT_NONE;
+                    float so[3], gn[3] = {h->n[0], h->n[1], h->n[2]};
+                    if (dot3(gn, dirs[k]) > 0.0f) gn[0] = -gn[0], gn[1] = -gn[1], gn[2] = -gn[2];
+                    for (int j = 0; j < 3; ++j) so[j] = P[j] + off * gn[j];
+                    pgt_facade_hit shh;
+                    shh.t = dl;
+                    shh.facade = PGT_NONE;
                     pgt_facade_ray_stats ss; /* shadow rays are not counted as view rays */
                     memset(&ss, 0, sizeof ss);
-                    if (facade_intersect(c->s, f, h->facade, so, L, &sh, &ss, cache))
+                    if (facade_intersect(c->s, f, h->facade, so, L, &shh, &ss, cache, zs))
                         diffuse = 0.0f;
                     st->errors |= ss.errors;
                 }
                 if (diffuse < 0.0f) diffuse = 0.0f;
                 const albedo_rgb a =
-                    albedo(h->kind, h->surface, c->s->buildings[f->building].colour);
-                const float light = c->sh->ambient + (1.0f - c->sh->ambient) * diffuse;
+                    albedo(c->s, h->kind, h->surface, c->s->buildings[f->building].colour);
+                const float pat =
+                    din.material ? PATTERN_DARK + (1.0f - PATTERN_DARK) * dout.h : 1.0f;
+                const float light = (sh->ambient + (1.0f - sh->ambient) * diffuse) * pat;
                 fr->rgb[3 * p + 0] = a.r * light, fr->rgb[3 * p + 1] = a.g * light;
                 fr->rgb[3 * p + 2] = a.b * light;
-                fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
+                fr->depth[p] = h->t + dout.s, fr->terminal[p] = (float)h->kind;
                 for (int j = 0; j < 3; ++j) fr->normal[3 * p + j] = n[j];
                 fr->facade[p] = h->facade, fr->node[p] = h->node, fr->surface[p] = h->surface;
             }

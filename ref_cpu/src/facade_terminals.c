@@ -100,6 +100,8 @@ uint32_t pgt_facade_kind_of(uint32_t grammar_terminal) {
         return PGT_FACADE_LEDGE;
     case PGT_GRAMMAR_TERMINAL_BALCONY:
         return PGT_FACADE_BALCONY;
+    case PGT_GRAMMAR_TERMINAL_MESH:
+        return PGT_FACADE_MESH;
     default:
         return PGT_FACADE_MISS;
     }

@@ -40,7 +40,7 @@ const char *pgt_grammar_op_name(uint32_t op) {
 
 const char *pgt_grammar_terminal_name(uint32_t terminal) {
     static const char *const names[PGT_GRAMMAR_TERMINAL_COUNT] = {
-        "Bark", "Leaves", "Wall", "Window", "Door", "Ledge", "Balcony"};
+        "Bark", "Leaves", "Wall", "Window", "Door", "Ledge", "Balcony", "Mesh"};
     return terminal < PGT_GRAMMAR_TERMINAL_COUNT ? names[terminal] : "?";
 }
 

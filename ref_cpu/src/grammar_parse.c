@@ -79,6 +79,7 @@ static const struct {
     {"Door", PGT_GRAMMAR_TERMINAL_DOOR, 4, PGT_NONE},
     {"Ledge", PGT_GRAMMAR_TERMINAL_LEDGE, 1, PGT_NONE},
     {"Balcony", PGT_GRAMMAR_TERMINAL_BALCONY, 3, PGT_NONE},
+    {"Mesh", PGT_GRAMMAR_TERMINAL_MESH, 1, PGT_NONE},
 };
 
 /* Words that are not rule, param or parameter names. */

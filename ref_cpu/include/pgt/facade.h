@@ -77,7 +77,8 @@ typedef enum pgt_facade_kind {
     PGT_FACADE_DOOR = 3,
     PGT_FACADE_LEDGE = 4,
     PGT_FACADE_BALCONY = 5,
-    PGT_FACADE_KIND_COUNT = 6
+    PGT_FACADE_MESH = 6, /* a geometry-image terminal (6.2.2) */
+    PGT_FACADE_KIND_COUNT = 7
 } pgt_facade_kind;
 
 /* Depth of the development stack (split and sequence frames): the facade grammar nests 3 deep,
@@ -117,7 +118,18 @@ typedef struct pgt_facade_building {
     uint32_t colour;                     /* 0xRRGGBB, the wall's base colour */
 } pgt_facade_building;
 
-/* A scene: every array is flat. grammars are borrowed (not freed by pgt_facade_scene_destroy). */
+/* A geometry image (6.2.2): triangles[first .. + count) of the scene's 1D geometry image. */
+typedef struct pgt_facade_gimage {
+    uint32_t first, count;
+} pgt_facade_gimage;
+
+/* Triangles of one geometry image at most (the paper's door block has 732). */
+#define PGT_FACADE_MAX_GIMAGE_TRIANGLES 65536u
+
+/* A scene: every array is flat. grammars are borrowed (not freed by pgt_facade_scene_destroy).
+ * Geometry images: gimage_data is the 1D geometry image, 9 floats per triangle (x y z of its
+ * three corners): x and y in [0, 1] across the terminal's scope, z in metres out of the wall;
+ * Mesh(id) instantiates gimages[id]. */
 typedef struct pgt_facade_scene {
     uint32_t grammar_count;
     const pgt_grammar *grammars; /* grammars[k] */
@@ -127,7 +139,28 @@ typedef struct pgt_facade_scene {
     float *corners; /* 2 * corner_count */
     uint32_t param_count;
     float *params;
+    uint32_t gimage_count, gimage_triangle_count;
+    pgt_facade_gimage *gimages;
+    float *gimage_data;    /* 9 * gimage_triangle_count */
+    uint8_t *gimage_roles; /* per triangle, pgt_facade_gimage_role: its look when shaded */
 } pgt_facade_scene;
+
+/* What a geometry-image triangle is, for shading (the optional attribute of 6.2.2's images). */
+typedef enum pgt_facade_gimage_role {
+    PGT_FACADE_ROLE_WALL = 0,
+    PGT_FACADE_ROLE_FRAME = 1,
+    PGT_FACADE_ROLE_REVEAL = 2,
+    PGT_FACADE_ROLE_GLASS = 3,
+    PGT_FACADE_ROLE_COUNT = 4
+} pgt_facade_gimage_role;
+
+/* The built-in geometry images, appended to the scene's (ids from gimage_count on; malloc'd, so
+ * pgt_facade_scene_destroy frees them):
+ *   oculus: a round window block of 352 triangles (facade_gimage.c): a wall with a circular
+ *   opening, a protruding frame ring (6 cm), a cylindrical reveal and glass recessed 15 cm.
+ * pgt_gen_city and the scene-file reader add them, so Mesh(0) is the oculus. */
+#define PGT_FACADE_GIMAGE_OCULUS 0u
+pgt_result pgt_facade_add_builtin_gimages(pgt_facade_scene *s, pgt_error *err);
 
 /* One facade (derived): facade space and volume. 15 words. */
 typedef struct pgt_facade {
@@ -180,7 +213,7 @@ typedef struct pgt_facade_ray_stats {
  * what names the scene in messages ("city.scene"). */
 pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, pgt_error *err);
 
-/* Frees the scene's own arrays (not the grammars) and zeroes it. */
+/* Frees the scene's own arrays (not the grammars; the geometry images too) and zeroes it. */
 void pgt_facade_scene_destroy(pgt_facade_scene *s);
 
 /* Bytes of the procedural representation: buildings, corners, params and the grammars' arrays
@@ -253,15 +286,48 @@ int pgt_facade_coverage(const pgt_facade *f, const float eye[3], float corners[4
 
 /* ---- frames ---- */
 
+/* Detail of the shading (paper 003 sec. 6.3 and 7). */
+typedef enum pgt_facade_detail {
+    PGT_FACADE_DETAIL_GEOMETRY = 0, /* the procedural geometry, flat-shaded (the default) */
+    PGT_FACADE_DETAIL_FLAT = 1,     /* LOD level 0: thickness zero, the facade as a textured
+                                       plane (terminal colours and the material pattern) */
+    PGT_FACADE_DETAIL_NORMAL = 2,   /* level 2: geometry + normal mapping in terminal space */
+    PGT_FACADE_DETAIL_RELIEF = 3,   /* level 3: geometry + relief mapping in terminal space,
+                                       with self-shadowing in the relief */
+    PGT_FACADE_DETAIL_LOD = 4       /* the four levels by distance with linear transitions */
+} pgt_facade_detail;
+
+/* Default LOD distances (metres from the eye, sec. 7): relief fades out over [10, 20], normal
+ * mapping over [20, 40], and the macroscopic thickness from full at 150 to zero at 300. A brick
+ * (6.5 cm) spans about a pixel at 40 m in a 1280 x 720 frame with a 50 degree field of view. */
+#define PGT_FACADE_LOD_RELIEF_NEAR 10.0f
+#define PGT_FACADE_LOD_RELIEF_FAR 20.0f
+#define PGT_FACADE_LOD_NORMAL_NEAR 20.0f
+#define PGT_FACADE_LOD_NORMAL_FAR 40.0f
+#define PGT_FACADE_LOD_THICK_NEAR 150.0f
+#define PGT_FACADE_LOD_THICK_FAR 300.0f
+
 /* Shading of a frame: albedo by terminal surface (wall in the building's colour, glass, frames,
- * sills...) times ambient + (1 - ambient) max(0, n . l) for a point light, n turned to face the
- * camera; misses get a constant sky colour. (Relief mapping and LOD come with sec. 6.3 and 7.) */
+ * sills...) modulated by its material's pattern (bricks, stone blocks, wood planks: procedural
+ * height fields in terminal space, facade_shade.c), times ambient + (1 - ambient) max(0, n . l)
+ * for a point light, n turned to face the camera; misses get a constant sky colour. A zeroed
+ * struct plus a light is the default look. */
 typedef struct pgt_facade_shading {
-    float light[3]; /* point light, world space */
-    float ambient;  /* share of the albedo lit whatever the light (0..1) */
-    int shadows;    /* 1: self-shadowing (6.4): a shadow ray toward the light through the same
-                       facade's development */
+    float light[3];  /* point light, world space */
+    float ambient;   /* share of the albedo lit whatever the light (0..1) */
+    int shadows;     /* 1: self-shadowing (6.4): a shadow ray toward the light through the same
+                        facade's development (and, with relief, through the relief) */
+    uint32_t detail; /* pgt_facade_detail */
+    /* LOD transitions for PGT_FACADE_DETAIL_LOD: [near, far] of the relief, normal mapping and
+     * thickness ramps; all zero means the PGT_FACADE_LOD_* defaults */
+    float relief_near, relief_far, normal_near, normal_far, thick_near, thick_far;
 } pgt_facade_shading;
+
+/* The material pattern of surface `surface` of a terminal of kind `kind` (facade_shade.c):
+ * its height field in [0, 1] at pattern coordinates (u, v) (metres; 1 = the macroscopic
+ * surface) and its relief depth in metres (0: smooth). */
+float pgt_facade_pattern_height(uint32_t kind, uint32_t surface, float u, float v);
+float pgt_facade_relief_depth(uint32_t kind, uint32_t surface);
 
 /* One frame: planes of width * height values, row-major, y = 0 at the top. */
 typedef struct pgt_facade_frame {

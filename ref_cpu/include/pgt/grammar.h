@@ -162,7 +162,8 @@ typedef enum pgt_grammar_terminal {
     PGT_GRAMMAR_TERMINAL_DOOR = 4,    /* Door(margin, frame, frameDepth, recess) */
     PGT_GRAMMAR_TERMINAL_LEDGE = 5,   /* Ledge(depth) */
     PGT_GRAMMAR_TERMINAL_BALCONY = 6, /* Balcony(depth, slab, railing) */
-    PGT_GRAMMAR_TERMINAL_COUNT = 7
+    PGT_GRAMMAR_TERMINAL_MESH = 7,    /* Mesh(id): geometry image id of the facade scene */
+    PGT_GRAMMAR_TERMINAL_COUNT = 8
 } pgt_grammar_terminal;
 
 /* Bark's smoothness along the trajectory (paper 000 sec. 6), the value of its second argument. */
