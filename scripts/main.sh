@@ -15,7 +15,7 @@ mkdir -p "$res" "$figs"
 export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/cache/mesa"
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
-steps=15
+steps=18
 step() { echo "[main $1/$steps] $2"; }
 written=()
 
@@ -137,6 +137,46 @@ facade_quick=()
 if [ ${#quick[@]} -gt 0 ]; then facade_quick=(--quick); fi
 "$pgt" bench facade --out "$res/facade.csv" "${facade_quick[@]}"
 written+=("$res/facade.csv")
+
+step 16 "figure: the city table, ms per frame, Mrays/s and bytes vs Embree -> $figs/facade_bench.{png,pdf}"
+"$py" paper_figs/facade_bench.py "$res/facade.csv" "$figs/facade_bench"
+written+=("$figs/facade_bench.png" "$figs/facade_bench.pdf")
+
+step 17 "figure: renders like paper 003 Fig. 1a-c (pgt facade) -> $figs/facade_city.{png,pdf}"
+# one facade_fig1*.png per view, pgt's own frame beside it (.pgt.png) and its command (.cmd)
+"$py" paper_figs/facade_city.py "$pgt" "$figs" "${facade_quick[@]}"
+"$py" paper_figs/facade_panels.py "$figs/facade_city" \
+  "$figs/facade_fig1a.png" "(a) 10K facades (--city 2500), self-shadowing" \
+  "$figs/facade_fig1b.png" "(b) macroscopic details: facade_rich.grammar" \
+  "$figs/facade_fig1c.png" "(c) the paper's grammar (sec. 3), one building" \
+  --title "Per-pixel procedural facades with pgt facade, like paper 003 Fig. 1a-c (roofs and ground composited)"
+for v in fig1a fig1b fig1c; do
+  written+=("$figs/facade_$v.png" "$figs/facade_$v.pgt.png" "$figs/facade_$v.cmd")
+done
+written+=("$figs/facade_city.png" "$figs/facade_city.pdf")
+
+step 18 "figure: the four levels of detail of paper 003 Fig. 11 (pgt facade --detail) -> $figs/facade_lod.{png,pdf}"
+# one building (paper_figs/scenes/facade_one.scene), the same view at each level: flat (LOD 0),
+# macroscopic geometry and self-shadowing, normal mapping, relief mapping in terminal space
+lod_size=(--width 960 --height 600)
+if [ ${#quick[@]} -gt 0 ]; then lod_size=(--width 480 --height 300); fi
+lod_args=()
+for d in flat geometry normal relief; do
+  lod_cmd=("$pgt" facade --scene paper_figs/scenes/facade_one.scene
+           --camera 3,4.5,19,12,5.5,12,0,1,0,45 --light -40,30,40 --shadows --detail "$d"
+           "${lod_size[@]}" -o "$figs/facade_lod_$d.exr" --png "$figs/facade_lod_$d.png")
+  "${lod_cmd[@]}" > "$figs/facade_lod_$d.cmd.out"
+  { echo "pgt ${lod_cmd[*]:1}"; cat "$figs/facade_lod_$d.cmd.out"; } > "$figs/facade_lod_$d.cmd"
+  rm -f "$figs/facade_lod_$d.cmd.out" "$figs/facade_lod_$d.exr"
+  written+=("$figs/facade_lod_$d.png" "$figs/facade_lod_$d.cmd")
+done
+"$py" paper_figs/facade_panels.py "$figs/facade_lod" \
+  "$figs/facade_lod_flat.png" "(a) flat: thickness 0, material pattern only" \
+  "$figs/facade_lod_geometry.png" "(b) macroscopic geometry, self-shadowing" \
+  "$figs/facade_lod_normal.png" "(c) + normal mapping (terminal space)" \
+  "$figs/facade_lod_relief.png" "(d) + relief mapping, shadows in the relief" \
+  --columns 2 --title "The four levels of detail of paper 003 sec. 7 / Fig. 11 (pgt facade --detail)"
+written+=("$figs/facade_lod.png" "$figs/facade_lod.pdf")
 
 echo "[main] done; wrote:"
 for f in "${written[@]}"; do printf '  %s\n' "$f"; done

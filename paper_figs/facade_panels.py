@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""Frames of `pgt facade` side by side with labels: the Fig. 1a-c panel of paper 003 now, and
+the four levels of detail of its Fig. 11 (`pgt facade --detail`, main job step 18).
+
+usage: facade_panels.py OUT_PREFIX FRAME TITLE [FRAME TITLE ...] [--columns C] [--title T]
+
+Each FRAME is a PNG (shown as stored) or an EXR written by `pgt facade` (its linear R, G, B
+encoded to sRGB as pgt's --png does). Panels keep their aspect ratio, C per row (default: all
+in one row), each titled; --title puts a title over the whole figure. Writes OUT_PREFIX.png
+(200 dpi) and OUT_PREFIX.pdf. A missing or unreadable frame is an error (exit 2).
+
+For Fig. 11 (flat buildings, macroscopic geometry and shadowing, normal mapping, relief
+mapping), the lead's step in scripts/main.sh would be, e.g.:
+  facade_panels.py paper_figs/out/facade_lod lod0.exr "(a) flat" lod1.exr "(b) macroscopic" \
+      lod2.exr "(c) normal mapping" lod3.exr "(d) relief mapping" --columns 2
+"""
+
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from exrread import ExrError, read_exr  # noqa: E402
+
+os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def die(msg):
+    print(f"facade_panels: error: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def load(path):
+    if path.lower().endswith(".exr"):
+        try:
+            ch = read_exr(path)
+        except ExrError as e:
+            die(str(e))
+        if not all(k in ch for k in "RGB"):
+            die(f"{path}: no R, G, B channels (is it a pgt facade frame?)")
+        c = np.clip(np.stack([ch["R"], ch["G"], ch["B"]], axis=2), 0.0, 1.0)
+        return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
+    try:
+        return mpimg.imread(path)
+    except (OSError, ValueError, SyntaxError) as e:
+        die(f"{path}: {e}")
+
+
+def main(argv):
+    args, columns, title = [], None, None
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("--columns", "--title"):
+            if i + 1 >= len(argv):
+                die(f"{a}: missing value")
+            if a == "--columns":
+                if not argv[i + 1].isdigit() or int(argv[i + 1]) < 1:
+                    die(f"--columns: expected a positive number, got '{argv[i + 1]}'")
+                columns = int(argv[i + 1])
+            else:
+                title = argv[i + 1]
+            i += 2
+            continue
+        args.append(a)
+        i += 1
+    if len(args) < 3 or len(args) % 2 != 1:
+        die("usage: facade_panels.py OUT_PREFIX FRAME TITLE [FRAME TITLE ...] [--columns C] "
+            "[--title T]")
+    out, pairs = args[0], list(zip(args[1::2], args[2::2]))
+    imgs = [(load(p), t) for p, t in pairs]
+    cols = min(columns or len(imgs), len(imgs))
+    rows = (len(imgs) + cols - 1) // cols
+    aspect = max(im.shape[1] / im.shape[0] for im, _ in imgs)
+    pw = 4.6
+    height = (pw / aspect + 0.35) * rows + (0.4 if title else 0.0)
+    fig, axes = plt.subplots(rows, cols, figsize=(pw * cols, height), squeeze=False)
+    for ax in axes.flat:
+        ax.axis("off")
+    for ax, (im, t) in zip(axes.flat, imgs):
+        ax.imshow(im, interpolation="lanczos")
+        ax.set_title(t, fontsize=9)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout(pad=0.3)
+    try:
+        fig.savefig(out + ".png", dpi=200)
+        fig.savefig(out + ".pdf", dpi=200)
+    except OSError as e:
+        die(f"{out}: {e.strerror}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
