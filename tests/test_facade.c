@@ -449,6 +449,22 @@ static void test_threads_same_frame(void) {
     CHECK(memcmp(a.depth, b.depth, n * sizeof(float)) == 0);
     CHECK(memcmp(a.facade, b.facade, n * sizeof(uint32_t)) == 0);
     CHECK(s1.rays.nodes == s2.rays.nodes && s1.rays.errors == 0);
+    /* the frame's memo (split layouts, terminal rectangles, rule chains) changes nothing: every
+     * pixel's nearest hit over all facades without it, by pgt_facade_intersect, is the same */
+    uint32_t same = 0;
+    for (uint32_t y = 0; y < 60; ++y)
+        for (uint32_t x = 0; x < 80; ++x) {
+            float o[3], d[3];
+            pgt_facade_camera_ray(&cam, x, y, o, d);
+            pgt_facade_hit h = {INFINITY, PGT_NONE, 0, 0, 0, 0, {0, 0, 0}, {0, 0, 0}};
+            for (uint32_t fi = 0; fi < fc; ++fi)
+                pgt_facade_intersect(&s, &fa[fi], fi, o, d, &h, NULL);
+            const size_t p = (size_t)y * 80 + x;
+            same += h.facade == a.facade[p] &&
+                    (h.facade == PGT_NONE ||
+                     (h.t == a.depth[p] && h.node == a.node[p] && h.surface == a.surface[p]));
+        }
+    CHECK_MSG(same == 80u * 60u, "%u of %u pixels as without the memo", same, 80u * 60u);
     uint32_t hits = 0;
     for (size_t p = 0; p < n; ++p) hits += a.facade[p] != PGT_NONE;
     printf("  %u of %zu pixels hit; %llu nodes for %llu rays into volumes\n", hits, n,

@@ -293,7 +293,14 @@ void pgt_facade_camera_ray(const pgt_facade_camera *cam, uint32_t x, uint32_t y,
 /* ---- development ---- */
 
 uint32_t pgt_facade_child_key(uint32_t parent, uint32_t k) {
-    return (uint32_t)(pgt_rng_mix64(((uint64_t)parent << 32 | k) + 0x9E3779B97F4A7C15ull) >> 32);
+    /* MurmurHash3's 32-bit finaliser of the parent mixed with the child index */
+    uint32_t h = parent ^ (k * 0x9E3779B9u + 0x7F4A7C15u);
+    h ^= h >> 16;
+    h *= 0x85EBCA6Bu;
+    h ^= h >> 13;
+    h *= 0xC2B2AE35u;
+    h ^= h >> 16;
+    return h;
 }
 
 uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f) {
@@ -431,6 +438,58 @@ static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3]
     return found;
 }
 
+/* hit_quads over groups of FACADE_QUAD_GROUP rectangles, skipping a group whose box
+ * (groups[6 k .. 6 k + 6): lo xyz, hi xyz, grown by FACADE_GROUP_GROW) the ray misses before
+ * *best: the same answer, fewer tests. */
+static uint32_t hit_quads_grouped(const pgt_facade_quad *q, uint32_t n, const float *groups,
+                                  const float a[3], const float v[3], const float inv[3],
+                                  float *best, uint64_t *tests) {
+    uint32_t found = PGT_NONE;
+    for (uint32_t g0 = 0; g0 < n; g0 += FACADE_QUAD_GROUP) {
+        const float *bx = groups + 6u * (g0 / FACADE_QUAD_GROUP);
+        float t0 = 0.0f, t1 = *best;
+        int out = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (v[k] == 0.0f) { /* parallel: inside the slab or not at all */
+                out |= a[k] < bx[k] || a[k] > bx[3 + k];
+                continue;
+            }
+            float ta = (bx[k] - a[k]) * inv[k], tb = (bx[3 + k] - a[k]) * inv[k];
+            if (ta > tb) {
+                const float tmp = ta;
+                ta = tb, tb = tmp;
+            }
+            if (ta > t0) t0 = ta;
+            if (tb < t1) t1 = tb;
+        }
+        if (out || !(t0 <= t1)) continue;
+        const uint32_t m = n - g0 < FACADE_QUAD_GROUP ? n - g0 : FACADE_QUAD_GROUP;
+        const uint32_t k = hit_quads(q + g0, m, a, v, inv, best, tests);
+        if (k != PGT_NONE) found = g0 + k;
+    }
+    return found;
+}
+
+/* The boxes of consecutive groups of FACADE_QUAD_GROUP rectangles (facade_terminals.c emits a
+ * terminal's parts one after the other, so a group is compact), grown by FACADE_GROUP_GROW. */
+static void group_boxes(const pgt_facade_quad *q, uint32_t n, float *groups) {
+    static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+    for (uint32_t g0 = 0; g0 < n; g0 += FACADE_QUAD_GROUP) {
+        float *bx = groups + 6u * (g0 / FACADE_QUAD_GROUP);
+        for (int k = 0; k < 3; ++k) bx[k] = INFINITY, bx[3 + k] = -INFINITY;
+        for (uint32_t i = g0; i < n && i < g0 + FACADE_QUAD_GROUP; ++i) {
+            const uint32_t ax = q[i].axis, o0 = other[ax][0], o1 = other[ax][1];
+            bx[ax] = fminf(bx[ax], q[i].c), bx[3 + ax] = fmaxf(bx[3 + ax], q[i].c);
+            bx[o0] = fminf(bx[o0], q[i].lo[0]), bx[3 + o0] = fmaxf(bx[3 + o0], q[i].hi[0]);
+            bx[o1] = fminf(bx[o1], q[i].lo[1]), bx[3 + o1] = fmaxf(bx[3 + o1], q[i].hi[1]);
+        }
+        for (int k = 0; k < 3; ++k) {
+            const float grow = FACADE_GROUP_GROW * (1.0f + fabsf(bx[k]) + fabsf(bx[3 + k]));
+            bx[k] -= grow, bx[3 + k] += grow;
+        }
+    }
+}
+
 /* Drops the zero-area rectangles of q[0 .. n), keeping each one's surface id in surf. */
 static uint32_t compact_quads(pgt_facade_quad *q, uint32_t n, uint8_t *surf) {
     uint32_t m = 0;
@@ -497,6 +556,21 @@ static int item_draws(const pgt_grammar *g, const pgt_grammar_item *it) {
             if (g->exprs[g->parts[first + j].size].flags & PGT_GRAMMAR_EXPR_RAND) return 1;
     }
     return 0;
+}
+
+uint32_t *facade_collapse_table(const pgt_grammar *g) {
+    uint32_t *t = malloc((g->sequence_count ? g->sequence_count : 1u) * sizeof *t);
+    for (uint32_t q = 0; t && q < g->sequence_count; ++q) {
+        t[q] = PGT_NONE;
+        const pgt_grammar_sequence *sq = &g->sequences[q];
+        if (sq->item_count != 1) continue;
+        const pgt_grammar_item *it = &g->items[sq->first_item];
+        if (it->kind != PGT_GRAMMAR_ITEM_CALL || it->arg_count != 0) continue;
+        const pgt_grammar_rule *r = &g->rules[it->target];
+        if (r->case_count != 1 || g->cases[r->first_case].condition != PGT_NONE) continue;
+        t[q] = g->cases[r->first_case].sequence;
+    }
+    return t;
 }
 
 uint8_t *facade_draws_table(const pgt_grammar *g) {
@@ -601,16 +675,29 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             }
             frame *nf = &stack[sp++];
             stats->nodes++;
-            nf->type = FR_SEQ, nf->key = pgt_facade_child_key(fr->key, cur);
+            uint32_t nseq = seq, nkey = pgt_facade_child_key(fr->key, cur), nargc = fr->argc;
+            if (cache) { /* part --> Rule, Rule --> body: straight to the body (same keys) */
+                const uint32_t *col = cache->collapse[B->grammar];
+                for (uint32_t hop = 0; hop < FACADE_COLLAPSE_MAX && col[nseq] != PGT_NONE; ++hop) {
+                    nkey = pgt_facade_child_key(nkey, 0), nseq = col[nseq], nargc = 0;
+                    stats->nodes++;
+                    if (--budget == 0) break;
+                }
+                if (budget == 0) {
+                    stats->errors |= PGT_FACADE_ERR_BUDGET;
+                    break;
+                }
+            }
+            nf->type = FR_SEQ, nf->key = nkey;
             nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
             if (ax == 0)
                 nf->x0 = fr->x0 + ch.start, nf->w = ch.end - ch.start;
             else
                 nf->y0 = fr->y0 + ch.start, nf->h = ch.end - ch.start;
             nf->t_in = t_near, nf->t_out = t_far;
-            nf->argc = fr->argc;
-            memcpy(nf->args, fr->args, fr->argc * sizeof(float));
-            nf->seq = seq, nf->pos = 0;
+            nf->argc = nargc;
+            memcpy(nf->args, fr->args, nargc * sizeof(float));
+            nf->seq = nseq, nf->pos = 0;
             continue;
         }
         /* FR_SEQ: the next item of the sequence, on the same scope */
@@ -663,8 +750,9 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                     cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
                 ce = &cache->term[slot % FACADE_CACHE_TERMINALS];
             }
+            const float *groups = NULL;
             if (ce && ce->n != PGT_NONE && key_equal(&ce->k, &ck)) {
-                qs = ce->q, n = ce->n, surf = ce->surf;
+                qs = ce->q, n = ce->n, surf = ce->surf, groups = ce->groups;
             } else {
                 /* in block coordinates: the ray is shifted to the scope's corner below */
                 pgt_facade_quad *dst = ce ? ce->q : quads;
@@ -672,10 +760,16 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 n = facade_terminal(&c, it, fr->args, fr->argc, key, 0.0f, 0.0f, fr->w, fr->h, dst);
                 n = compact_quads(dst, n, sd);
                 qs = dst, surf = sd;
-                if (ce) ce->n = stats->errors ? PGT_NONE : n, ce->k = ck;
+                if (ce) {
+                    ce->n = stats->errors ? PGT_NONE : n, ce->k = ck;
+                    group_boxes(dst, n, ce->groups);
+                    groups = ce->groups;
+                }
             }
             const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
-            const uint32_t k = hit_quads(qs, n, al, v, inv, &best, &stats->quads);
+            const uint32_t k =
+                groups ? hit_quads_grouped(qs, n, groups, al, v, inv, &best, &stats->quads)
+                       : hit_quads(qs, n, al, v, inv, &best, &stats->quads);
             if (k != PGT_NONE) {
                 best_kind = pgt_facade_kind_of(it->target), best_surface = surf[k], best_key = key;
                 best_item = item, best_axis = qs[k].axis;

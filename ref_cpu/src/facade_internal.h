@@ -33,20 +33,33 @@ typedef struct facade_cache_split {
     uint32_t valid;
     facade_split_state st;
 } facade_cache_split;
+/* Rectangles per bounding box in a cached terminal (the window's 27 make 5 groups). */
+#define FACADE_QUAD_GROUP 6u
+/* A group's box is grown by this share of (1 + |its coordinates|) so that rounding in the slab
+ * test never culls a rectangle lying on the box's face. */
+#define FACADE_GROUP_GROW 1e-5f
+/* Rule calls followed from a part straight to the body they lead to (an optimisation only: the
+ * keys and node counts are those of developing each call). */
+#define FACADE_COLLAPSE_MAX 16u
 typedef struct facade_cache_terminal {
     facade_cache_key k;
-    uint32_t n;                         /* PGT_NONE: empty */
+    uint32_t n; /* PGT_NONE: empty */
+    float groups[6u * ((PGT_FACADE_MAX_QUADS + FACADE_QUAD_GROUP - 1u) / FACADE_QUAD_GROUP)];
     uint8_t surf[PGT_FACADE_MAX_QUADS]; /* surface id of q[i] (zero-area ones left out) */
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
 } facade_cache_terminal;
 typedef struct facade_cache {
-    const uint8_t *const *draws; /* per grammar of the scene, per item: 1 if it draws rand */
+    const uint8_t *const *draws;     /* per grammar of the scene, per item: 1 if it draws rand */
+    const uint32_t *const *collapse; /* per grammar, per sequence: facade_collapse_table */
     facade_cache_split split[FACADE_CACHE_SPLITS];
     facade_cache_terminal term[FACADE_CACHE_TERMINALS];
 } facade_cache;
 
 /* The draws table of grammar g (malloc'd, g->item_count bytes; NULL when out of memory). */
 uint8_t *facade_draws_table(const pgt_grammar *g);
+/* Per sequence of g: when it is one call without arguments of a rule with one unconditional
+ * case, that case's sequence, else PGT_NONE (malloc'd; NULL when out of memory). */
+uint32_t *facade_collapse_table(const pgt_grammar *g);
 
 /* Empties a cache. */
 void facade_cache_clear(facade_cache *c);

@@ -461,11 +461,15 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
         threads == 0 ? 1u : (threads > PGT_MAX_THREADS ? PGT_MAX_THREADS : threads);
     c.caches = malloc(workers * sizeof *c.caches);
     uint8_t **draws = calloc(s->grammar_count ? s->grammar_count : 1u, sizeof *draws);
-    int draws_ok = draws != NULL;
+    uint32_t **collapse = calloc(s->grammar_count ? s->grammar_count : 1u, sizeof *collapse);
+    int draws_ok = draws != NULL && collapse != NULL;
     for (uint32_t k = 0; draws_ok && k < s->grammar_count; ++k)
-        draws_ok = (draws[k] = facade_draws_table(&s->grammars[k])) != NULL;
-    for (uint32_t w = 0; c.caches && w < workers; ++w)
+        draws_ok = (draws[k] = facade_draws_table(&s->grammars[k])) != NULL &&
+                   (collapse[k] = facade_collapse_table(&s->grammars[k])) != NULL;
+    for (uint32_t w = 0; c.caches && w < workers; ++w) {
         c.caches[w].draws = (const uint8_t *const *)draws;
+        c.caches[w].collapse = (const uint32_t *const *)collapse;
+    }
     pgt_result r = PGT_OK;
     if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.wcovered || !c.caches || !draws_ok) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
@@ -535,6 +539,8 @@ done:
     free(c.wcovered);
     free(c.caches);
     for (uint32_t k = 0; draws && k < s->grammar_count; ++k) free(draws[k]);
+    for (uint32_t k = 0; collapse && k < s->grammar_count; ++k) free(collapse[k]);
     free(draws);
+    free(collapse);
     return r;
 }

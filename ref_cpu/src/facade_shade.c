@@ -40,12 +40,15 @@ static float smooth01(float x) {
 
 /* Distance to the nearest joint of a running-bond grid of w x hgt cells (odd rows offset by
  * half a cell), in metres. */
+static float min2(float a, float b) { return a < b ? a : b; }
+
 static float joint_distance(float u, float v, float w, float hgt, int bond) {
     const float row = floorf(v / hgt);
     const float fv = v - row * hgt;
-    const float uu = u + (bond && fmodf(row, 2.0f) != 0.0f ? 0.5f * w : 0.0f);
+    const int odd = (int)((int64_t)row & 1); /* |v| is metres on a facade: row fits */
+    const float uu = u + (bond && odd ? 0.5f * w : 0.0f);
     const float fu = uu - floorf(uu / w) * w;
-    return fminf(fminf(fu, w - fu), fminf(fv, hgt - fv));
+    return min2(min2(fu, w - fu), min2(fv, hgt - fv));
 }
 
 uint32_t facade_material(uint32_t kind, uint32_t surface) {
@@ -84,7 +87,7 @@ float facade_height(uint32_t material, float u, float v) {
         return smooth01((joint_distance(u, v, 0.61f, 0.31f, 1) - 0.005f) / 0.006f);
     case FACADE_MAT_WOOD: {
         const float fu = u - floorf(u / 0.12f) * 0.12f;
-        return smooth01((fminf(fu, 0.12f - fu) - 0.003f) / 0.01f);
+        return smooth01((min2(fu, 0.12f - fu) - 0.003f) / 0.01f);
     }
     default:
         return 1.0f;
