@@ -17,10 +17,9 @@ paper_figs/scenes/, with fixed cameras and lights chosen from the scenes' known 
 
 For each NAME it writes OUT_DIR/facade_NAME.png (the figure) and OUT_DIR/facade_NAME.cmd (the
 exact pgt command, paths relative to the repository root, plus the pgt summary it printed).
-pgt facade renders facades only (no roofs, no ground: misses are sky), so unless --raw is given
-the figure composites, behind the facades by the EXR's depth channel, the flat roofs of the
-buildings (from the scene: footprint at BASE + HEIGHT) and a ground plane y = 0, both shaded
-with pgt's own rule (albedo * (ambient + (1 - ambient) max(0, n.l)), the same point light, no
+pgt facade renders facades and roofs but no ground (misses are sky), so unless --raw is given
+the figure composites, behind the buildings by the EXR's depth channel, a ground plane y = 0,
+shaded with pgt's own rule (albedo * (ambient + (1 - ambient) max(0, n.l)), the same point light, no
 shadows) and encoded to sRGB as pgt does; pgt's own PNG is kept as OUT_DIR/facade_NAME.pgt.png.
 --quick renders at 640x360. About 4 s of pgt time on 2 cores (fig1b's rich grammar is most of
 it) plus ~5 s of compositing. Bad input is a message on stderr and exit status 2; a failing
@@ -85,8 +84,7 @@ VIEWS = [
 # pgt facade's shading (ref_cpu/src/facade_render.c: PGT_FACADE_DEFAULT_AMBIENT, SKY).
 AMBIENT = 0.25
 SKY = np.array([0.62, 0.74, 0.88], np.float32)
-# Composited context (linear albedo): flat roofs in light concrete, the ground in asphalt.
-ROOF = np.array([0.45, 0.44, 0.42], np.float32)
+# Composited context (linear albedo): the ground in asphalt.
 GROUND = np.array([0.30, 0.30, 0.28], np.float32)
 
 
@@ -153,7 +151,8 @@ def shade(albedo, points, normal, light):
 
 
 def composite(exr, scene, cam, light):
-    """Linear RGB (h, w, 3): pgt's frame with roofs and ground wherever they are nearer."""
+    """Linear RGB (h, w, 3): pgt's frame with the ground wherever it is nearer (pgt renders the
+    roofs itself; `scene` is kept for the layout's bounds)."""
     rgb = np.stack([exr["R"], exr["G"], exr["B"]], axis=2).astype(np.float64)
     depth = exr["depth"].astype(np.float64)
     h, w = depth.shape
@@ -185,37 +184,7 @@ def composite(exr, scene, cam, light):
 
     if eye[1] > 0.0:
         plane(0.0, (0, w, 0, h), None, GROUND)
-        for base, height, xz in scene:
-            top = base + height
-            if eye[1] <= top:
-                continue  # a roof above the eye is not seen from below (it has no underside)
-            corners = np.column_stack([xz[:, 0], np.full(len(xz), top), xz[:, 1]]) - eye
-            box = roof_box(corners, cam, w, h)
-            if box is not None:
-                plane(top, box, xz, ROOF)
     return out
-
-
-def roof_box(rel, cam, w, h):
-    """Pixel bounding box (x0, x1, y0, y1) of points rel (eye-relative), None when off screen;
-    the whole frame when a point is behind the eye."""
-    v = np.array([float(x) for x in cam.split(",")], np.float64)
-    eye, at, up, fov = v[0:3], v[3:6], v[6:9], v[9]
-    wv = (eye - at) / np.linalg.norm(eye - at)
-    u = np.cross(up, wv)
-    u /= np.linalg.norm(u)
-    vv = np.cross(wv, u)
-    z = rel @ -wv
-    if np.any(z <= 1e-6):
-        return 0, w, 0, h
-    t = np.tan(np.radians(fov) * 0.5)
-    px = ((rel @ u) / z / (t * w / h) + 1.0) * 0.5 * w
-    py = (1.0 - (rel @ vv) / z / t) * 0.5 * h
-    x0, x1 = int(np.floor(px.min())) - 1, int(np.ceil(px.max())) + 2
-    y0, y1 = int(np.floor(py.min())) - 1, int(np.ceil(py.max())) + 2
-    if x1 <= 0 or y1 <= 0 or x0 >= w or y0 >= h:
-        return None
-    return max(0, x0), min(w, x1), max(0, y0), min(h, y1)
 
 
 def to_srgb8(c):
@@ -276,7 +245,7 @@ def main(argv):
                            rel(c) if os.path.isabs(c) else c for c in cmd]
         with open(os.path.join(out_dir, f"facade_{name}.cmd"), "w") as fh:
             fh.write(f"# {v['title']}\n# run from the repository root; the figure composites "
-                     "roofs and ground (paper_figs/facade_city.py)\n")
+                     "ground (paper_figs/facade_city.py)\n")
             fh.write(" ".join(shlex.quote(c) for c in shown) + "\n")
             fh.write("".join(f"# {ln}\n" for ln in run.stdout.splitlines()))
         try:

@@ -149,7 +149,7 @@ step 17 "figure: renders like paper 003 Fig. 1a-c (pgt facade) -> $figs/facade_c
   "$figs/facade_fig1a.png" "(a) 10K facades (--city 2500), self-shadowing" \
   "$figs/facade_fig1b.png" "(b) macroscopic details: facade_rich.grammar" \
   "$figs/facade_fig1c.png" "(c) the paper's grammar (sec. 3), one building" \
-  --title "Per-pixel procedural facades with pgt facade, like paper 003 Fig. 1a-c (roofs and ground composited)"
+  --title "Per-pixel procedural facades with pgt facade, like paper 003 Fig. 1a-c (ground composited)"
 for v in fig1a fig1b fig1c; do
   written+=("$figs/facade_$v.png" "$figs/facade_$v.pgt.png" "$figs/facade_$v.cmd")
 done

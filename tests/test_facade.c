@@ -255,7 +255,7 @@ static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
     CHECK_MSG(r == PGT_OK, "%s", err.message);
     if (r == PGT_OK) {
         oracle o;
-        oracle_init(&o, &m, fc);
+        oracle_init(&o, &m, fc + s.building_count); /* roofs are facade_count + building */
         /* the city spans side lots of PGT_GEN_CITY_LOT metres */
         const float L = (float)(side * PGT_GEN_CITY_LOT);
         const float cams[][10] = {
@@ -460,6 +460,10 @@ static void test_threads_same_frame(void) {
             for (uint32_t fi = 0; fi < fc; ++fi)
                 pgt_facade_intersect(&s, &fa[fi], fi, o, d, &h, NULL);
             const size_t p = (size_t)y * 80 + x;
+            if (a.terminal[p] == (float)PGT_FACADE_ROOF) { /* roofs are not facades */
+                same++;
+                continue;
+            }
             same += h.facade == a.facade[p] &&
                     (h.facade == PGT_NONE ||
                      (h.t == a.depth[p] && h.node == a.node[p] && h.surface == a.surface[p]));
@@ -694,7 +698,7 @@ static void test_lod_levels(void) {
     REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &flat, NULL, &err) == PGT_OK);
     uint32_t hits = 0, differ = 0;
     for (size_t p = 0; p < n; ++p) {
-        if (flat.facade[p] == PGT_NONE) continue;
+        if (flat.facade[p] == PGT_NONE || flat.facade[p] >= fc) continue; /* sky or a roof */
         const pgt_facade *f = &fa[flat.facade[p]];
         float o[3], d[3];
         pgt_facade_camera_ray(&cam, (uint32_t)(p % 96), (uint32_t)(p / 96), o, d);
@@ -717,6 +721,64 @@ static void test_lod_levels(void) {
     pgt_grammar_destroy(&g);
 }
 
+/* Roofs: an L-shaped (concave) footprint's roof triangles cover exactly its area, lie at base +
+ * height, and a ray down through the notch of the L misses the roof. */
+static void test_roof_concave(void) {
+    pgt_grammar g;
+    float corners[12], params[8];
+    pgt_facade_building b;
+    pgt_facade_scene s;
+    pgt_facade *fa = NULL;
+    uint32_t fc = 0;
+    float unused[8];
+    REQUIRE(wall_scene(&g, &s, unused, params, &b, &fa, &fc));
+    free(fa);
+    /* an L, counter-clockwise seen from above: (0,0) (0,10) (10,10) (10,4) (4,4) (4,0) */
+    const float L[12] = {0, 0, 0, 10, 10, 10, 10, 4, 4, 4, 4, 0};
+    memcpy(corners, L, sizeof L);
+    s.corners = corners, s.corner_count = 6, b.corner_count = 6, b.base = 2.0f, b.height = 9.0f;
+    pgt_error err = {0};
+    CHECK_MSG(pgt_facade_scene_check(&s, "L", &err) == PGT_OK, "%s", err.message);
+    REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+    pgt_facade_mesh m;
+    REQUIRE(pgt_facade_explicit(&s, fa, fc, &m, &err) == PGT_OK);
+    double area = 0.0;
+    uint32_t roofs = 0;
+    for (uint32_t t = 0; t < m.triangle_count; ++t) {
+        if (m.kind[t] != PGT_FACADE_ROOF) continue;
+        roofs++;
+        const float *P[3];
+        for (int k = 0; k < 3; ++k) {
+            P[k] = &m.positions[3u * m.indices[3u * t + (uint32_t)k]];
+            CHECK(P[k][1] == 11.0f);
+        }
+        area += fabs(((double)P[1][0] - P[0][0]) * ((double)P[2][2] - P[0][2]) -
+                     ((double)P[1][2] - P[0][2]) * ((double)P[2][0] - P[0][0])) /
+                2.0;
+        CHECK(m.facade[t] == fc + 0u);
+    }
+    CHECK(roofs == 4);
+    CHECK_MSG(fabs(area - 76.0) < 1e-9, "roof area %.9g, footprint 10 x 10 - 6 x 4 = 76", area);
+    /* straight down onto the notch (7, 2) and onto the L (2, 7) */
+    const float eye[3] = {7.0f, 30.0f, 2.0f}, at[3] = {7.0f, 0.0f, 2.001f}, up[3] = {1, 0, 0};
+    pgt_facade_camera cam;
+    REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 1, 1, 1, &err) == PGT_OK);
+    pgt_facade_frame fr;
+    REQUIRE(pgt_facade_frame_create(&fr, 1, 1, &err) == PGT_OK);
+    const pgt_facade_shading sh = {.light = {0.0f, 50.0f, 0.0f}, .ambient = 0.3f};
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &fr, NULL, &err) == PGT_OK);
+    CHECK(fr.facade[0] == PGT_NONE);
+    const float eye2[3] = {2.0f, 30.0f, 7.0f}, at2[3] = {2.0f, 0.0f, 7.001f};
+    REQUIRE(pgt_facade_camera_init(&cam, eye2, at2, up, 1, 1, 1, &err) == PGT_OK);
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &fr, NULL, &err) == PGT_OK);
+    CHECK(fr.facade[0] == fc && fr.terminal[0] == (float)PGT_FACADE_ROOF);
+    CHECK(fabsf(fr.depth[0] - 19.0f) < 1e-3f);
+    pgt_facade_frame_destroy(&fr);
+    pgt_facade_mesh_destroy(&m);
+    free(fa);
+    pgt_grammar_destroy(&g);
+}
+
 static const pgt_test_case cases[] = {
     {"terminals_in_scope", test_terminals_in_scope},
     {"miss_develops_nothing", test_miss_develops_nothing},
@@ -728,6 +790,7 @@ static const pgt_test_case cases[] = {
     {"errors", test_errors},
     {"relief_depth", test_relief_depth},
     {"lod_levels", test_lod_levels},
+    {"roof_concave", test_roof_concave},
 };
 
 PGT_TEST_MAIN(cases)

@@ -858,3 +858,67 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     hit->p[2] *= zscale; /* the scaled geometry's z */
     return 1;
 }
+
+/* ---- roofs ---- */
+
+int facade_roof_intersect(const pgt_facade_scene *s, uint32_t b, uint32_t facade_count,
+                          const float org[3], const float dir[3], pgt_facade_hit *hit) {
+    const pgt_facade_building *B = &s->buildings[b];
+    const float y = B->base + B->height;
+    if (dir[1] == 0.0f) return 0;
+    const float t = (y - org[1]) / dir[1];
+    if (!(t >= 0.0f && t < hit->t)) return 0;
+    const float px = org[0] + t * dir[0], pz = org[2] + t * dir[2];
+    const float *c = s->corners + 2u * B->first_corner;
+    int in = 0; /* crossing number */
+    for (uint32_t i = 0, j = B->corner_count - 1u; i < B->corner_count; j = i++) {
+        const float xi = c[2 * i], zi = c[2 * i + 1], xj = c[2 * j], zj = c[2 * j + 1];
+        if ((zi > pz) != (zj > pz) && px < (xj - xi) * (pz - zi) / (zj - zi) + xi) in = !in;
+    }
+    if (!in) return 0;
+    hit->t = t, hit->facade = facade_count + b, hit->node = 0, hit->kind = PGT_FACADE_ROOF;
+    hit->surface = 0, hit->item = PGT_NONE;
+    hit->n[0] = 0.0f, hit->n[1] = 1.0f, hit->n[2] = 0.0f;
+    hit->p[0] = px, hit->p[1] = y, hit->p[2] = pz;
+    return 1;
+}
+
+static double cross2(const float *c, uint32_t a, uint32_t b, uint32_t d) {
+    return ((double)c[2 * b] - c[2 * a]) * ((double)c[2 * d + 1] - c[2 * a + 1]) -
+           ((double)c[2 * b + 1] - c[2 * a + 1]) * ((double)c[2 * d] - c[2 * a]);
+}
+
+uint32_t facade_triangulate(const float *c, uint32_t n, uint32_t *tris, uint32_t *idx) {
+    double area = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t j = (i + 1u) % n;
+        area += (double)c[2 * i] * c[2 * j + 1] - (double)c[2 * j] * c[2 * i + 1];
+    }
+    const double sg = area < 0.0 ? -1.0 : 1.0; /* convex corners turn this way */
+    for (uint32_t i = 0; i < n; ++i) idx[i] = i;
+    uint32_t m = n, out = 0, guard = 0;
+    while (m > 3 && guard < 2u * m) {
+        int cut = 0;
+        for (uint32_t i = 0; i < m && !cut; ++i) {
+            const uint32_t a = idx[(i + m - 1u) % m], b = idx[i], d = idx[(i + 1u) % m];
+            if (sg * cross2(c, a, b, d) <= 0.0) continue; /* reflex or flat */
+            int empty = 1;                                /* no other corner inside the ear */
+            for (uint32_t k = 0; k < m && empty; ++k) {
+                const uint32_t q = idx[k];
+                if (q == a || q == b || q == d) continue;
+                if (sg * cross2(c, a, b, q) >= 0.0 && sg * cross2(c, b, d, q) >= 0.0 &&
+                    sg * cross2(c, d, a, q) >= 0.0)
+                    empty = 0;
+            }
+            if (!empty) continue;
+            tris[3 * out] = a, tris[3 * out + 1] = b, tris[3 * out + 2] = d, ++out;
+            for (uint32_t k = i; k + 1u < m; ++k) idx[k] = idx[k + 1u];
+            --m, cut = 1;
+        }
+        guard = cut ? 0 : guard + 1u;
+        if (!cut) break; /* degenerate: no ear left */
+    }
+    if (m == 3)
+        tris[3 * out] = idx[0], tris[3 * out + 1] = idx[1], tris[3 * out + 2] = idx[2], ++out;
+    return out;
+}

@@ -297,6 +297,43 @@ pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *faca
     for (uint32_t i = 0; i < facade_count && r == PGT_OK; ++i)
         r = expand_facade(&x, s, &facades[i], i, stack, err);
     free(stack);
+    /* roofs: each footprint at base + height, ear-clipped */
+    uint32_t maxc = 3;
+    for (uint32_t b = 0; b < s->building_count; ++b)
+        if (s->buildings[b].corner_count > maxc) maxc = s->buildings[b].corner_count;
+    uint32_t *tris = malloc(3u * (size_t)maxc * sizeof *tris),
+             *scratch = malloc(maxc * sizeof *scratch);
+    if (r == PGT_OK && (!tris || !scratch))
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit: out of memory");
+    for (uint32_t b = 0; b < s->building_count && r == PGT_OK; ++b) {
+        const pgt_facade_building *B = &s->buildings[b];
+        const float *c = s->corners + 2u * B->first_corner, y = B->base + B->height;
+        const uint32_t nt = facade_triangulate(c, B->corner_count, tris, scratch);
+        if (x.m->triangle_count + nt > FACADE_MAX_TRIANGLES) {
+            r = pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
+                              FACADE_MAX_TRIANGLES);
+            break;
+        }
+        if (!reserve(&x, 3u * nt, nt)) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit: out of memory");
+            break;
+        }
+        pgt_facade_mesh *m = x.m;
+        for (uint32_t t = 0; t < nt; ++t) {
+            const uint32_t ti = m->triangle_count++, v0 = m->vertex_count;
+            for (uint32_t k = 0; k < 3; ++k) {
+                const uint32_t q = tris[3 * t + k];
+                float *P = &m->positions[3u * (v0 + k)];
+                P[0] = c[2 * q], P[1] = y, P[2] = c[2 * q + 1];
+                m->indices[3u * ti + k] = v0 + k;
+            }
+            m->vertex_count += 3;
+            m->facade[ti] = facade_count + b, m->node[ti] = 0, m->kind[ti] = PGT_FACADE_ROOF;
+            m->surface[ti] = 0;
+        }
+    }
+    free(tris);
+    free(scratch);
     if (r != PGT_OK) pgt_facade_mesh_destroy(out);
     return r;
 }

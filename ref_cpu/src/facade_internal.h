@@ -80,6 +80,18 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                      const float org[3], const float dir[3], pgt_facade_hit *hit,
                      pgt_facade_ray_stats *stats, facade_cache *cache, float zscale);
 
+/* ---- roofs ---- */
+
+/* The roof of building b (its footprint at base + height) hit by the ray at t in [0, hit->t):
+ * overwrites *hit (facade facade_count + b, node 0, kind PGT_FACADE_ROOF) and returns 1. */
+int facade_roof_intersect(const pgt_facade_scene *s, uint32_t b, uint32_t facade_count,
+                          const float org[3], const float dir[3], pgt_facade_hit *hit);
+
+/* Triangulates a simple polygon of n corners (x, z pairs, either orientation) by ear clipping:
+ * writes n - 2 triangles (corner indices) to tris and returns their count (fewer only for a
+ * degenerate polygon). scratch holds n uint32. */
+uint32_t facade_triangulate(const float *corners, uint32_t n, uint32_t *tris, uint32_t *scratch);
+
 /* ---- geometry images (facade_gimage.c) ---- */
 
 /* The triangles of geometry image id (a whole number below gimage_count) and the index of its

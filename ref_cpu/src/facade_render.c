@@ -36,6 +36,8 @@
  * development still orders the terminals front to back (at 300 m a 0.3 m protrusion becomes
  * 0.3 mm, under a pixel's depth resolution and invisible). */
 #define LOD_ZSCALE_MIN 1e-3f
+/* Albedo of roofs (grey). */
+#define ROOF_ALBEDO 0.55f
 /* Albedo = base x (PATTERN_DARK + (1 - PATTERN_DARK) h): joints of the material pattern darker. */
 #define PATTERN_DARK 0.72f
 
@@ -241,9 +243,68 @@ static void cover_facade(const render_ctx *c, uint32_t i) {
     cv->n = 4;
 }
 
+/* The roof of building b: the pixel box of its corners (the whole screen when one lies behind
+ * the eye's near plane), its distance (to its footprint's box at roof height). */
+static void cover_roof(const render_ctx *c, uint32_t b) {
+    cover *cv = &c->cov[c->fcount + b];
+    const pgt_facade_camera *cam = c->cam;
+    const pgt_facade_building *B = &c->s->buildings[b];
+    const float *cr = c->s->corners + 2u * B->first_corner, y = B->base + B->height;
+    const uint32_t W = cam->width, H = cam->height;
+    memset(cv, 0, sizeof *cv);
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    float mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
+    int behind = 0;
+    const float sxs = (float)W / (2.0f * cam->tan_half * ((float)W / (float)H));
+    const float sys = (float)H / (2.0f * cam->tan_half);
+    for (uint32_t k = 0; k < B->corner_count; ++k) {
+        const float P[3] = {cr[2 * k], y, cr[2 * k + 1]};
+        lo[0] = fminf(lo[0], P[0]), hi[0] = fmaxf(hi[0], P[0]);
+        lo[1] = fminf(lo[1], P[2]), hi[1] = fmaxf(hi[1], P[2]);
+        float q[3];
+        to_camera(cam, P, q);
+        if (q[2] < COVER_NEAR) {
+            behind = 1;
+            continue;
+        }
+        const float px = (float)W * 0.5f + q[0] / q[2] * sxs;
+        const float py = (float)H * 0.5f - q[1] / q[2] * sys;
+        mnx = fminf(mnx, px), mxx = fmaxf(mxx, px), mny = fminf(mny, py), mxy = fmaxf(mxy, py);
+    }
+    const float dx = cam->eye[0] < lo[0]   ? lo[0] - cam->eye[0]
+                     : cam->eye[0] > hi[0] ? cam->eye[0] - hi[0]
+                                           : 0.0f;
+    const float dz = cam->eye[2] < lo[1]   ? lo[1] - cam->eye[2]
+                     : cam->eye[2] > hi[1] ? cam->eye[2] - hi[1]
+                                           : 0.0f;
+    const float dy = cam->eye[1] - y;
+    cv->dist = sqrtf(dx * dx + dy * dy + dz * dz);
+    cv->full = 1; /* the roof test itself is exact: no cone */
+    if (behind) {
+        cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = W - 1u, cv->y1 = H - 1u;
+        return;
+    }
+    const float fx0 = floorf(mnx - 0.5f - COVER_MARGIN_PX),
+                fx1 = ceilf(mxx - 0.5f + COVER_MARGIN_PX);
+    const float fy0 = floorf(mny - 0.5f - COVER_MARGIN_PX),
+                fy1 = ceilf(mxy - 0.5f + COVER_MARGIN_PX);
+    if (!(fx1 >= 0.0f && fy1 >= 0.0f && fx0 <= (float)(W - 1u) && fy0 <= (float)(H - 1u))) return;
+    cv->x0 = fx0 < 0.0f ? 0u : (uint32_t)fx0;
+    cv->y0 = fy0 < 0.0f ? 0u : (uint32_t)fy0;
+    cv->x1 = fx1 > (float)(W - 1u) ? W - 1u : (uint32_t)fx1;
+    cv->y1 = fy1 > (float)(H - 1u) ? H - 1u : (uint32_t)fy1;
+    cv->n = 1;
+}
+
 static void cover_range(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
+    const render_ctx *c = vc;
     (void)worker;
-    for (uint32_t i = b; i < e; ++i) cover_facade(vc, i);
+    for (uint32_t i = b; i < e; ++i) {
+        if (i < c->fcount)
+            cover_facade(c, i);
+        else
+            cover_roof(c, i - c->fcount);
+    }
 }
 
 /* The ray direction d (unit) inside the cone over the coverage polygon. */
@@ -335,6 +396,11 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                     const uint32_t k = (y - Y0) * tw + (x - X0);
                     /* the depth test: nothing of this volume can be nearer than the hit */
                     if (cv->dist >= hits[k].t || !inside(cv, dirs[k])) continue;
+                    if (fi >= c->fcount) {
+                        facade_roof_intersect(c->s, fi - c->fcount, c->fcount, cam->eye, dirs[k],
+                                              &hits[k]);
+                        continue;
+                    }
                     c->wcovered[worker]++;
                     const uint64_t before = st->nodes;
                     facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[k], &hits[k], st, cache,
@@ -356,8 +422,23 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                         fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
                     continue;
                 }
-                const pgt_facade *f = &c->f[h->facade];
                 const pgt_facade_shading *sh = c->sh;
+                if (h->kind == PGT_FACADE_ROOF) { /* flat grey, lit by the light, unshadowed */
+                    float P[3], L[3];
+                    for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
+                    for (int j = 0; j < 3; ++j) L[j] = sh->light[j] - P[j];
+                    const float dl = sqrtf(dot3(L, L));
+                    const float ny = dirs[k][1] > 0.0f ? -1.0f : 1.0f;
+                    const float diffuse = dl > 0.0f && L[1] * ny > 0.0f ? L[1] * ny / dl : 0.0f;
+                    const float light = sh->ambient + (1.0f - sh->ambient) * diffuse;
+                    for (int j = 0; j < 3; ++j) fr->rgb[3 * p + j] = ROOF_ALBEDO * light;
+                    fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
+                    fr->normal[3 * p] = 0.0f, fr->normal[3 * p + 1] = ny,
+                                   fr->normal[3 * p + 2] = 0.0f;
+                    fr->facade[p] = h->facade, fr->node[p] = h->node, fr->surface[p] = h->surface;
+                    continue;
+                }
+                const pgt_facade *f = &c->f[h->facade];
                 const float zs = zscale_of(sh, c->cov[h->facade].dist);
                 float n[3] = {h->n[0], h->n[1], h->n[2]};
                 if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
@@ -452,8 +533,9 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
     c.s = s, c.f = facades, c.fcount = facade_count, c.cam = cam, c.sh = shading, c.frame = frame;
     c.tiles_x = (cam->width + TILE - 1u) / TILE, c.tiles_y = (cam->height + TILE - 1u) / TILE;
     const uint32_t tiles = c.tiles_x * c.tiles_y;
-    c.cov = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *c.cov);
-    c.order = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *c.order);
+    const uint32_t prims = facade_count + s->building_count; /* facades, then roofs */
+    c.cov = malloc((size_t)(prims ? prims : 1) * sizeof *c.cov);
+    c.order = malloc((size_t)(prims ? prims : 1) * sizeof *c.order);
     c.tile_first = calloc((size_t)tiles + 1u, sizeof *c.tile_first);
     c.wstats = calloc(PGT_MAX_THREADS, sizeof *c.wstats);
     c.wcovered = calloc(PGT_MAX_THREADS, sizeof *c.wcovered);
@@ -475,13 +557,13 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
         goto done;
     }
-    pgt_parallel_for(facade_count, threads, cover_range, &c);
-    order_key *keys = malloc((size_t)(facade_count ? facade_count : 1) * sizeof *keys);
+    pgt_parallel_for(prims, threads, cover_range, &c);
+    order_key *keys = malloc((size_t)(prims ? prims : 1) * sizeof *keys);
     if (!keys) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
         goto done;
     }
-    for (uint32_t i = 0; i < facade_count; ++i)
+    for (uint32_t i = 0; i < prims; ++i)
         if (c.cov[i].n) keys[c.visible].dist = c.cov[i].dist, keys[c.visible++].index = i;
     qsort(keys, c.visible, sizeof *keys, by_distance);
     for (uint32_t v = 0; v < c.visible; ++v) c.order[v] = keys[v].index;
@@ -526,7 +608,9 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
             stats->rays.quads += ws->quads, stats->rays.errors |= ws->errors;
             stats->covered_pixels += c.wcovered[w];
         }
-        stats->visible_facades = c.visible;
+        stats->visible_facades = 0;
+        for (uint32_t v = 0; v < c.visible; ++v)
+            stats->visible_facades += c.order[v] < facade_count;
         stats->ms_cover = t_cover - t_start, stats->ms_rays = t_end - t_cover;
         stats->ms_total = t_end - t_start;
     }

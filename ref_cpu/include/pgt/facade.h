@@ -52,6 +52,10 @@
  * A terminal whose scope is too small for its layout degrades to Wall() (documented per kind in
  * facade.c); sizes are clamped to the scope.
  *
+ * Roofs. Each building's extrusion is closed by its footprint at base + height, a plain polygon
+ * (no grammar): frames and the explicit twin (triangulated by ear clipping) both hold it, with
+ * facade id facade_count + building, node 0, kind PGT_FACADE_ROOF, surface 0.
+ *
  * Ray development (Algorithm 1): intersect the volume; from the entry point, the child of each
  * split that holds the point (pgt_split_child_at), terminals tested, then the next child in the
  * ray's direction along the split axis, until a hit or the exit; explicit stack, nothing
@@ -78,7 +82,8 @@ typedef enum pgt_facade_kind {
     PGT_FACADE_LEDGE = 4,
     PGT_FACADE_BALCONY = 5,
     PGT_FACADE_MESH = 6, /* a geometry-image terminal (6.2.2) */
-    PGT_FACADE_KIND_COUNT = 7
+    PGT_FACADE_ROOF = 7, /* a building's flat roof (the top of the extrusion, not procedural) */
+    PGT_FACADE_KIND_COUNT = 8
 } pgt_facade_kind;
 
 /* Depth of the development stack (split and sequence frames): the facade grammar nests 3 deep,
