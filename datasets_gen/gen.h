@@ -119,6 +119,21 @@ pgt_result pgt_gen_default(uint32_t i, pgt_mesh *out, pgt_error *err);
 pgt_result pgt_gen_city(pgt_facade_scene *out, const pgt_grammar *g, uint32_t n, uint32_t seed,
                         pgt_error *err);
 
+/* A non-box building for procedural facades on generic meshes (paper 003 sec. 10, issue 6 item
+ * 6): a twisted tower of quads with an elliptic cross-section of semi-axes ax (along x) and az
+ * (along z), from y = 0 to `height`, `segments` quads around (>= 3) and `rows` up (>= 1), the
+ * cross-section turned by twist_deg degrees from bottom to top (|twist_deg| <= 90). Vertex (k, j),
+ * k = 0 .. segments, j = 0 .. rows, at y_j = height j / rows and angle a = phi_j - 2 pi k /
+ * segments, phi_j = twist y_j / height: position (ax cos a, y_j, az sin a), normal the ellipse's
+ * outward normal (az cos a, 0, ax sin a) normalised (the twist shears the surface within its
+ * tangent plane, so it does not tilt the normal), UV (s(phi_j) - s(a), y_j) with s the ellipse's
+ * arc length from angle 0 (Simpson, double): u is metres around the tower, growing clockwise
+ * seen from above so that t x b = n points out; v is metres up. Column k = segments repeats
+ * column 0's positions with u = the perimeter (a UV seam: separate vertices). Quad (k, j) is
+ * (k, j), (k + 1, j), (k + 1, j + 1), (k, j + 1), counter-clockwise seen from outside. */
+pgt_result pgt_gen_tower(pgt_facade_quads *out, double ax, double az, double height,
+                         double twist_deg, uint32_t segments, uint32_t rows, pgt_error *err);
+
 #ifdef __cplusplus
 }
 #endif

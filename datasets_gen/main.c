@@ -9,6 +9,7 @@
 
 #include <pgt/mesh_io.h>
 
+#include "facade_quads.h"
 #include "facade_scene.h"
 #include "gen.h"
 
@@ -18,6 +19,7 @@
 static const char usage[] =
     "usage: pgt_datasets OUT_DIR [--only NAME] [--format off|ply|obj] [--list]\n"
     "       pgt_datasets city N SEED -o FILE.scene [--grammar FILE]\n"
+    "       pgt_datasets tower -o FILE.obj [AX AZ HEIGHT TWIST SEGMENTS ROWS]\n"
     "\n"
     "Writes every default generated dataset (or one) to OUT_DIR/NAME.EXT, creating OUT_DIR\n"
     "(and its parents) when missing, and prints one line per file: name, V, F, path.\n"
@@ -35,6 +37,12 @@ static const char usage[] =
     "grid of lots, from SEED) as a facade scene file (harness/README.md) at FILE.scene, with\n"
     "the grammar FILE (default grammars/facade.grammar, written relative to the scene's\n"
     "folder). pgt facade --scene FILE.scene renders it. (An OUT_DIR called city: ./city.)\n"
+    "\n"
+    "tower: a non-box building for facades on generic meshes (paper 003 sec. 10;\n"
+    "pgt_gen_tower): a twisted elliptic tower of quads, semi-axes AX and AZ, HEIGHT metres,\n"
+    "turned by TWIST degrees bottom to top, SEGMENTS quads around and ROWS up (default 14 9 42\n"
+    "45 32 12), as an OBJ of quads with UVs in metres (u around, v up) and normals. pgt facade\n"
+    "--mesh FILE.obj renders it. (An OUT_DIR called tower: ./tower.)\n"
     "\n"
     "Exit status: 0 on success, 1 when a dataset cannot be generated or written, 2 on a bad\n"
     "command line.\n";
@@ -148,8 +156,59 @@ static int city_main(int argc, char **argv) {
     return rc;
 }
 
+/* pgt_datasets tower -o FILE.obj [AX AZ HEIGHT TWIST SEGMENTS ROWS] */
+static int tower_main(int argc, char **argv) {
+    const char *out = NULL;
+    double v[6] = {14.0, 9.0, 42.0, 45.0, 32.0, 12.0};
+    int nums = 0;
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-o")) {
+            if (i + 1 >= argc) return bad_usage("%s needs a value", a);
+            out = argv[++i];
+        } else if (a[0] == '-' && (a[1] < '0' || a[1] > '9') && a[1] != '.') {
+            return bad_usage("tower: unknown flag '%s'", a);
+        } else if (nums == 6) {
+            return bad_usage("tower: unexpected argument '%s' (tower -o FILE.obj [AX AZ HEIGHT "
+                             "TWIST SEGMENTS ROWS])",
+                             a);
+        } else {
+            char *end = NULL;
+            v[nums] = strtod(a, &end);
+            if (end == a || *end) return bad_usage("tower: '%s' is not a number", a);
+            ++nums;
+        }
+    }
+    if (nums != 0 && nums != 6)
+        return bad_usage("%s", "tower: give all of AX AZ HEIGHT TWIST SEGMENTS ROWS or none");
+    if (!out) return bad_usage("%s", "tower: no output: give -o FILE.obj");
+    if (!(v[4] >= 0.0 && v[4] <= 4294967295.0 && v[4] == (double)(uint32_t)v[4] && v[5] >= 0.0 &&
+          v[5] <= 4294967295.0 && v[5] == (double)(uint32_t)v[5]))
+        return bad_usage("%s", "tower: SEGMENTS and ROWS are whole numbers");
+    pgt_facade_quads m;
+    pgt_error err;
+    pgt_error_clear(&err);
+    if (pgt_gen_tower(&m, v[0], v[1], v[2], v[3], (uint32_t)v[4], (uint32_t)v[5], &err) != PGT_OK) {
+        fprintf(stderr, "pgt_datasets: tower: %s\n", err.message);
+        return 2;
+    }
+    char comment[256];
+    snprintf(comment, sizeof comment, "pgt_datasets tower %g %g %g %g %u %u (pgt_gen_tower)", v[0],
+             v[1], v[2], v[3], (uint32_t)v[4], (uint32_t)v[5]);
+    int rc = 0;
+    if (pgt_facade_quads_write_obj(&m, out, comment, &err) != PGT_OK) {
+        fprintf(stderr, "pgt_datasets: tower: %s\n", err.message);
+        rc = 1;
+    } else {
+        printf("tower %u vertices %u quads %s\n", m.vertex_count, m.quad_count, out);
+    }
+    pgt_facade_quads_destroy(&m);
+    return rc;
+}
+
 int main(int argc, char **argv) {
     if (argc > 1 && !strcmp(argv[1], "city")) return city_main(argc, argv);
+    if (argc > 1 && !strcmp(argv[1], "tower")) return tower_main(argc, argv);
     const char *out_dir = NULL, *only = NULL, *format_name = "off";
     int list = 0;
     for (int i = 1; i < argc; ++i) {
@@ -161,8 +220,10 @@ int main(int argc, char **argv) {
             list = 1;
         } else if (strcmp(a, "--only") == 0 || strcmp(a, "--format") == 0) {
             if (i + 1 >= argc) return bad_usage("%s needs a value", a);
-            if (a[2] == 'o') only = argv[++i];
-            else format_name = argv[++i];
+            if (a[2] == 'o')
+                only = argv[++i];
+            else
+                format_name = argv[++i];
         } else if (strncmp(a, "--only=", 7) == 0) {
             only = a + 7;
         } else if (strncmp(a, "--format=", 9) == 0) {
@@ -177,10 +238,14 @@ int main(int argc, char **argv) {
     }
 
     pgt_mesh_format format;
-    if (strcmp(format_name, "off") == 0) format = PGT_FORMAT_OFF;
-    else if (strcmp(format_name, "ply") == 0) format = PGT_FORMAT_PLY;
-    else if (strcmp(format_name, "obj") == 0) format = PGT_FORMAT_OBJ;
-    else return bad_usage("--format must be off, ply or obj, not '%s'", format_name);
+    if (strcmp(format_name, "off") == 0)
+        format = PGT_FORMAT_OFF;
+    else if (strcmp(format_name, "ply") == 0)
+        format = PGT_FORMAT_PLY;
+    else if (strcmp(format_name, "obj") == 0)
+        format = PGT_FORMAT_OBJ;
+    else
+        return bad_usage("--format must be off, ply or obj, not '%s'", format_name);
 
     uint32_t first = 0, end = pgt_gen_default_count();
     if (only) {
@@ -192,8 +257,7 @@ int main(int argc, char **argv) {
     if (!list) {
         int rc = make_dirs(out_dir);
         if (rc != 0) {
-            fprintf(stderr, "pgt_datasets: cannot create folder '%s': %s\n", out_dir,
-                    strerror(rc));
+            fprintf(stderr, "pgt_datasets: cannot create folder '%s': %s\n", out_dir, strerror(rc));
             return 1;
         }
     }

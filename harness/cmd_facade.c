@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "facade_embree.h"
+#include "facade_quads.h"
 #include "facade_scene.h"
 #include "pgt/facade.h"
 #include "pgt/image.h"
@@ -21,7 +22,8 @@
 #define PGT_FACADE_MAX_CITY (1u << 22)
 
 static const char *facade_usage =
-    "usage: pgt facade (--city N | --scene FILE) -o FRAME.exr [--width W] [--height H]\n"
+    "usage: pgt facade (--city N | --scene FILE | --mesh MESH.obj) -o FRAME.exr [--width W]\n"
+    "                  [--height H]\n"
     "                  [--camera EYEx,EYEy,EYEz,ATx,ATy,ATz,UPx,UPy,UPz,FOV] [--png FRAME.png]\n"
     "                  [--threads N] [--explicit OUT.ply] [--embree-check] [--grammar FILE]\n"
     "                  [--seed S] [--light X,Y,Z] [--save-scene FILE] [--frames F]\n"
@@ -38,6 +40,10 @@ static const char *facade_usage =
     "                  facades per building) with --grammar and --seed\n"
     "  --scene FILE    a scene file (harness/README.md, 'Facade scene files': 'grammar NAME\n"
     "                  PATH' and 'building NAME BASE HEIGHT SEED RRGGBB [P=V ...] : X0 Z0 ...')\n"
+    "  --mesh F.obj    facades on a generic quad mesh (sec. 10; harness/README.md, 'Quad meshes\n"
+    "                  for facades'): an OBJ of quads whose vertices have a UV (their place in\n"
+    "                  facade space, metres) and a normal; every quad is a window of one facade\n"
+    "                  of --grammar with --seed (pgt_datasets tower writes one)\n"
     "  -o FRAME.exr    the frame as OpenEXR (float channels R G B depth terminal N.x N.y N.z\n"
     "                  facade developed: linear colour, distance along the ray (inf on a miss),\n"
     "                  terminal kind 0 miss 1 wall 2 window 3 door 4 ledge 5 balcony, world\n"
@@ -65,8 +71,8 @@ static const char *facade_usage =
     "                  max distance error, Mrays/s and bytes of both; exit 1 when a\n"
     "                  disagreement is not near an edge or agreement is below 99.99 %\n";
 static const char *facade_usage2 =
-    "  --grammar FILE  the grammar of --city (default grammars/facade.grammar)\n"
-    "  --seed S        the city's seed (default 1)\n"
+    "  --grammar FILE  the grammar of --city or --mesh (default grammars/facade.grammar)\n"
+    "  --seed S        the seed of --city or --mesh (default 1)\n"
     "  --light X,Y,Z   the point light (default: above the scene, 2 bounding radii up)\n"
     "  --shadows       self-shadowing (sec. 6.4): a shadow ray toward the light per hit\n"
     "  --detail D      terminal detail (sec. 6.3, 7): geometry (the default: procedural\n"
@@ -75,7 +81,7 @@ static const char *facade_usage2 =
     "                  --shadows), lod (the four levels by distance, linear transitions: relief\n"
     "                  to 10-20 m, normal mapping to 20-40 m, thickness 150-300 m).\n"
     "                  --embree-check takes geometry or normal only\n"
-    "  --save-scene F  writes the scene (of --city or --scene) as a scene file\n"
+    "  --save-scene F  writes the scene (of --city or --scene; not --mesh) as a scene file\n"
     "  --frames F      renders (and, with --embree-check, traces) F times, 1 to 1000, and\n"
     "                  reports the median (default 1)\n"
     "  --embree-mode M packets (rtcIntersect16 of 4x4 pixel tiles, the default; the two are\n"
@@ -90,6 +96,7 @@ static const char *facade_usage2 =
 
 typedef struct facade_args {
     const char *scene_path, *out_path, *png_path, *explicit_path, *grammar_path, *save_path;
+    const char *mesh_path;
     const char *camera_text;
     uint32_t city, width, height, threads, seed, frames;
     int embree_check, have_light, shadows;
@@ -117,6 +124,8 @@ static int parse_args(int argc, char **argv, facade_args *a) {
             have_city = 1;
         } else if (!strcmp(s, "--scene")) {
             if (!(a->scene_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--mesh")) {
+            if (!(a->mesh_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(s, "-o") || !strcmp(s, "--output")) {
             if (!(a->out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(s, "--png")) {
@@ -181,11 +190,14 @@ static int parse_args(int argc, char **argv, facade_args *a) {
                                 s[0] == '-' ? "flag" : "argument", s);
         }
     }
-    if (have_city == !!a->scene_path)
-        return pgt_cli_fail(verb, "give exactly one of --city N and --scene FILE");
+    if (have_city + !!a->scene_path + !!a->mesh_path != 1)
+        return pgt_cli_fail(verb, "give exactly one of --city N, --scene FILE and --mesh MESH.obj");
+    if (a->mesh_path && a->save_path)
+        return pgt_cli_fail(verb, "--save-scene is for --city and --scene (a scene file holds "
+                                  "footprints, not meshes)");
     if (a->scene_path && (a->grammar_path || have_seed))
-        return pgt_cli_fail(verb, "--grammar and --seed are for --city (a scene file names its "
-                                  "grammars and seeds)");
+        return pgt_cli_fail(verb, "--grammar and --seed are for --city and --mesh (a scene file "
+                                  "names its grammars and seeds)");
     if (!a->out_path) return pgt_cli_fail(verb, "no output: give -o FRAME.exr");
     if (a->embree_check && a->detail != PGT_FACADE_DETAIL_GEOMETRY &&
         a->detail != PGT_FACADE_DETAIL_NORMAL)
@@ -200,9 +212,9 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         return pgt_cli_fail(verb, "--explicit %s: expected a .ply file", a->explicit_path);
     const char *outs[4] = {a->out_path, a->png_path, a->explicit_path, a->save_path};
     const char *flags[4] = {"-o", "--png", "--explicit", "--save-scene"};
-    const char *ins[2] = {a->scene_path, a->grammar_path};
+    const char *ins[3] = {a->scene_path, a->grammar_path, a->mesh_path};
     for (int o = 0; o < 4; ++o)
-        for (int k = 0; k < 2; ++k)
+        for (int k = 0; k < 3; ++k)
             if (outs[o] && ins[k] && pgt_cli_same_file(outs[o], ins[k]))
                 return pgt_cli_fail(verb, "%s %s is the input %s; pgt never overwrites an input",
                                     flags[o], outs[o], ins[k]);
@@ -272,6 +284,8 @@ int pgt_cmd_facade(int argc, char **argv) {
     pgt_error err = {0};
     pgt_facade_file file;
     memset(&file, 0, sizeof file);
+    pgt_facade_quads quads;
+    memset(&quads, 0, sizeof quads);
     pgt_facade *facades = NULL;
     uint32_t facade_count = 0;
     pgt_facade_frame frame;
@@ -296,8 +310,14 @@ int pgt_cmd_facade(int argc, char **argv) {
 
     /* the scene */
     const double t0 = pgt_cli_now_ms();
-    const char *what = a.scene_path ? a.scene_path : "--city";
-    if (a.scene_path) {
+    const char *what = a.scene_path ? a.scene_path : (a.mesh_path ? a.mesh_path : "--city");
+    if (a.mesh_path) {
+        if (pgt_facade_quads_read_obj(&quads, a.mesh_path, &err) != PGT_OK ||
+            pgt_facade_file_mesh(&file, a.grammar_path, a.seed, &quads, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "--mesh %s", err.message);
+            goto done;
+        }
+    } else if (a.scene_path) {
         if (pgt_facade_file_read(&file, a.scene_path, &err) != PGT_OK) {
             pgt_cli_fail(verb, "%s", err.message);
             goto done;
@@ -324,10 +344,28 @@ int pgt_cmd_facade(int argc, char **argv) {
             goto done;
         }
     }
-    if (pgt_facade_prepare(s, &facades, &facade_count, &err) != PGT_OK) {
+    if (a.mesh_path) {
+        facades = malloc((quads.quad_count ? quads.quad_count : 1u) * sizeof *facades);
+        if (!facades) {
+            pgt_cli_fail(verb, "out of memory");
+            goto done;
+        }
+        facade_count = quads.quad_count;
+        if (pgt_facade_mesh_facades(facades, &quads, s, 0, 0.0f, 0.0f, &err) != PGT_OK) {
+            pgt_cli_fail(verb, "%s: %s", what, err.message);
+            goto done;
+        }
+    } else if (pgt_facade_prepare(s, &facades, &facade_count, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s: %s", what, err.message);
         goto done;
     }
+    /* the mesh's bounding box for the default camera and light */
+    float box_lo[3] = {INFINITY, INFINITY, INFINITY}, box_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < quads.vertex_count; ++v)
+        for (int k = 0; k < 3; ++k) {
+            box_lo[k] = fminf(box_lo[k], quads.positions[3u * v + (uint32_t)k]);
+            box_hi[k] = fmaxf(box_hi[k], quads.positions[3u * v + (uint32_t)k]);
+        }
     const double t1 = pgt_cli_now_ms();
 
     /* camera and light */
@@ -337,6 +375,8 @@ int pgt_cmd_facade(int argc, char **argv) {
         memcpy(at, cam_vals + 3, sizeof at);
         memcpy(up, cam_vals + 6, sizeof up);
         fov = cam_vals[9];
+    } else if (a.mesh_path) {
+        pgt_facade_box_view(box_lo, box_hi, a.width, a.height, eye, at, up, &fov);
     } else {
         pgt_facade_default_view(s, a.width, a.height, eye, at, up, &fov);
     }
@@ -358,6 +398,8 @@ int pgt_cmd_facade(int argc, char **argv) {
     memset(&shading, 0, sizeof shading);
     if (a.have_light)
         memcpy(shading.light, a.light, sizeof shading.light);
+    else if (a.mesh_path)
+        pgt_facade_box_light(box_lo, box_hi, shading.light);
     else
         pgt_facade_default_light(s, shading.light);
     shading.ambient = PGT_FACADE_DEFAULT_AMBIENT;
@@ -401,8 +443,12 @@ int pgt_cmd_facade(int argc, char **argv) {
     const uint64_t pixels = (uint64_t)a.width * a.height;
     const size_t proc_bytes = pgt_facade_scene_bytes(s);
     const size_t facade_bytes = (size_t)facade_count * sizeof(pgt_facade);
-    printf("scene: %u buildings, %u facades (%u visible), %s %.0f ms\n", s->building_count,
-           facade_count, first.visible_facades, a.scene_path ? "read" : "generated", t1 - t0);
+    if (a.mesh_path)
+        printf("scene: mesh of %u quads, %u vertices: %u facades (%u visible), read %.0f ms\n",
+               quads.quad_count, quads.vertex_count, facade_count, first.visible_facades, t1 - t0);
+    else
+        printf("scene: %u buildings, %u facades (%u visible), %s %.0f ms\n", s->building_count,
+               facade_count, first.visible_facades, a.scene_path ? "read" : "generated", t1 - t0);
     printf("frame: %ux%u = %llu pixels, %u thread%s, %.3f ms per frame%s (coverage %.3f ms, "
            "rays %.3f ms), %.2f Mrays/s\n",
            a.width, a.height, (unsigned long long)pixels, a.threads, a.threads == 1 ? "" : "s",
@@ -491,6 +537,7 @@ done:
     pgt_facade_frame_destroy(&frame);
     free(facades);
     pgt_facade_file_free(&file);
+    pgt_facade_quads_destroy(&quads);
     free(ms);
     return rc;
 }

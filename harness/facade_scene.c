@@ -583,11 +583,47 @@ pgt_result pgt_facade_file_city(pgt_facade_file *out, const char *grammar_path, 
     return r;
 }
 
+pgt_result pgt_facade_file_mesh(pgt_facade_file *out, const char *grammar_path, uint32_t seed,
+                                const pgt_facade_quads *m, pgt_error *err) {
+    memset(out, 0, sizeof *out);
+    pgt_result r = pgt_facade_file_add_grammar(out, "mesh", grammar_path, err);
+    pgt_facade_scene *s = &out->scene;
+    if (r == PGT_OK) {
+        const pgt_grammar *g = &out->grammars[0];
+        s->buildings = calloc(1, sizeof *s->buildings);
+        s->params = malloc((g->param_count ? g->param_count : 1u) * sizeof *s->params);
+        if (!s->buildings || !s->params)
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
+    }
+    if (r == PGT_OK) {
+        const pgt_grammar *g = &out->grammars[0];
+        memcpy(s->params, g->param_values, g->param_count * sizeof *s->params);
+        s->param_count = g->param_count;
+        float ylo = INFINITY, yhi = -INFINITY;
+        for (uint32_t v = 0; v < m->vertex_count; ++v)
+            ylo = fminf(ylo, m->positions[3u * v + 1u]),
+            yhi = fmaxf(yhi, m->positions[3u * v + 1u]);
+        pgt_facade_building *B = &s->buildings[0];
+        s->building_count = 1;
+        B->first_corner = 0, B->corner_count = 0, B->grammar = 0, B->first_param = 0;
+        B->base = isfinite(ylo) ? ylo : 0.0f;
+        B->height = isfinite(yhi) && yhi > ylo ? yhi - ylo : 1.0f;
+        B->seed = seed, B->colour = PGT_FACADE_MESH_COLOUR;
+    }
+    if (r != PGT_OK) pgt_facade_file_free(out);
+    return r;
+}
+
 void pgt_facade_default_view(const pgt_facade_scene *s, uint32_t width, uint32_t height,
                              float eye[3], float at[3], float up[3], float *fov_deg) {
     float lo[3], hi[3];
     if (!pgt_facade_file_bounds(s, lo, hi))
         for (int k = 0; k < 3; ++k) lo[k] = -1.0f, hi[k] = 1.0f;
+    pgt_facade_box_view(lo, hi, width, height, eye, at, up, fov_deg);
+}
+
+void pgt_facade_box_view(const float lo[3], const float hi[3], uint32_t width, uint32_t height,
+                         float eye[3], float at[3], float up[3], float *fov_deg) {
     double c[3], radius = 0.0;
     for (int k = 0; k < 3; ++k) {
         c[k] = 0.5 * ((double)lo[k] + (double)hi[k]);
@@ -614,6 +650,10 @@ void pgt_facade_default_light(const pgt_facade_scene *s, float light[3]) {
     float lo[3], hi[3];
     if (!pgt_facade_file_bounds(s, lo, hi))
         for (int k = 0; k < 3; ++k) lo[k] = -1.0f, hi[k] = 1.0f;
+    pgt_facade_box_light(lo, hi, light);
+}
+
+void pgt_facade_box_light(const float lo[3], const float hi[3], float light[3]) {
     double radius = 0.0;
     for (int k = 0; k < 3; ++k) radius += ((double)hi[k] - lo[k]) * ((double)hi[k] - lo[k]);
     radius = 0.5 * sqrt(radius);

@@ -82,6 +82,9 @@ pgt_result pgt_facade_file_city(pgt_facade_file *out, const char *grammar_path, 
 #define PGT_FACADE_VIEW_MARGIN 1.02
 void pgt_facade_default_view(const pgt_facade_scene *s, uint32_t width, uint32_t height,
                              float eye[3], float at[3], float up[3], float *fov_deg);
+/* The same view of the box [lo, hi] (pgt facade --mesh: the mesh's bounding box). */
+void pgt_facade_box_view(const float lo[3], const float hi[3], uint32_t width, uint32_t height,
+                         float eye[3], float at[3], float up[3], float *fov_deg);
 
 /* The default point light: above the scene, PGT_FACADE_LIGHT_OFFSET times the bounding
  * radius from the box's centre (up and to one side, so that facades facing different ways get
@@ -91,5 +94,14 @@ void pgt_facade_default_view(const pgt_facade_scene *s, uint32_t width, uint32_t
 #define PGT_FACADE_LIGHT_OFFSET_Z 1.2
 #define PGT_FACADE_DEFAULT_AMBIENT 0.25f
 void pgt_facade_default_light(const pgt_facade_scene *s, float light[3]);
+void pgt_facade_box_light(const float lo[3], const float hi[3], float light[3]);
+
+/* The scene of pgt facade --mesh (paper 003 sec. 10): the grammar at grammar_path (named
+ * "mesh") and one building without footprint (its facades come from the quads of m,
+ * pgt_facade_mesh_facades): the grammar's param values, seed, wall colour
+ * PGT_FACADE_MESH_COLOUR, base and height the mesh's extent in y. On failure *out is freed. */
+#define PGT_FACADE_MESH_COLOUR 0xD8C8B0u
+pgt_result pgt_facade_file_mesh(pgt_facade_file *out, const char *grammar_path, uint32_t seed,
+                                const pgt_facade_quads *m, pgt_error *err);
 
 #endif

@@ -121,10 +121,11 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  "%s: building %u names grammar %u of %u", what, b, B->grammar,
                                  s->grammar_count);
         const pgt_grammar *g = &s->grammars[B->grammar];
-        if (B->corner_count < 3 || B->first_corner > s->corner_count ||
+        if ((B->corner_count != 0 && B->corner_count < 3) || B->first_corner > s->corner_count ||
             B->corner_count > s->corner_count - B->first_corner)
             return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
-                                 "%s: building %u has corners [%u, %u + %u) of %u (at least 3)",
+                                 "%s: building %u has corners [%u, %u + %u) of %u (at least 3, or "
+                                 "none for a mesh building)",
                                  what, b, B->first_corner, B->first_corner, B->corner_count,
                                  s->corner_count);
         if (B->first_param > s->param_count || g->param_count > s->param_count - B->first_param)
@@ -160,7 +161,7 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
         /* n = t x (0,1,0) = (-t.z, 0, t.x) points out when the x-z signed area is negative:
          * counter-clockwise seen from above (+Y down onto the ground, +X right, +Z down the
          * page) */
-        if (!(area < 0.0))
+        if (B->corner_count != 0 && !(area < 0.0))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: building %u: footprint corners run the wrong way (signed "
                                  "x-z area %g, expected < 0; facade normals would point into the "
@@ -230,6 +231,9 @@ pgt_result pgt_facade_prepare(const pgt_facade_scene *s, pgt_facade **out, uint3
             F->protrusion = par[pgt_grammar_find_param(g, "protrusion")];
             F->recess = par[pgt_grammar_find_param(g, "recess")];
             F->building = b, F->edge = k;
+            F->b[0] = 0.0f, F->b[1] = 1.0f, F->b[2] = 0.0f;
+            F->u0 = 0.0f, F->v0 = 0.0f, F->scope_w = len, F->scope_h = B->height;
+            F->axiom_key = pgt_facade_child_key(B->seed, k);
         }
     }
     *out = f, *count = i;
@@ -304,7 +308,8 @@ uint32_t pgt_facade_child_key(uint32_t parent, uint32_t k) {
 }
 
 uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f) {
-    return pgt_facade_child_key(s->buildings[f->building].seed, f->edge);
+    (void)s;
+    return f->axiom_key;
 }
 
 /* Evaluates expression e of g for node `key`: rand draws (seed, key, counter++). */
@@ -407,21 +412,39 @@ static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
     if (tb < *t1) *t1 = tb;
 }
 
+/* A footprint facade's window is the whole facade and its b is +Y: then the mapping below is
+ * the one footprint facades always had (y straight from the world's, no offsets), bit for bit. */
 void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
                      float v[3]) {
     const float d[3] = {org[0] - f->origin[0], org[1] - f->origin[1], org[2] - f->origin[2]};
-    a[0] = dot3(d, f->t), a[1] = d[1], a[2] = dot3(d, f->n);
-    v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
+    if (facade_is_whole(f)) {
+        a[0] = dot3(d, f->t), a[1] = d[1], a[2] = dot3(d, f->n);
+        v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
+        return;
+    }
+    a[0] = f->u0 + dot3(d, f->t), a[1] = f->v0 + dot3(d, f->b), a[2] = dot3(d, f->n);
+    v[0] = dot3(dir, f->t), v[1] = dot3(dir, f->b), v[2] = dot3(dir, f->n);
 }
 
 void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
-    for (int k = 0; k < 3; ++k) out[k] = f->origin[k] + p[0] * f->t[k] + p[2] * f->n[k];
-    out[1] = f->origin[1] + p[1];
+    if (facade_is_whole(f)) {
+        for (int k = 0; k < 3; ++k) out[k] = f->origin[k] + p[0] * f->t[k] + p[2] * f->n[k];
+        out[1] = f->origin[1] + p[1];
+        return;
+    }
+    const float x = p[0] - f->u0, y = p[1] - f->v0;
+    for (int k = 0; k < 3; ++k) out[k] = f->origin[k] + x * f->t[k] + y * f->b[k] + p[2] * f->n[k];
 }
 
-/* Nearest rectangle of q[0 .. n) hit at t in [0, *best): returns its index or PGT_NONE. */
+/* Nearest rectangle of q[0 .. n) hit at t in [0, *best): returns its index or PGT_NONE. win
+ * (NULL: the whole facade) is the facade's window in facade space (x0, y0, x1, y1) and off the
+ * block's corner (q and a are block-local): a hit outside the window is a part of the terminal
+ * that another quad of the mesh shows. A rectangle's plane is placed in facade space as
+ * facade_terminal places it for the explicit twin (c + off), so both keep or drop a rectangle
+ * lying on the window's border alike (the explicit twin clips rectangles to the window). */
 static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3], const float v[3],
-                          const float inv[3], float *best, uint64_t *tests) {
+                          const float inv[3], const float *win, const float off[2], float *best,
+                          uint64_t *tests) {
     static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
     uint32_t found = PGT_NONE;
     *tests += n;
@@ -433,6 +456,11 @@ static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3]
         const uint32_t o0 = other[ax][0], o1 = other[ax][1];
         const float u0 = a[o0] + t * v[o0], u1 = a[o1] + t * v[o1];
         if (u0 < q[k].lo[0] || u0 > q[k].hi[0] || u1 < q[k].lo[1] || u1 > q[k].hi[1]) continue;
+        if (win) {
+            const float x = (ax == 0 ? q[k].c : u0) + off[0];
+            const float y = (ax == 0 ? u0 : (ax == 1 ? q[k].c : u1)) + off[1];
+            if (x < win[0] || x > win[2] || y < win[1] || y > win[3]) continue;
+        }
         *best = t, found = k;
     }
     return found;
@@ -443,7 +471,8 @@ static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3]
  * *best: the same answer, fewer tests. */
 static uint32_t hit_quads_grouped(const pgt_facade_quad *q, uint32_t n, const float *groups,
                                   const float a[3], const float v[3], const float inv[3],
-                                  float *best, uint64_t *tests) {
+                                  const float *win, const float off[2], float *best,
+                                  uint64_t *tests) {
     uint32_t found = PGT_NONE;
     for (uint32_t g0 = 0; g0 < n; g0 += FACADE_QUAD_GROUP) {
         const float *bx = groups + 6u * (g0 / FACADE_QUAD_GROUP);
@@ -464,7 +493,7 @@ static uint32_t hit_quads_grouped(const pgt_facade_quad *q, uint32_t n, const fl
         }
         if (out || !(t0 <= t1)) continue;
         const uint32_t m = n - g0 < FACADE_QUAD_GROUP ? n - g0 : FACADE_QUAD_GROUP;
-        const uint32_t k = hit_quads(q + g0, m, a, v, inv, best, tests);
+        const uint32_t k = hit_quads(q + g0, m, a, v, inv, win, off, best, tests);
         if (k != PGT_NONE) found = g0 + k;
     }
     return found;
@@ -616,8 +645,9 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     facade_to_local(f, org, dir, a, v);
     if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
     float t0 = 0.0f, t1 = hit->t;
-    slab(a[0], v[0], 0.0f, f->width, &t0, &t1);
-    slab(a[1], v[1], 0.0f, f->height, &t0, &t1);
+    const int whole = facade_is_whole(f);
+    slab(a[0], v[0], f->u0, f->u0 + f->width, &t0, &t1);
+    slab(a[1], v[1], f->v0, f->v0 + f->height, &t0, &t1);
     slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
     if (!(t0 <= t1)) return 0; /* misses the volume: nothing developed */
     const float inv[3] = {1.0f / v[0], 1.0f / v[1], 1.0f / v[2]}; /* inf where v is 0: unused */
@@ -636,8 +666,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     const uint32_t seq0 = facade_select_case(&c, 0, NULL, 0, key0);
     if (seq0 == PGT_NONE) return 0;
     frame *fr = &stack[sp++];
-    fr->type = FR_SEQ, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->width;
-    fr->h = f->height, fr->t_in = t0, fr->t_out = t1, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
+    fr->type = FR_SEQ, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->scope_w;
+    fr->h = f->scope_h, fr->t_in = t0, fr->t_out = t1, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
     stats->nodes++;
 
     while (sp > 0) {
@@ -716,6 +746,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             }
             stats->terminals++;
             const uint32_t item = sq->first_item + pos;
+            if (it->target == PGT_GRAMMAR_TERMINAL_MESH && !whole) {
+                stats->errors |= PGT_FACADE_ERR_ITEM; /* not clipped to a quad's window */
+                break;
+            }
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
                 float id, nrm[3];
                 uint64_t counter = 0;
@@ -767,9 +801,12 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 }
             }
             const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
+            const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
+            const float off[2] = {fr->x0, fr->y0};
+            const float *wp = whole ? NULL : win;
             const uint32_t k =
-                groups ? hit_quads_grouped(qs, n, groups, al, v, inv, &best, &stats->quads)
-                       : hit_quads(qs, n, al, v, inv, &best, &stats->quads);
+                groups ? hit_quads_grouped(qs, n, groups, al, v, inv, wp, off, &best, &stats->quads)
+                       : hit_quads(qs, n, al, v, inv, wp, off, &best, &stats->quads);
             if (k != PGT_NONE) {
                 best_kind = pgt_facade_kind_of(it->target), best_surface = surf[k], best_key = key;
                 best_item = item, best_axis = qs[k].axis;
@@ -846,14 +883,13 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     if (best_kind == 0) return 0;
     hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
     hit->surface = best_surface, hit->item = best_item;
-    const float *nrm = best_axis == 0 ? f->t : f->n;
-    if (best_axis == 3) {
-        for (int k = 0; k < 3; ++k) hit->n[k] = best_n[0] * f->t[k] + best_n[2] * f->n[k];
-        hit->n[1] += best_n[1];
-    } else if (best_axis == 1)
-        hit->n[0] = 0.0f, hit->n[1] = 1.0f, hit->n[2] = 0.0f;
-    else
+    if (best_axis == 3) { /* a geometry image's triangle */
+        for (int k = 0; k < 3; ++k)
+            hit->n[k] = best_n[0] * f->t[k] + best_n[1] * f->b[k] + best_n[2] * f->n[k];
+    } else {
+        const float *nrm = best_axis == 0 ? f->t : (best_axis == 1 ? f->b : f->n);
         hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];
+    }
     for (int k = 0; k < 3; ++k) hit->p[k] = a[k] + best * v[k];
     hit->p[2] *= zscale; /* the scaled geometry's z */
     return 1;

@@ -70,12 +70,31 @@ void pgt_facade_mesh_destroy(pgt_facade_mesh *m) {
 
 static const char *gfile(const pgt_grammar *g) { return g->names + g->file_name; }
 
+/* Clips rectangle r to the window [w[0], w[2]] x [w[1], w[3]] of facade space in x and y (the
+ * part of a terminal that this quad of a mesh shows, sec. 10); 0 when nothing of positive area is
+ * left. */
+static int clip_to_window(pgt_facade_quad *r, const float w[4]) {
+    static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+    const uint32_t ax = r->axis;
+    if (ax != 2 && (r->c < w[ax] || r->c > w[2 + ax])) return 0;
+    for (uint32_t k = 0; k < 2; ++k) {
+        const uint32_t o = other[ax][k];
+        if (o == 2) continue;
+        if (r->lo[k] < w[o]) r->lo[k] = w[o];
+        if (r->hi[k] > w[2 + o]) r->hi[k] = w[2 + o];
+        if (!(r->hi[k] > r->lo[k])) return 0;
+    }
+    return 1;
+}
+
 /* Appends the rectangles of one terminal. */
 static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_grammar *g,
                        const pgt_grammar_item *it, uint32_t key, const pgt_facade_quad *q,
                        uint32_t n, pgt_error *err) {
     static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
     const uint32_t kind = pgt_facade_kind_of(it->target);
+    const int whole = facade_is_whole(f);
+    const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
     for (uint32_t k = 0; k < n; ++k) {
         if (!(q[k].hi[0] > q[k].lo[0])) continue;
         const uint32_t ax = q[k].axis;
@@ -88,6 +107,8 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
                                  gfile(g), it->line, it->col, f->building, f->edge,
                                  pgt_grammar_terminal_name(it->target), k, (double)zlo, (double)zhi,
                                  -(double)f->recess, (double)f->protrusion);
+        pgt_facade_quad r = q[k];
+        if (!whole && !clip_to_window(&r, win)) continue;
         if (x->m->triangle_count + 2u > FACADE_MAX_TRIANGLES)
             return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
                                  FACADE_MAX_TRIANGLES);
@@ -95,11 +116,11 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
             return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit facades: out of memory");
         pgt_facade_mesh *m = x->m;
         const uint32_t v0 = m->vertex_count;
-        const float u0[4] = {q[k].lo[0], q[k].hi[0], q[k].hi[0], q[k].lo[0]};
-        const float u1[4] = {q[k].lo[1], q[k].lo[1], q[k].hi[1], q[k].hi[1]};
+        const float u0[4] = {r.lo[0], r.hi[0], r.hi[0], r.lo[0]};
+        const float u1[4] = {r.lo[1], r.lo[1], r.hi[1], r.hi[1]};
         for (int c = 0; c < 4; ++c) {
             float p[3];
-            p[ax] = q[k].c, p[other[ax][0]] = u0[c], p[other[ax][1]] = u1[c];
+            p[ax] = r.c, p[other[ax][0]] = u0[c], p[other[ax][1]] = u1[c];
             facade_to_world(f, p, &m->positions[3u * (v0 + (uint32_t)c)]);
         }
         m->vertex_count += 4;
@@ -165,8 +186,8 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
     const pgt_grammar_item *where = NULL;
     if (seq0 != PGT_NONE) {
         xframe *fr = &stack[sp++];
-        fr->type = 0, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->width;
-        fr->h = f->height, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
+        fr->type = 0, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->scope_w;
+        fr->h = f->scope_h, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
     }
     while (sp > 0 && !st.errors) {
         xframe *fr = &stack[sp - 1];
@@ -180,6 +201,12 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
             pgt_split_child_get(&fr->split.plan, fr->split.slots, cur, &ch);
             const uint32_t seq = fr->split.seq[ch.part];
             if (seq == PGT_NONE || !(ch.end > ch.start)) continue;
+            /* a child outside the window (a mesh quad's, sec. 10) has nothing to show in it:
+             * terminals stay inside their scope */
+            const float o = fr->axis == 0 ? fr->x0 : fr->y0;
+            const float wlo = fr->axis == 0 ? f->u0 : f->v0;
+            const float whi = wlo + (fr->axis == 0 ? f->width : f->height);
+            if (!facade_is_whole(f) && (o + ch.end < wlo || o + ch.start > whi)) continue;
             if (sp == PGT_FACADE_MAX_DEPTH) {
                 st.errors |= PGT_FACADE_ERR_DEPTH;
                 break;
@@ -210,6 +237,12 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
                 st.errors |= PGT_FACADE_ERR_ITEM;
                 break;
             }
+            if (it->target == PGT_GRAMMAR_TERMINAL_MESH && !facade_is_whole(f))
+                return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
+                                     "%s:%u:%u: building %u facade %u: Mesh terminals are not "
+                                     "clipped to the quads of a generic mesh (facades on meshes "
+                                     "take the parametric terminals)",
+                                     gfile(g), it->line, it->col, f->building, f->edge);
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) {
                 float id;
                 uint64_t counter = 0;

@@ -152,7 +152,21 @@ uint32_t facade_terminal(const facade_ctx *c, const pgt_grammar_item *it, const 
 int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *args, uint32_t argc,
                  uint32_t key, float length, facade_split_state *st);
 
-/* World ray to facade space (a + t v), and a facade-space point to the world. */
+/* Is f's window the whole facade with b = +Y (every footprint facade)? Then the mapping and the
+ * ray test take the paths footprint facades always took (bit for bit). */
+static inline int facade_is_whole(const pgt_facade *f) {
+    return f->u0 == 0.0f && f->v0 == 0.0f && f->width == f->scope_w && f->height == f->scope_h &&
+           f->b[0] == 0.0f && f->b[1] == 1.0f && f->b[2] == 0.0f;
+}
+
+/* The facade volume (5.2) in facade space: the window times [-recess, protrusion]. */
+static inline void facade_volume(const pgt_facade *f, float lo[3], float hi[3]) {
+    lo[0] = f->u0, lo[1] = f->v0, lo[2] = -f->recess;
+    hi[0] = f->u0 + f->width, hi[1] = f->v0 + f->height, hi[2] = f->protrusion;
+}
+
+/* World ray to facade space (a + t v), and a facade-space point to the world (facade.h: the
+ * window's corner (u0, v0) is at origin). */
 void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
                      float v[3]);
 void facade_to_world(const pgt_facade *f, const float p[3], float out[3]);

@@ -103,7 +103,8 @@ int pgt_facade_coverage(const pgt_facade *f, const float eye[3], float corners[4
     static const float zero[3] = {0.0f, 0.0f, 0.0f};
     float e[3], unused[3];
     facade_to_local(f, eye, zero, e, unused);
-    const float lo[3] = {0.0f, 0.0f, -f->recess}, hi[3] = {f->width, f->height, f->protrusion};
+    float lo[3], hi[3];
+    facade_volume(f, lo, hi);
     /* 5.3.1: the major axis of the view direction among those separating the eye */
     int best = -1;
     float best_v = -1.0f;
@@ -171,7 +172,8 @@ static float volume_distance(const pgt_facade *f, const float eye[3]) {
     static const float zero[3] = {0.0f, 0.0f, 0.0f};
     float e[3], unused[3];
     facade_to_local(f, eye, zero, e, unused);
-    const float lo[3] = {0.0f, 0.0f, -f->recess}, hi[3] = {f->width, f->height, f->protrusion};
+    float lo[3], hi[3];
+    facade_volume(f, lo, hi);
     float d2 = 0.0f;
     for (int k = 0; k < 3; ++k) {
         const float d = e[k] < lo[k] ? lo[k] - e[k] : (e[k] > hi[k] ? e[k] - hi[k] : 0.0f);

@@ -167,15 +167,27 @@ typedef enum pgt_facade_gimage_role {
 #define PGT_FACADE_GIMAGE_OCULUS 0u
 pgt_result pgt_facade_add_builtin_gimages(pgt_facade_scene *s, pgt_error *err);
 
-/* One facade (derived): facade space and volume. 15 words. */
+/* One facade (derived): facade space, its window into grammar space and its volume. 23 words.
+ *
+ * Facade space is grammar space: a world point P has facade coordinates (u0 + (P - origin) . t,
+ * v0 + (P - origin) . b, (P - origin) . n); the grammar's axiom has the scope [0, scope_w] x
+ * [0, scope_h] and the facade shows its window [u0, u0 + width] x [v0, v0 + height] of it; the
+ * volume is the window times [-recess, protrusion] in z. A footprint facade's window is the whole
+ * facade (u0 = v0 = 0, scope = width x height, b = +Y); a quad of a generic mesh (sec. 10,
+ * pgt_facade_mesh_facades) is a window of the mesh's one facade, so the grammar is developed in
+ * one space across quads and a split's children line up across neighbouring quads. */
 typedef struct pgt_facade {
-    float origin[3];          /* world position of facade space's origin (bottom left) */
-    float t[3];               /* unit tangent (x axis); b is +Y; n = t x b */
-    float n[3];               /* unit normal (z axis), out of the building */
-    float width, height;      /* the facade rectangle */
+    float origin[3];          /* world position of the window's corner (u0, v0) (bottom left) */
+    float t[3];               /* unit tangent (x axis) */
+    float n[3];               /* unit normal (z axis), out of the building; n = t x b */
+    float width, height;      /* the window's size (the facade rectangle of a footprint) */
     float protrusion, recess; /* F and B (5.2) */
     uint32_t building;        /* index of its building; grammar, params, seed from there */
-    uint32_t edge;            /* footprint edge k (corner k to k + 1) of its building */
+    uint32_t edge;            /* footprint edge k (corner k to k + 1), or the mesh's quad k */
+    float b[3];               /* unit binormal (y axis): +Y for footprint facades */
+    float u0, v0;             /* the window's corner in grammar space */
+    float scope_w, scope_h;   /* the axiom's scope */
+    uint32_t axiom_key;       /* the axiom's node key (pgt_facade_child_key chain) */
 } pgt_facade;
 
 /* Pinhole camera: one ray per pixel centre, fov_deg is the vertical field of view. */
@@ -211,7 +223,8 @@ typedef struct pgt_facade_ray_stats {
 
 /* ---- scene ---- */
 
-/* Checks a scene: indices in range, finite coordinates, footprints of >= 3 corners with no edge
+/* Checks a scene: indices in range, finite coordinates, footprints of >= 3 corners (or none: a
+ * building whose facades come from a mesh, pgt_facade_mesh_facades) with no edge
  * shorter than 1e-4, ordered so that normals point out (negative signed area), params finite, every
  * grammar having the params `protrusion` and `recess` (>= 0), an axiom without parameters and no
  * rule that calls itself through rule calls alone.
@@ -225,9 +238,56 @@ void pgt_facade_scene_destroy(pgt_facade_scene *s);
  * (what a GPU would hold; the derived facades are counted apart by the caller). */
 size_t pgt_facade_scene_bytes(const pgt_facade_scene *s);
 
-/* Derives the facades of every building, in building then edge order. *out is malloc'd. */
+/* Derives the facades of every building with a footprint, in building then edge order (a
+ * building without corners has none here). *out is malloc'd. */
 pgt_result pgt_facade_prepare(const pgt_facade_scene *s, pgt_facade **out, uint32_t *count,
                               pgt_error *err);
+
+/* ---- generic meshes (sec. 10; facade_mesh.c) ---- */
+
+/* A quad mesh whose vertices carry a normal and their location (u, v) in facade space (metres:
+ * u along the facade, v up it; u, v >= 0, the axiom's scope starts at 0). Quads list their 4
+ * corners in order around them, counter-clockwise seen from outside; vertices that share a
+ * position but not a UV (a seam) are separate vertices. Flat arrays, 32-bit indices. */
+typedef struct pgt_facade_quads {
+    uint32_t vertex_count, quad_count;
+    float *positions;  /* 3 per vertex */
+    float *normals;    /* 3 per vertex, not necessarily unit */
+    float *uvs;        /* 2 per vertex */
+    uint32_t *indices; /* 4 per quad */
+} pgt_facade_quads;
+
+/* Frees the arrays (of a mesh that owns them) and zeroes q; NULL is a no-op. */
+void pgt_facade_quads_destroy(pgt_facade_quads *q);
+
+/* Selective adjacency extraction (sec. 10.1, eq. 5-7), per vertex p: among the pairs of vertices
+ * adjacent to p (sharing a quad edge with it) whose UV offsets are not collinear, the pair (p_i,
+ * p_j) with the smallest |cos| of the angle between pp_i and pp_j (the paper's "pp_i . pp_j
+ * minimal" read as "nearly orthogonal", its Fig. 13; ties: the first pair in increasing vertex
+ * order), projected on p's tangent plane (eq. 5), gives the unit t_F and b_F of eq. 6 and 7.
+ * out_t, out_b: 3 per vertex; out_pair (may be NULL): 2 per vertex, (i, j). A vertex of no quad
+ * gets zeros and PGT_NONE. Errors (naming the vertex or quad): indices out of range, non-finite
+ * values, a zero normal, a vertex of a quad without a usable pair (PGT_ERROR_DEGENERATE). */
+pgt_result pgt_facade_mesh_frames(float *out_t, float *out_b, uint32_t *out_pair,
+                                  const pgt_facade_quads *m, pgt_error *err);
+
+/* One facade per quad (sec. 10.2): the quad's origin is its corner p with the smallest u + v
+ * (ties: the first in its list; the bottom left of Fig. 13 when the quad's UVs are a rectangle);
+ * facade space is p's: n the unit normal, t = t_F, b = n x t (t_F and b_F of eq. 6-7 are not
+ * orthogonal on a sheared parametrization; b_F only sets b's sign, and a b_F on the other side,
+ * mirrored UVs, is an error); the window is [u_p, u_p + w] x [v_p, v_p + h] with w and h of eq.
+ * 8 from p's two neighbours in the quad projected on p's tangent plane (eq. 5) (a w or h within
+ * float rounding, 1e-5 relative, of the quad's UV extent is that extent: UV-exact quads tile
+ * grammar space without slivers; a chord against its arc is far more), and the axiom's
+ * scope [0, scope_w] x [0, scope_h] (<= 0: the largest u_p + w, v_p + h over the quads). Every
+ * quad is a facade of building `building` of s (its grammar, params, seed, colour; protrusion
+ * and recess from its params), edge = quad index, axiom key pgt_facade_child_key(seed, 0).
+ * out: quad_count facades. Errors: those of pgt_facade_mesh_frames, a negative u or v, a quad
+ * with w or h below PGT_FACADE_MESH_MIN_SIZE, building out of range. */
+#define PGT_FACADE_MESH_MIN_SIZE 1e-5f
+pgt_result pgt_facade_mesh_facades(pgt_facade *out, const pgt_facade_quads *m,
+                                   const pgt_facade_scene *s, uint32_t building, float scope_w,
+                                   float scope_h, pgt_error *err);
 
 /* ---- camera and rays ---- */
 
@@ -248,7 +308,9 @@ void pgt_facade_camera_ray(const pgt_facade_camera *cam, uint32_t x, uint32_t y,
 /* ---- development ---- */
 
 /* The node key of child k of a node with key parent (a 32-bit hash). The axiom's key is
- * pgt_facade_child_key(building seed, facade index within its building). */
+ * pgt_facade_child_key(building seed, facade index within its building) for footprint facades
+ * and pgt_facade_child_key(building seed, 0) for every quad of a mesh (one facade: the same random
+ * layout whichever quad a ray meets, and the same as a footprint's first facade). */
 uint32_t pgt_facade_child_key(uint32_t parent, uint32_t k);
 
 /* Rectangles of a terminal in facade space: kind, its evaluated arguments, its scope
