@@ -508,9 +508,11 @@ static void group_boxes(const pgt_facade_quad *q, uint32_t n, float *groups) {
         for (int k = 0; k < 3; ++k) bx[k] = INFINITY, bx[3 + k] = -INFINITY;
         for (uint32_t i = g0; i < n && i < g0 + FACADE_QUAD_GROUP; ++i) {
             const uint32_t ax = q[i].axis, o0 = other[ax][0], o1 = other[ax][1];
-            bx[ax] = fminf(bx[ax], q[i].c), bx[3 + ax] = fmaxf(bx[3 + ax], q[i].c);
-            bx[o0] = fminf(bx[o0], q[i].lo[0]), bx[3 + o0] = fmaxf(bx[3 + o0], q[i].hi[0]);
-            bx[o1] = fminf(bx[o1], q[i].lo[1]), bx[3 + o1] = fmaxf(bx[3 + o1], q[i].hi[1]);
+            bx[ax] = facade_min(bx[ax], q[i].c), bx[3 + ax] = facade_max(bx[3 + ax], q[i].c);
+            bx[o0] = facade_min(bx[o0], q[i].lo[0]),
+            bx[3 + o0] = facade_max(bx[3 + o0], q[i].hi[0]);
+            bx[o1] = facade_min(bx[o1], q[i].lo[1]),
+            bx[3 + o1] = facade_max(bx[3 + o1], q[i].hi[1]);
         }
         for (int k = 0; k < 3; ++k) {
             const float grow = FACADE_GROUP_GROW * (1.0f + fabsf(bx[k]) + fabsf(bx[3 + k]));
@@ -542,6 +544,8 @@ typedef struct frame {
     uint32_t axis, next;
     int dir;
     float t_cur;
+    const facade_split_state *sp; /* the layout: &split, or a memo entry this frame pins */
+    facade_cache_split *pinned;   /* that memo entry, or NULL */
     facade_split_state split;
 } frame;
 
@@ -564,7 +568,7 @@ static uint32_t child_after_gap(const facade_split_state *st, float p, int dir) 
 }
 
 void facade_cache_clear(facade_cache *c) {
-    for (uint32_t k = 0; k < FACADE_CACHE_SPLITS; ++k) c->split[k].valid = 0;
+    for (uint32_t k = 0; k < FACADE_CACHE_SPLITS; ++k) c->split[k].valid = 0, c->split[k].pins = 0;
     for (uint32_t k = 0; k < FACADE_CACHE_TERMINALS; ++k) c->term[k].n = PGT_NONE;
 }
 
@@ -675,12 +679,13 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         if (fr->type == FR_SPLIT) {
             /* Algorithm 1's loop: the next child along the ray while inside the split's scope */
             if (best <= fr->t_cur || fr->t_cur >= fr->t_out || fr->next == PGT_NONE ||
-                fr->next >= fr->split.plan.child_count) {
+                fr->next >= fr->sp->plan.child_count) {
+                if (fr->pinned) fr->pinned->pins--;
                 --sp;
                 continue;
             }
             pgt_split_child ch;
-            pgt_split_child_get(&fr->split.plan, fr->split.slots, fr->next, &ch);
+            pgt_split_child_get(&fr->sp->plan, fr->sp->slots, fr->next, &ch);
             const uint32_t ax = fr->axis;
             const float o = ax == 0 ? fr->x0 : fr->y0;
             float t_near = fr->t_cur, t_far = fr->t_out;
@@ -693,7 +698,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             fr->t_cur = t_far > fr->t_cur ? t_far : fr->t_cur;
             const uint32_t cur = fr->next;
             fr->next = fr->dir > 0 ? cur + 1u : (cur == 0 ? PGT_NONE : cur - 1u);
-            const uint32_t seq = fr->split.seq[ch.part];
+            const uint32_t seq = fr->sp->seq[ch.part];
             if (seq == PGT_NONE || !(t_near <= t_far) || t_near >= best) continue;
             if (sp == PGT_FACADE_MAX_DEPTH) {
                 stats->errors |= PGT_FACADE_ERR_DEPTH;
@@ -852,15 +857,20 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
             cs = &cache->split[slot % FACADE_CACHE_SPLITS];
         }
+        /* the layout: a memo entry (pinned while this frame uses it, so no descendant evicts
+         * it), or computed into the entry when it is free, or into the frame */
         if (cs && cs->valid && key_equal(&cs->k, &ck)) {
-            memcpy(&nf->split, &cs->st, sizeof nf->split);
+            nf->sp = &cs->st, nf->pinned = cs, cs->pins++;
+        } else if (cs && cs->pins == 0) {
+            cs->valid = 0;
+            if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &cs->st))
+                break;
+            cs->valid = 1, cs->k = ck;
+            nf->sp = &cs->st, nf->pinned = cs, cs->pins++;
         } else {
             if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &nf->split))
                 break;
-            if (cs) {
-                memcpy(&cs->st, &nf->split, sizeof cs->st);
-                cs->valid = 1, cs->k = ck;
-            }
+            nf->sp = &nf->split, nf->pinned = NULL;
         }
         if (!tail) {
             ++sp;
@@ -876,10 +886,12 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         float p = a[ax] + fr->t_in * v[ax] - (ax == 0 ? fr->x0 : fr->y0);
         p = p < 0.0f ? 0.0f : (p > L ? L : p);
         pgt_split_child ch;
-        uint32_t k = pgt_split_child_at(&nf->split.plan, nf->split.slots, p, nf->dir, &ch);
-        if (k == PGT_NONE) k = child_after_gap(&nf->split, p, nf->dir);
+        uint32_t k = pgt_split_child_at(&nf->sp->plan, nf->sp->slots, p, nf->dir, &ch);
+        if (k == PGT_NONE) k = child_after_gap(nf->sp, p, nf->dir);
         nf->next = k;
     }
+    for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */
+        if (stack[i].type == FR_SPLIT && stack[i].pinned) stack[i].pinned->pins--;
     if (best_kind == 0) return 0;
     hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
     hit->surface = best_surface, hit->item = best_item;

@@ -8,6 +8,10 @@
 #include "pgt/grammar.h"
 #include "pgt/split.h"
 
+/* min and max of finite floats, inlined (libm's fminf/fmaxf are calls that handle NaN). */
+static inline float facade_min(float a, float b) { return a < b ? a : b; }
+static inline float facade_max(float a, float b) { return a > b ? a : b; }
+
 /* A split resolved for one scope: the plan, its slots and each flattened part's successor. */
 typedef struct facade_split_state {
     pgt_split_plan plan;
@@ -31,6 +35,7 @@ typedef struct facade_cache_key {
 typedef struct facade_cache_split {
     facade_cache_key k;
     uint32_t valid;
+    uint32_t pins; /* frames of the ray being developed that use it */
     facade_split_state st;
 } facade_cache_split;
 /* Rectangles per bounding box in a cached terminal (the window's 27 make 5 groups). */

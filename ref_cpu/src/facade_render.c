@@ -54,7 +54,7 @@ static float zscale_of(const pgt_facade_shading *sh, float d) {
     if (sh->detail != PGT_FACADE_DETAIL_LOD) return 1.0f;
     const float n = sh->thick_near > 0.0f ? sh->thick_near : PGT_FACADE_LOD_THICK_NEAR;
     const float f = sh->thick_far > 0.0f ? sh->thick_far : PGT_FACADE_LOD_THICK_FAR;
-    return fmaxf(ramp(d, n, f), LOD_ZSCALE_MIN);
+    return facade_max(ramp(d, n, f), LOD_ZSCALE_MIN);
 }
 
 pgt_result pgt_facade_frame_create(pgt_facade_frame *out, uint32_t width, uint32_t height,
@@ -123,7 +123,8 @@ int pgt_facade_coverage(const pgt_facade *f, const float eye[3], float corners[4
                             (k & 4) ? hi[2] : lo[2]};
         const float s = (c - e[a]) / (P[a] - e[a]);
         const float q0 = e[o0] + (P[o0] - e[o0]) * s, q1 = e[o1] + (P[o1] - e[o1]) * s;
-        mn0 = fminf(mn0, q0), mx0 = fmaxf(mx0, q0), mn1 = fminf(mn1, q1), mx1 = fmaxf(mx1, q1);
+        mn0 = facade_min(mn0, q0), mx0 = facade_max(mx0, q0), mn1 = facade_min(mn1, q1),
+        mx1 = facade_max(mx1, q1);
     }
     const float u0[4] = {mn0, mx0, mx0, mn0}, u1[4] = {mn1, mn1, mx1, mx1};
     for (int k = 0; k < 4; ++k) {
@@ -215,7 +216,8 @@ static void cover_facade(const render_ctx *c, uint32_t i) {
         /* inverse of pgt_facade_camera_ray: pixel-centre coordinates, x + 0.5 and y + 0.5 */
         const float px = (float)W * 0.5f + out[k][0] / out[k][2] * sxs;
         const float py = (float)H * 0.5f - out[k][1] / out[k][2] * sys;
-        mnx = fminf(mnx, px), mxx = fmaxf(mxx, px), mny = fminf(mny, py), mxy = fmaxf(mxy, py);
+        mnx = facade_min(mnx, px), mxx = facade_max(mxx, px), mny = facade_min(mny, py),
+        mxy = facade_max(mxy, py);
     }
     /* pixel (x, y) has its centre at (x + 0.5, y + 0.5) */
     const float fx0 = floorf(mnx - 0.5f - COVER_MARGIN_PX),
@@ -261,8 +263,8 @@ static void cover_roof(const render_ctx *c, uint32_t b) {
     const float sys = (float)H / (2.0f * cam->tan_half);
     for (uint32_t k = 0; k < B->corner_count; ++k) {
         const float P[3] = {cr[2 * k], y, cr[2 * k + 1]};
-        lo[0] = fminf(lo[0], P[0]), hi[0] = fmaxf(hi[0], P[0]);
-        lo[1] = fminf(lo[1], P[2]), hi[1] = fmaxf(hi[1], P[2]);
+        lo[0] = facade_min(lo[0], P[0]), hi[0] = facade_max(hi[0], P[0]);
+        lo[1] = facade_min(lo[1], P[2]), hi[1] = facade_max(hi[1], P[2]);
         float q[3];
         to_camera(cam, P, q);
         if (q[2] < COVER_NEAR) {
@@ -271,7 +273,8 @@ static void cover_roof(const render_ctx *c, uint32_t b) {
         }
         const float px = (float)W * 0.5f + q[0] / q[2] * sxs;
         const float py = (float)H * 0.5f - q[1] / q[2] * sys;
-        mnx = fminf(mnx, px), mxx = fmaxf(mxx, px), mny = fminf(mny, py), mxy = fmaxf(mxy, py);
+        mnx = facade_min(mnx, px), mxx = facade_max(mxx, px), mny = facade_min(mny, py),
+        mxy = facade_max(mxy, py);
     }
     const float dx = cam->eye[0] < lo[0]   ? lo[0] - cam->eye[0]
                      : cam->eye[0] > hi[0] ? cam->eye[0] - hi[0]
@@ -381,6 +384,17 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
         const uint32_t X0 = tx * TILE, Y0 = ty * TILE;
         const uint32_t X1 = X0 + TILE < W ? X0 + TILE : W, Y1 = Y0 + TILE < H ? Y0 + TILE : H;
         const uint32_t tw = X1 - X0;
+        if (c->tile_first[tile] == c->tile_first[tile + 1]) { /* nothing here: sky */
+            for (uint32_t y = Y0; y < Y1; ++y)
+                for (uint32_t x = X0; x < X1; ++x) {
+                    const size_t p = (size_t)y * W + x;
+                    fr->developed[p] = 0, fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
+                    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
+                    for (int j = 0; j < 3; ++j)
+                        fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
+                }
+            continue;
+        }
         for (uint32_t y = Y0; y < Y1; ++y)
             for (uint32_t x = X0; x < X1; ++x) {
                 const uint32_t k = (y - Y0) * tw + (x - X0);
