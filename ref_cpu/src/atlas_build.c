@@ -3,25 +3,19 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "atlas_internal.h"
 #include "pgt/parallel.h"
+#include "time_internal.h"
 
 void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_rows_fn fn,
                          void *ctx) {
     pgt_parallel_for_items(rows, width, threads, fn, ctx);
 }
 
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas_options *opt,
                            pgt_atlas_stats *out_stats, pgt_error *err) {
-    const double t_start = now_ms();
+    const double t_start = pgt_now_ms();
     static const pgt_atlas_options defaults = {0};
     if (!opt) opt = &defaults;
     memset(out, 0, sizeof(*out));
@@ -87,14 +81,14 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     int32_t *texel_chart = NULL;
     uint8_t *kind = NULL;
     float *normals = NULL;
-    double t = now_ms();
+    double t = pgt_now_ms();
     pgt_result r = atlas_charts_build(&charts, mesh, threads, what, err);
     if (r != PGT_OK) return r;
     st.charts = charts.chart_count;
     st.mirrored_charts = charts.mirrored;
     st.degenerate_faces = charts.degenerate_faces;
     st.degenerate_charts = charts.degenerate_charts;
-    st.ms_charts = now_ms() - t;
+    st.ms_charts = pgt_now_ms() - t;
 
     texel_chart = malloc(sizeof(int32_t) * (size_t)W * H);
     kind = malloc((size_t)W * H);
@@ -103,7 +97,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
                           H);
         goto done;
     }
-    t = now_ms();
+    t = pgt_now_ms();
     r = atlas_layout_build(&layout, mesh, &charts, W, H, band, opt->force_repack, threads, what,
                            err);
     if (r != PGT_OK) goto done;
@@ -120,9 +114,9 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
             if (r != PGT_OK) goto done;
         }
     }
-    st.ms_layout = now_ms() - t;
+    st.ms_layout = pgt_now_ms() - t;
 
-    t = now_ms();
+    t = pgt_now_ms();
     static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
     r = pgt_image_create(out, W, H, PGT_ATLAS_CHANNEL_COUNT, names, err);
     if (r != PGT_OK) goto done;
@@ -147,9 +141,9 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         for (uint32_t c = 0; c < charts.chart_count; ++c) st.empty_charts += !seen[c];
         free(seen);
     }
-    st.ms_raster = now_ms() - t;
+    st.ms_raster = pgt_now_ms() - t;
 
-    t = now_ms();
+    t = pgt_now_ms();
     atlas_pointer_counts pc;
     r = atlas_pointers(out, texel_chart, kind, dead_end, threads, &pc, err);
     if (r != PGT_OK) goto done;
@@ -158,12 +152,12 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.dead_end_texels = pc.dead_end;
     st.self_seam_pointers = pc.self_seam;
     st.texel_size = pc.texel_size;
-    st.ms_pointers = now_ms() - t;
+    st.ms_pointers = pgt_now_ms() - t;
 
-    t = now_ms();
+    t = pgt_now_ms();
     r = atlas_angles(out, texel_chart, kind, k, threads, err);
     if (r != PGT_OK) goto done;
-    st.ms_angles = now_ms() - t;
+    st.ms_angles = pgt_now_ms() - t;
 done:
     free(texel_chart);
     free(kind);
@@ -174,7 +168,7 @@ done:
         pgt_image_destroy(out);
         return r;
     }
-    st.ms_total = now_ms() - t_start;
+    st.ms_total = pgt_now_ms() - t_start;
     if (out_stats) *out_stats = st;
     return PGT_OK;
 }

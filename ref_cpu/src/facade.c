@@ -313,7 +313,7 @@ uint32_t facade_axiom_key(const pgt_facade_scene *s, const pgt_facade *f) {
 }
 
 /* Evaluates expression e of g for node `key`: rand draws (seed, key, counter++). */
-static int eval(const facade_ctx *c, uint32_t e, const float *args, uint32_t argc, uint32_t key,
+int facade_eval(const facade_ctx *c, uint32_t e, const float *args, uint32_t argc, uint32_t key,
                 uint64_t *counter, float *out) {
     const pgt_grammar_expr *x = &c->g->exprs[e];
     if (x->code_count == 1) { /* a number or a param: most split sizes and arguments */
@@ -342,7 +342,7 @@ uint32_t facade_select_case(const facade_ctx *c, uint32_t rule, const float *arg
         const pgt_grammar_case *cs = &c->g->cases[r->first_case + k];
         if (cs->condition == PGT_NONE) return cs->sequence;
         float v;
-        if (!eval(c, cs->condition, args, argc, key, &counter, &v)) return PGT_NONE;
+        if (!facade_eval(c, cs->condition, args, argc, key, &counter, &v)) return PGT_NONE;
         if (v != 0.0f) return cs->sequence;
     }
     return PGT_NONE; /* no case holds: nothing (CGA's NIL) */
@@ -352,7 +352,7 @@ int facade_call(const facade_ctx *c, const pgt_grammar_item *it, const float *ar
                 uint32_t key, float *out_args, uint32_t *out_seq) {
     uint64_t counter = 0;
     for (uint32_t k = 0; k < it->arg_count; ++k)
-        if (!eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &out_args[k]))
+        if (!facade_eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &out_args[k]))
             return 0;
     *out_seq = facade_select_case(c, it->target, out_args, it->arg_count, key);
     return 1;
@@ -364,7 +364,8 @@ uint32_t facade_terminal(const facade_ctx *c, const pgt_grammar_item *it, const 
     float v[PGT_GRAMMAR_MAX_RULE_PARAMS];
     uint64_t counter = 0;
     for (uint32_t k = 0; k < it->arg_count && k < PGT_GRAMMAR_MAX_RULE_PARAMS; ++k)
-        if (!eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &v[k])) return 0;
+        if (!facade_eval(c, c->g->args[it->first_arg + k], args, argc, key, &counter, &v[k]))
+            return 0;
     return pgt_facade_terminal_quads(pgt_facade_kind_of(it->target), v, it->arg_count, x0, y0, w, h,
                                      q);
 }
@@ -388,7 +389,7 @@ int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *a
             }
             const pgt_grammar_part *q = &g->parts[first + j];
             parts[n].kind = q->kind;
-            if (!eval(c, q->size, args, argc, key, &counter, &parts[n].size)) return 0;
+            if (!facade_eval(c, q->size, args, argc, key, &counter, &parts[n].size)) return 0;
             st->seq[n++] = q->sequence;
         }
     }
@@ -397,12 +398,13 @@ int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *a
 }
 
 /* Slab of the ray a + t v with [lo, hi] on one axis, intersected into [*t0, *t1]. */
-static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
+/* Slab of the ray a + t v with [lo, hi] on one axis (inv = 1 / v, precomputed by the caller
+ * where it tests many slabs), intersected into [*t0, *t1]; a parallel ray outside empties it. */
+static void slab_inv(float a, float v, float inv, float lo, float hi, float *t0, float *t1) {
     if (v == 0.0f) {
         if (a < lo || a > hi) *t0 = INFINITY, *t1 = -INFINITY;
         return;
     }
-    const float inv = 1.0f / v;
     float ta = (lo - a) * inv, tb = (hi - a) * inv;
     if (ta > tb) {
         const float s = ta;
@@ -410,6 +412,10 @@ static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
     }
     if (ta > *t0) *t0 = ta;
     if (tb < *t1) *t1 = tb;
+}
+
+static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
+    slab_inv(a, v, 1.0f / v, lo, hi, t0, t1);
 }
 
 /* A footprint facade's window is the whole facade and its b is +Y: then the mapping below is
@@ -424,6 +430,10 @@ void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3]
     }
     a[0] = f->u0 + dot3(d, f->t), a[1] = f->v0 + dot3(d, f->b), a[2] = dot3(d, f->n);
     v[0] = dot3(dir, f->t), v[1] = dot3(dir, f->b), v[2] = dot3(dir, f->n);
+}
+
+void facade_vector_to_world(const pgt_facade *f, const float v[3], float out[3]) {
+    for (int k = 0; k < 3; ++k) out[k] = v[0] * f->t[k] + v[1] * f->b[k] + v[2] * f->n[k];
 }
 
 void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
@@ -477,21 +487,8 @@ static uint32_t hit_quads_grouped(const pgt_facade_quad *q, uint32_t n, const fl
     for (uint32_t g0 = 0; g0 < n; g0 += FACADE_QUAD_GROUP) {
         const float *bx = groups + 6u * (g0 / FACADE_QUAD_GROUP);
         float t0 = 0.0f, t1 = *best;
-        int out = 0;
-        for (int k = 0; k < 3; ++k) {
-            if (v[k] == 0.0f) { /* parallel: inside the slab or not at all */
-                out |= a[k] < bx[k] || a[k] > bx[3 + k];
-                continue;
-            }
-            float ta = (bx[k] - a[k]) * inv[k], tb = (bx[3 + k] - a[k]) * inv[k];
-            if (ta > tb) {
-                const float tmp = ta;
-                ta = tb, tb = tmp;
-            }
-            if (ta > t0) t0 = ta;
-            if (tb < t1) t1 = tb;
-        }
-        if (out || !(t0 <= t1)) continue;
+        for (int k = 0; k < 3; ++k) slab_inv(a[k], v[k], inv[k], bx[k], bx[3 + k], &t0, &t1);
+        if (!(t0 <= t1)) continue;
         const uint32_t m = n - g0 < FACADE_QUAD_GROUP ? n - g0 : FACADE_QUAD_GROUP;
         const uint32_t k = hit_quads(q + g0, m, a, v, inv, win, off, best, tests);
         if (k != PGT_NONE) found = g0 + k;
@@ -622,6 +619,15 @@ static uint32_t cache_key(facade_cache_key *k, uint32_t building, uint32_t item,
     memcpy(&wb, &w, sizeof wb);
     memcpy(&hb, &h, sizeof hb);
     return pgt_facade_child_key(pgt_facade_child_key(building ^ item * 0x9E3779B9u, node ^ wb), hb);
+}
+
+/* The memo key of item `item` developed by frame scope (w, h, args) of facade f: the node key
+ * counts only when the item draws rand. Returns the slot hash. */
+static uint32_t memo_key(facade_cache_key *k, const facade_cache *cache, const pgt_facade *f,
+                         uint32_t grammar, uint32_t item, uint32_t node, float w, float h,
+                         const float *args, uint32_t argc) {
+    return cache_key(k, f->building, item, cache->draws[grammar][item] ? node : 0u, w, h, args,
+                     argc);
 }
 
 static int key_equal(const facade_cache_key *a, const facade_cache_key *b) {
@@ -759,7 +765,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 float id, nrm[3];
                 uint64_t counter = 0;
                 const float *td = NULL;
-                if (!eval(&c, g->args[it->first_arg], fr->args, fr->argc, key, &counter, &id))
+                if (!facade_eval(&c, g->args[it->first_arg], fr->args, fr->argc, key, &counter,
+                                 &id))
                     break;
                 uint32_t first = 0;
                 const uint32_t n = facade_gimage_triangles(s, id, &td, &first);
@@ -783,12 +790,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             uint32_t n;
             facade_cache_key ck;
             facade_cache_terminal *ce = NULL;
-            if (cache) {
-                const uint32_t node = cache->draws[B->grammar][item] ? key : 0u;
-                const uint32_t slot =
-                    cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
-                ce = &cache->term[slot % FACADE_CACHE_TERMINALS];
-            }
+            if (cache)
+                ce = &cache->term[memo_key(&ck, cache, f, B->grammar, item, key, fr->w, fr->h,
+                                           fr->args, fr->argc) %
+                                  FACADE_CACHE_TERMINALS];
             const float *groups = NULL;
             if (ce && ce->n != PGT_NONE && key_equal(&ce->k, &ck)) {
                 qs = ce->q, n = ce->n, surf = ce->surf, groups = ce->groups;
@@ -851,12 +856,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         const uint32_t ax = it->target, item = sq->first_item + pos;
         facade_cache_key ck;
         facade_cache_split *cs = NULL;
-        if (cache) {
-            const uint32_t node = cache->draws[B->grammar][item] ? key : 0u;
-            const uint32_t slot =
-                cache_key(&ck, f->building, item, node, fr->w, fr->h, fr->args, fr->argc);
-            cs = &cache->split[slot % FACADE_CACHE_SPLITS];
-        }
+        if (cache)
+            cs = &cache->split[memo_key(&ck, cache, f, B->grammar, item, key, fr->w, fr->h,
+                                        fr->args, fr->argc) %
+                               FACADE_CACHE_SPLITS];
         /* the layout: a memo entry (pinned while this frame uses it, so no descendant evicts
          * it), or computed into the entry when it is free, or into the frame */
         if (cs && cs->valid && key_equal(&cs->k, &ck)) {
@@ -896,8 +899,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
     hit->surface = best_surface, hit->item = best_item;
     if (best_axis == 3) { /* a geometry image's triangle */
-        for (int k = 0; k < 3; ++k)
-            hit->n[k] = best_n[0] * f->t[k] + best_n[1] * f->b[k] + best_n[2] * f->n[k];
+        facade_vector_to_world(f, best_n, hit->n);
     } else {
         const float *nrm = best_axis == 0 ? f->t : (best_axis == 1 ? f->b : f->n);
         hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];

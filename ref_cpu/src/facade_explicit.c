@@ -246,17 +246,12 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) {
                 float id;
                 uint64_t counter = 0;
-                pgt_grammar_env env;
-                memset(&env, 0, sizeof env);
-                env.seed = c.seed, env.stream = key, env.counter = &counter, env.params = c.params;
+                if (!facade_eval(&c, g->args[it->first_arg], fr->args, fr->argc, key, &counter,
+                                 &id))
+                    break;
                 const float *td = NULL;
-                uint32_t n = 0, first = 0;
-                if (pgt_grammar_eval(g, g->args[it->first_arg], fr->args, fr->argc, &env, &id,
-                                     &eerr) == PGT_OK)
-                    n = facade_gimage_triangles(s, id, &td, &first);
-                else
-                    st.errors |= PGT_FACADE_ERR_EVAL;
-                if (st.errors) break;
+                uint32_t first = 0;
+                const uint32_t n = facade_gimage_triangles(s, id, &td, &first);
                 if (n == 0)
                     return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
                                          "%s:%u:%u: building %u facade %u: Mesh(%g): the scene has "

@@ -175,5 +175,13 @@ static inline void facade_volume(const pgt_facade *f, float lo[3], float hi[3]) 
 void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
                      float v[3]);
 void facade_to_world(const pgt_facade *f, const float p[3], float out[3]);
+/* A facade-space direction (x along t, y along b, z along n) in the world. */
+void facade_vector_to_world(const pgt_facade *f, const float v[3], float out[3]);
+
+/* Evaluates expression e for node `key` of the facade of c (rand draws (seed, key, counter++));
+ * on failure or-s PGT_FACADE_ERR_EVAL into c->stats, keeps the first message in c->err and
+ * returns 0. */
+int facade_eval(const facade_ctx *c, uint32_t e, const float *args, uint32_t argc, uint32_t key,
+                uint64_t *counter, float *out);
 
 #endif

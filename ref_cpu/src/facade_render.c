@@ -168,19 +168,50 @@ static void to_camera(const pgt_facade_camera *cam, const float p[3], float out[
     out[0] = dot3(d, cam->right), out[1] = dot3(d, cam->upward), out[2] = dot3(d, cam->forward);
 }
 
-/* Distance from the eye to facade f's volume (0 inside). */
-static float volume_distance(const pgt_facade *f, const float eye[3]) {
-    static const float zero[3] = {0.0f, 0.0f, 0.0f};
-    float e[3], unused[3];
-    facade_to_local(f, eye, zero, e, unused);
-    float lo[3], hi[3];
-    facade_volume(f, lo, hi);
+/* Distance from point e to the box [lo, hi] (0 inside). */
+static float box_distance(const float e[3], const float lo[3], const float hi[3]) {
     float d2 = 0.0f;
     for (int k = 0; k < 3; ++k) {
         const float d = e[k] < lo[k] ? lo[k] - e[k] : (e[k] > hi[k] ? e[k] - hi[k] : 0.0f);
         d2 += d * d;
     }
     return sqrtf(d2);
+}
+
+/* Distance from the eye to facade f's volume (0 inside). */
+static float volume_distance(const pgt_facade *f, const float eye[3]) {
+    static const float zero[3] = {0.0f, 0.0f, 0.0f};
+    float e[3], unused[3], lo[3], hi[3];
+    facade_to_local(f, eye, zero, e, unused);
+    facade_volume(f, lo, hi);
+    return box_distance(e, lo, hi);
+}
+
+/* Grows the projected extent ext (min x, max x, min y, max y, in pixel-centre coordinates
+ * x + 0.5, y + 0.5) by camera-space point q in front of the eye: the inverse of
+ * pgt_facade_camera_ray. */
+static void extend_projected(const pgt_facade_camera *cam, const float q[3], float ext[4]) {
+    const float W = (float)cam->width, H = (float)cam->height;
+    const float sxs = W / (2.0f * cam->tan_half * (W / H)), sys = H / (2.0f * cam->tan_half);
+    const float px = W * 0.5f + q[0] / q[2] * sxs, py = H * 0.5f - q[1] / q[2] * sys;
+    ext[0] = facade_min(ext[0], px), ext[1] = facade_max(ext[1], px);
+    ext[2] = facade_min(ext[2], py), ext[3] = facade_max(ext[3], py);
+}
+
+/* cv's pixel box (inclusive, grown by COVER_MARGIN_PX) from a projected extent; 0 (cv untouched)
+ * when it misses the screen. */
+static int pixel_box(cover *cv, const pgt_facade_camera *cam, const float ext[4]) {
+    const uint32_t W = cam->width, H = cam->height;
+    const float fx0 = floorf(ext[0] - 0.5f - COVER_MARGIN_PX),
+                fx1 = ceilf(ext[1] - 0.5f + COVER_MARGIN_PX);
+    const float fy0 = floorf(ext[2] - 0.5f - COVER_MARGIN_PX),
+                fy1 = ceilf(ext[3] - 0.5f + COVER_MARGIN_PX);
+    if (!(fx1 >= 0.0f && fy1 >= 0.0f && fx0 <= (float)(W - 1u) && fy0 <= (float)(H - 1u))) return 0;
+    cv->x0 = fx0 < 0.0f ? 0u : (uint32_t)fx0;
+    cv->y0 = fy0 < 0.0f ? 0u : (uint32_t)fy0;
+    cv->x1 = fx1 > (float)(W - 1u) ? W - 1u : (uint32_t)fx1;
+    cv->y1 = fy1 > (float)(H - 1u) ? H - 1u : (uint32_t)fy1;
+    return 1;
 }
 
 static void cover_facade(const render_ctx *c, uint32_t i) {
@@ -209,26 +240,9 @@ static void cover_facade(const render_ctx *c, uint32_t i) {
         }
     }
     if (n < 3) return;
-    const float sxs = (float)W / (2.0f * cam->tan_half * ((float)W / (float)H));
-    const float sys = (float)H / (2.0f * cam->tan_half);
-    float mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
-    for (uint32_t k = 0; k < n; ++k) {
-        /* inverse of pgt_facade_camera_ray: pixel-centre coordinates, x + 0.5 and y + 0.5 */
-        const float px = (float)W * 0.5f + out[k][0] / out[k][2] * sxs;
-        const float py = (float)H * 0.5f - out[k][1] / out[k][2] * sys;
-        mnx = facade_min(mnx, px), mxx = facade_max(mxx, px), mny = facade_min(mny, py),
-        mxy = facade_max(mxy, py);
-    }
-    /* pixel (x, y) has its centre at (x + 0.5, y + 0.5) */
-    const float fx0 = floorf(mnx - 0.5f - COVER_MARGIN_PX),
-                fx1 = ceilf(mxx - 0.5f + COVER_MARGIN_PX);
-    const float fy0 = floorf(mny - 0.5f - COVER_MARGIN_PX),
-                fy1 = ceilf(mxy - 0.5f + COVER_MARGIN_PX);
-    if (!(fx1 >= 0.0f && fy1 >= 0.0f && fx0 <= (float)(W - 1u) && fy0 <= (float)(H - 1u))) return;
-    cv->x0 = fx0 < 0.0f ? 0u : (uint32_t)fx0;
-    cv->y0 = fy0 < 0.0f ? 0u : (uint32_t)fy0;
-    cv->x1 = fx1 > (float)(W - 1u) ? W - 1u : (uint32_t)fx1;
-    cv->y1 = fy1 > (float)(H - 1u) ? H - 1u : (uint32_t)fy1;
+    float ext[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+    for (uint32_t k = 0; k < n; ++k) extend_projected(cam, out[k], ext);
+    if (!pixel_box(cv, cam, ext)) return;
     /* the cone's sides, oriented so that the polygon's centre is inside */
     float d[4][3], ctr[3] = {0.0f, 0.0f, 0.0f};
     for (int k = 0; k < 4; ++k)
@@ -254,51 +268,28 @@ static void cover_roof(const render_ctx *c, uint32_t b) {
     const pgt_facade_camera *cam = c->cam;
     const pgt_facade_building *B = &c->s->buildings[b];
     const float *cr = c->s->corners + 2u * B->first_corner, y = B->base + B->height;
-    const uint32_t W = cam->width, H = cam->height;
     memset(cv, 0, sizeof *cv);
-    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    float mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
+    float lo[3] = {INFINITY, y, INFINITY}, hi[3] = {-INFINITY, y, -INFINITY};
+    float ext[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
     int behind = 0;
-    const float sxs = (float)W / (2.0f * cam->tan_half * ((float)W / (float)H));
-    const float sys = (float)H / (2.0f * cam->tan_half);
     for (uint32_t k = 0; k < B->corner_count; ++k) {
         const float P[3] = {cr[2 * k], y, cr[2 * k + 1]};
         lo[0] = facade_min(lo[0], P[0]), hi[0] = facade_max(hi[0], P[0]);
-        lo[1] = facade_min(lo[1], P[2]), hi[1] = facade_max(hi[1], P[2]);
+        lo[2] = facade_min(lo[2], P[2]), hi[2] = facade_max(hi[2], P[2]);
         float q[3];
         to_camera(cam, P, q);
-        if (q[2] < COVER_NEAR) {
+        if (q[2] < COVER_NEAR)
             behind = 1;
-            continue;
-        }
-        const float px = (float)W * 0.5f + q[0] / q[2] * sxs;
-        const float py = (float)H * 0.5f - q[1] / q[2] * sys;
-        mnx = facade_min(mnx, px), mxx = facade_max(mxx, px), mny = facade_min(mny, py),
-        mxy = facade_max(mxy, py);
+        else
+            extend_projected(cam, q, ext);
     }
-    const float dx = cam->eye[0] < lo[0]   ? lo[0] - cam->eye[0]
-                     : cam->eye[0] > hi[0] ? cam->eye[0] - hi[0]
-                                           : 0.0f;
-    const float dz = cam->eye[2] < lo[1]   ? lo[1] - cam->eye[2]
-                     : cam->eye[2] > hi[1] ? cam->eye[2] - hi[1]
-                                           : 0.0f;
-    const float dy = cam->eye[1] - y;
-    cv->dist = sqrtf(dx * dx + dy * dy + dz * dz);
+    cv->dist = box_distance(cam->eye, lo, hi);
     cv->full = 1; /* the roof test itself is exact: no cone */
     if (behind) {
-        cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = W - 1u, cv->y1 = H - 1u;
+        cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = cam->width - 1u, cv->y1 = cam->height - 1u;
         return;
     }
-    const float fx0 = floorf(mnx - 0.5f - COVER_MARGIN_PX),
-                fx1 = ceilf(mxx - 0.5f + COVER_MARGIN_PX);
-    const float fy0 = floorf(mny - 0.5f - COVER_MARGIN_PX),
-                fy1 = ceilf(mxy - 0.5f + COVER_MARGIN_PX);
-    if (!(fx1 >= 0.0f && fy1 >= 0.0f && fx0 <= (float)(W - 1u) && fy0 <= (float)(H - 1u))) return;
-    cv->x0 = fx0 < 0.0f ? 0u : (uint32_t)fx0;
-    cv->y0 = fy0 < 0.0f ? 0u : (uint32_t)fy0;
-    cv->x1 = fx1 > (float)(W - 1u) ? W - 1u : (uint32_t)fx1;
-    cv->y1 = fy1 > (float)(H - 1u) ? H - 1u : (uint32_t)fy1;
-    cv->n = 1;
+    if (pixel_box(cv, cam, ext)) cv->n = 1;
 }
 
 static void cover_range(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
@@ -368,6 +359,13 @@ static albedo_rgb albedo(const pgt_facade_scene *sc, uint32_t kind, uint32_t sur
 /* Sky colour of a missed pixel (linear). */
 static const float SKY[3] = {0.62f, 0.74f, 0.88f};
 
+/* Pixel p of the frame sees nothing. */
+static void write_sky(pgt_facade_frame *fr, size_t p) {
+    fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
+    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
+    for (int j = 0; j < 3; ++j) fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
+}
+
 static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
     const render_ctx *c = vc;
     const pgt_facade_camera *cam = c->cam;
@@ -387,11 +385,8 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
         if (c->tile_first[tile] == c->tile_first[tile + 1]) { /* nothing here: sky */
             for (uint32_t y = Y0; y < Y1; ++y)
                 for (uint32_t x = X0; x < X1; ++x) {
-                    const size_t p = (size_t)y * W + x;
-                    fr->developed[p] = 0, fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
-                    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
-                    for (int j = 0; j < 3; ++j)
-                        fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
+                    fr->developed[(size_t)y * W + x] = 0;
+                    write_sky(fr, (size_t)y * W + x);
                 }
             continue;
         }
@@ -432,20 +427,20 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 const pgt_facade_hit *h = &hits[k];
                 fr->developed[p] = dev[k];
                 if (h->facade == PGT_NONE) {
-                    fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
-                    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
-                    for (int j = 0; j < 3; ++j)
-                        fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
+                    write_sky(fr, p);
                     continue;
                 }
                 const pgt_facade_shading *sh = c->sh;
+                /* the hit point and the unit direction towards the light */
+                float P[3], L[3];
+                for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
+                for (int j = 0; j < 3; ++j) L[j] = sh->light[j] - P[j];
+                const float dl = sqrtf(dot3(L, L));
+                if (dl > 0.0f)
+                    for (int j = 0; j < 3; ++j) L[j] /= dl;
                 if (h->kind == PGT_FACADE_ROOF) { /* flat grey, lit by the light, unshadowed */
-                    float P[3], L[3];
-                    for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
-                    for (int j = 0; j < 3; ++j) L[j] = sh->light[j] - P[j];
-                    const float dl = sqrtf(dot3(L, L));
                     const float ny = dirs[k][1] > 0.0f ? -1.0f : 1.0f;
-                    const float diffuse = dl > 0.0f && L[1] * ny > 0.0f ? L[1] * ny / dl : 0.0f;
+                    const float diffuse = dl > 0.0f && L[1] * ny > 0.0f ? L[1] * ny : 0.0f;
                     const float light = sh->ambient + (1.0f - sh->ambient) * diffuse;
                     for (int j = 0; j < 3; ++j) fr->rgb[3 * p + j] = ROOF_ALBEDO * light;
                     fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
@@ -458,12 +453,6 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 const float zs = zscale_of(sh, c->cov[h->facade].dist);
                 float n[3] = {h->n[0], h->n[1], h->n[2]};
                 if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
-                float P[3], L[3];
-                for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];
-                for (int j = 0; j < 3; ++j) L[j] = sh->light[j] - P[j];
-                const float dl = sqrtf(dot3(L, L));
-                if (dl > 0.0f)
-                    for (int j = 0; j < 3; ++j) L[j] /= dl;
                 /* terminal space detail (6.3): the pattern always, normal and relief mapping by
                  * detail level */
                 facade_detail_in din;
@@ -488,9 +477,10 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 din.relief_shadows = sh->shadows;
                 facade_detail_out dout;
                 facade_detail(&din, &dout);
-                if (din.normal > 0.0f || din.relief > 0.0f)
+                if (din.normal > 0.0f || din.relief > 0.0f) {
                     for (int j = 0; j < 3; ++j) n[j] = dout.n[0] * f->t[j] + dout.n[2] * f->n[j];
-                if (din.normal > 0.0f || din.relief > 0.0f) n[1] += dout.n[1];
+                    n[1] += dout.n[1];
+                }
                 float diffuse = dl > 0.0f ? dot3(n, L) : 0.0f;
                 if (diffuse > 0.0f && dout.shadowed) diffuse = 0.0f;
                 if (diffuse > 0.0f && sh->shadows) {
