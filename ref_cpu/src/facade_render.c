@@ -313,7 +313,7 @@ static int inside(const cover *cv, const float d[3]) {
 
 /* The normal axis (0 x, 1 y, 2 z of facade space) of the rectangle with world normal n. */
 static uint32_t axis_of(const float n[3], const pgt_facade *f) {
-    if (n[1] == 1.0f && n[0] == 0.0f && n[2] == 0.0f) return 1u;
+    if (fabsf(dot3(n, f->b)) > 0.5f) return 1u;
     return fabsf(dot3(n, f->t)) > 0.5f ? 0u : 2u;
 }
 
@@ -477,10 +477,12 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 din.relief_shadows = sh->shadows;
                 facade_detail_out dout;
                 facade_detail(&din, &dout);
-                if (din.normal > 0.0f || din.relief > 0.0f) {
-                    for (int j = 0; j < 3; ++j) n[j] = dout.n[0] * f->t[j] + dout.n[2] * f->n[j];
-                    n[1] += dout.n[1];
-                }
+                /* the detail normal replaces the geometric one only where a material has relief
+                 * (a smooth rectangle's would be the same; a geometry image's triangle is not
+                 * axis-aligned); facade space to the world with the facade's own b (a quad of a
+                 * generic mesh is not vertical) */
+                if (din.material != FACADE_MAT_NONE && (din.normal > 0.0f || din.relief > 0.0f))
+                    facade_vector_to_world(f, dout.n, n);
                 float diffuse = dl > 0.0f ? dot3(n, L) : 0.0f;
                 if (diffuse > 0.0f && dout.shadowed) diffuse = 0.0f;
                 if (diffuse > 0.0f && sh->shadows) {
