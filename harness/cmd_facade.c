@@ -168,11 +168,9 @@ static int parse_args(int argc, char **argv, facade_args *a) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             uint32_t d = 0;
             while (d < 5 && strcmp(v, names[d])) ++d;
-            if (d == 5) {
-                fprintf(stderr, "%s: --detail %s: expected geometry, flat, normal, relief or lod\n",
-                        verb, v);
-                return PGT_EXIT_USAGE;
-            }
+            if (d == 5)
+                return pgt_cli_fail(
+                    verb, "--detail %s: expected geometry, flat, normal, relief or lod", v);
             a->detail = d;
         } else if (!strcmp(s, "--embree-check")) {
             a->embree_check = 1;
@@ -224,14 +222,16 @@ static int parse_args(int argc, char **argv, facade_args *a) {
 
 /* Message of a PGT_FACADE_ERR_* set. */
 static void ray_errors(uint32_t bits, char *buf, size_t size) {
-    static const char *what[5] = {
+    static const char *what[6] = {
         "the development stack was full (PGT_FACADE_MAX_DEPTH)",
         "a ray developed more than PGT_FACADE_NODE_BUDGET nodes (rules that never split?)",
-        "an expression gave NaN or infinity", "a split has more than PGT_FACADE_MAX_PARTS parts",
-        "an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z))"};
+        "an expression gave NaN or infinity",
+        "a split has more than PGT_FACADE_MAX_PARTS parts",
+        "an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z))",
+        "Mesh(id) names no geometry image of the scene, or stands on a generic mesh's quad"};
     size_t n = 0;
     buf[0] = '\0';
-    for (int b = 0; b < 5; ++b)
+    for (int b = 0; b < 6; ++b)
         if (bits & (1u << b))
             n += (size_t)snprintf(buf + n, n < size ? size - n : 0, "%s%s", n ? "; " : "", what[b]);
 }

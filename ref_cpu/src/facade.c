@@ -758,7 +758,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             stats->terminals++;
             const uint32_t item = sq->first_item + pos;
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH && !whole) {
-                stats->errors |= PGT_FACADE_ERR_ITEM; /* not clipped to a quad's window */
+                stats->errors |= PGT_FACADE_ERR_GIMAGE; /* not clipped to a quad's window */
                 break;
             }
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
@@ -771,7 +771,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 uint32_t first = 0;
                 const uint32_t n = facade_gimage_triangles(s, id, &td, &first);
                 if (n == 0) {
-                    stats->errors |= PGT_FACADE_ERR_ITEM;
+                    stats->errors |= PGT_FACADE_ERR_GIMAGE;
                     break;
                 }
                 stats->quads += n;

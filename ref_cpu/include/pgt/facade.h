@@ -110,8 +110,11 @@ typedef enum pgt_facade_kind {
 #define PGT_FACADE_ERR_BUDGET 2u /* PGT_FACADE_NODE_BUDGET reached */
 #define PGT_FACADE_ERR_EVAL 4u   /* an expression gave NaN/inf or read what it may not */
 #define PGT_FACADE_ERR_PARTS 8u  /* a split with more than PGT_FACADE_MAX_PARTS parts */
-#define PGT_FACADE_ERR_ITEM                                                                        \
-    16u /* an item a facade cannot hold (Marching, Branch, Bark, split(z)) */
+/* an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z)) */
+#define PGT_FACADE_ERR_ITEM 16u
+/* Mesh(id) names no geometry image of the scene, or stands on a generic mesh's quad (geometry
+ * images are not clipped to a quad's window) */
+#define PGT_FACADE_ERR_GIMAGE 32u
 
 /* One building: an extruded footprint. */
 typedef struct pgt_facade_building {
