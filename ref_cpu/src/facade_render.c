@@ -519,10 +519,30 @@ typedef struct order_key {
     uint32_t index;
 } order_key;
 
-static int by_distance(const void *a, const void *b) {
-    const order_key *x = a, *y = b;
-    if (x->dist != y->dist) return x->dist < y->dist ? -1 : 1;
-    return x->index < y->index ? -1 : (x->index > y->index);
+/* The bits of a float (not NaN) as an unsigned number that orders like the float. */
+static uint32_t order_bits(float d) {
+    d += 0.0f; /* -0 to +0: they compare equal */
+    uint32_t u;
+    memcpy(&u, &d, sizeof u);
+    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+}
+
+/* Sorts keys[0 .. n) by distance, ties by index (keys come in index order): an LSD radix sort
+ * on the float's bits turned into an unsigned order (negative floats flipped whole, positive ones
+ * their sign bit set; -0 added to 0 first), stable, so equal distances keep index order. qsort
+ * with a comparison callback was 1.5 ms of a 10K-facade frame, serial. tmp holds n keys. */
+static void sort_by_distance(order_key *keys, order_key *tmp, uint32_t n) {
+    order_key *src = keys, *dst = tmp;
+    for (uint32_t shift = 0; shift < 32; shift += 8) {
+        uint32_t count[257] = {0};
+        for (uint32_t i = 0; i < n; ++i) count[(order_bits(src[i].dist) >> shift & 255u) + 1u]++;
+        for (uint32_t b = 0; b < 256; ++b) count[b + 1] += count[b];
+        for (uint32_t i = 0; i < n; ++i)
+            dst[count[order_bits(src[i].dist) >> shift & 255u]++] = src[i];
+        order_key *t = src;
+        src = dst, dst = t;
+    }
+    /* four passes: the result is back in keys */
 }
 
 pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facades,
@@ -566,14 +586,14 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
         goto done;
     }
     pgt_parallel_for(prims, threads, cover_range, &c);
-    order_key *keys = malloc((size_t)(prims ? prims : 1) * sizeof *keys);
+    order_key *keys = malloc(2u * (size_t)(prims ? prims : 1) * sizeof *keys);
     if (!keys) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
         goto done;
     }
     for (uint32_t i = 0; i < prims; ++i)
         if (c.cov[i].n) keys[c.visible].dist = c.cov[i].dist, keys[c.visible++].index = i;
-    qsort(keys, c.visible, sizeof *keys, by_distance);
+    sort_by_distance(keys, keys + (prims ? prims : 1), c.visible);
     for (uint32_t v = 0; v < c.visible; ++v) c.order[v] = keys[v].index;
     free(keys);
     /* bin into tiles, near to far */
