@@ -228,7 +228,7 @@ static void ray_errors(uint32_t bits, char *buf, size_t size) {
         "an expression gave NaN or infinity",
         "a split has more than PGT_FACADE_MAX_PARTS parts",
         "an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z))",
-        "Mesh(id) names no geometry image of the scene, or stands on a generic mesh's quad"};
+        "Mesh(id) names no geometry image of the scene"};
     size_t n = 0;
     buf[0] = '\0';
     for (int b = 0; b < 6; ++b)

@@ -609,6 +609,8 @@ pgt_result pgt_facade_file_mesh(pgt_facade_file *out, const char *grammar_path, 
         B->base = isfinite(ylo) ? ylo : 0.0f;
         B->height = isfinite(yhi) && yhi > ylo ? yhi - ylo : 1.0f;
         B->seed = seed, B->colour = PGT_FACADE_MESH_COLOUR;
+        /* the built-in geometry images, as for cities and scene files (Mesh(0) is the oculus) */
+        r = pgt_facade_add_builtin_gimages(s, err);
     }
     if (r != PGT_OK) pgt_facade_file_free(out);
     return r;

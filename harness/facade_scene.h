@@ -99,7 +99,8 @@ void pgt_facade_box_light(const float lo[3], const float hi[3], float light[3]);
 /* The scene of pgt facade --mesh (paper 003 sec. 10): the grammar at grammar_path (named
  * "mesh") and one building without footprint (its facades come from the quads of m,
  * pgt_facade_mesh_facades): the grammar's param values, seed, wall colour
- * PGT_FACADE_MESH_COLOUR, base and height the mesh's extent in y. On failure *out is freed. */
+ * PGT_FACADE_MESH_COLOUR, base and height the mesh's extent in y; the built-in geometry images
+ * (pgt_facade_add_builtin_gimages: Mesh(0) is the oculus). On failure *out is freed. */
 #define PGT_FACADE_MESH_COLOUR 0xD8C8B0u
 pgt_result pgt_facade_file_mesh(pgt_facade_file *out, const char *grammar_path, uint32_t seed,
                                 const pgt_facade_quads *m, pgt_error *err);

@@ -417,6 +417,9 @@ grep -q "^tower 102 vertices 80 quads tower.obj" out.txt && ok datasets_tower_co
 expect facade_mesh 0 "$pgt" facade --mesh tower.obj -o tower.exr --width 64 --height 48 --threads 2 --embree-check
 grep -q "^scene: mesh of 80 quads, 102 vertices: 80 facades" out.txt && grep -q "^check: .* -> PASS" out.txt \
   && ok facade_mesh_prints || bad facade_mesh_prints "$(cat out.txt)"
+# geometry-image terminals (Mesh(0)) on the quads: clipped to each quad's window, Embree agrees
+expect facade_mesh_gimage 0 "$pgt" facade --mesh tower.obj --grammar "$src/grammars/facade_gimage.grammar" -o tower_gi.exr --width 64 --height 48 --threads 2 --embree-check
+grep -q "^check: .* -> PASS" out.txt && ok facade_mesh_gimage_check || bad facade_mesh_gimage_check "$(cat out.txt)"
 printf 'v 0 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n' >tri.obj
 expect facade_mesh_triangle 2 "$pgt" facade --mesh tri.obj -o x.exr
 one_line facade_mesh_triangle_one_line "tri.obj:4: a face of 3 corners"

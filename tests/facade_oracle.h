@@ -128,11 +128,13 @@ static int same_point(const float *a, const float *b) {
 }
 
 /* Distance from point X to the boundary of surface (facade, node, surface) of the explicit mesh:
- * every edge of its triangles except those two of them share (a rectangle's diagonal). */
+ * every edge of its triangles except those two of them share (a rectangle's diagonal, or a
+ * diagonal of the fan of a geometry-image triangle clipped to a mesh quad's window: up to 5
+ * pieces, whose border on the window's edge counts as an edge). */
 static double rect_edge_distance(const pgt_facade_mesh *m, uint32_t facade, uint32_t node,
                                  uint32_t surface, const double X[3]) {
-    uint32_t tris[4], n = 0;
-    for (uint32_t t = 0; t < m->triangle_count && n < 4; ++t)
+    uint32_t tris[8], n = 0;
+    for (uint32_t t = 0; t < m->triangle_count && n < 8; ++t)
         if (m->facade[t] == facade && m->node[t] == node && m->surface[t] == surface) tris[n++] = t;
     double best = INFINITY;
     for (uint32_t a = 0; a < n; ++a)

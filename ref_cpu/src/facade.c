@@ -757,10 +757,6 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             }
             stats->terminals++;
             const uint32_t item = sq->first_item + pos;
-            if (it->target == PGT_GRAMMAR_TERMINAL_MESH && !whole) {
-                stats->errors |= PGT_FACADE_ERR_GIMAGE; /* not clipped to a quad's window */
-                break;
-            }
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
                 float id, nrm[3];
                 uint64_t counter = 0;
@@ -776,7 +772,13 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 }
                 stats->quads += n;
                 const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
-                const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, v, &best, nrm);
+                float win[4], off[2]; /* a mesh quad's window cuts the triangles (sec. 10) */
+                if (!whole) {
+                    win[0] = f->u0, win[1] = f->v0, win[2] = f->u0 + f->width;
+                    win[3] = f->v0 + f->height, off[0] = fr->x0, off[1] = fr->y0;
+                }
+                const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, v, whole ? NULL : win,
+                                                     off, &best, nrm);
                 if (k != PGT_NONE) {
                     best_kind = PGT_FACADE_MESH, best_surface = first + k, best_key = key;
                     best_item = item, best_axis = 3u;

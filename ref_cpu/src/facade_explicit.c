@@ -1,8 +1,11 @@
 /* pgt: explicit generation of facades (issue 6 item 8): the grammar of every facade developed
- * completely, every terminal's rectangles turned into two world-space triangles each. The same
+ * completely, every terminal's rectangles turned into two world-space triangles each and every
+ * geometry image's triangles copied (on a generic mesh's quad, both clipped to the quad's window
+ * in grammar space, paper 003 sec. 10, as the ray test cuts its hits there). The same
  * evaluation helpers as the ray development (facade_internal.h), so the two see the same split
  * layouts, the same random draws (keyed by node) and the same rectangles; only the order of the
  * traversal differs (every child, depth first, explicit stack). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -134,11 +137,53 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
     return PGT_OK;
 }
 
-/* Appends the triangles of a geometry image on the scope [x0, x0 + w] x [y0, y0 + h]. */
+/* Corners of a geometry-image triangle clipped to a window (sec. 10): 3, plus at most one per
+ * clipping line for a convex polygon; the buffers hold more so that a polygon that rounding makes
+ * slightly non-convex cannot overflow them (corners past the buffer are dropped). */
+#define GIMAGE_CLIP_CORNERS 16u
+
+/* One Sutherland-Hodgman step: the part of the convex polygon p[0 .. n) (facade space) with
+ * coordinate `axis` >= c (side > 0) or <= c (side < 0) into out; returns its corner count. A
+ * crossing corner is interpolated in double and put exactly on the line, so a clipped piece's
+ * border is the window's border, where the ray test's window check cuts. */
+static uint32_t clip_line(float (*out)[3], const float (*p)[3], uint32_t n, uint32_t axis, float c,
+                          int side) {
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const float *S = p[(i + n - 1u) % n], *E = p[i];
+        const int s_in = side > 0 ? S[axis] >= c : S[axis] <= c;
+        const int e_in = side > 0 ? E[axis] >= c : E[axis] <= c;
+        if (s_in != e_in && m < GIMAGE_CLIP_CORNERS) {
+            const double r = ((double)c - S[axis]) / ((double)E[axis] - S[axis]);
+            for (uint32_t k = 0; k < 3; ++k)
+                out[m][k] = (float)((double)S[k] + r * ((double)E[k] - S[k]));
+            out[m++][axis] = c;
+        }
+        if (e_in && m < GIMAGE_CLIP_CORNERS) memcpy(out[m++], E, 3 * sizeof(float));
+    }
+    return m;
+}
+
+/* Twice the area of triangle a b c (facade space, double): 0 for a piece without area. */
+static double piece_area2(const float *a, const float *b, const float *c) {
+    const double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
+    const double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
+    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                 z = e1[0] * e2[1] - e1[1] * e2[0];
+    return sqrt(x * x + y * y + z * z);
+}
+
+/* Appends the triangles of a geometry image on the scope [x0, x0 + w] x [y0, y0 + h]. On a mesh
+ * quad (a window that is not the whole facade, sec. 10) each triangle is clipped to the window
+ * in x and y (Sutherland-Hodgman against its 4 lines), the convex rest fanned into triangles and
+ * pieces of zero area dropped; every piece keeps the triangle's ids (surface = its index in the
+ * scene's geometry image). */
 static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_grammar *g,
                               const pgt_grammar_item *it, uint32_t key, const float *td, uint32_t n,
                               uint32_t first, float x0, float y0, float w, float h,
                               pgt_error *err) {
+    const int whole = facade_is_whole(f);
+    const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
     for (uint32_t k = 0; k < n; ++k) {
         const float *T = td + 9u * k;
         for (int c = 0; c < 3; ++c)
@@ -150,21 +195,38 @@ static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const 
                                      gfile(g), it->line, it->col, f->building, f->edge, k,
                                      (double)T[3 * c + 2], -(double)f->recess,
                                      (double)f->protrusion);
-        if (x->m->triangle_count + 1u > FACADE_MAX_TRIANGLES)
-            return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
-                                 FACADE_MAX_TRIANGLES);
-        if (!reserve(x, 3, 1))
-            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit facades: out of memory");
-        pgt_facade_mesh *m = x->m;
-        const uint32_t v0 = m->vertex_count, ti = m->triangle_count++;
+        float poly[GIMAGE_CLIP_CORNERS][3], tmp[GIMAGE_CLIP_CORNERS][3];
         for (int c = 0; c < 3; ++c) {
-            const float p[3] = {x0 + T[3 * c] * w, y0 + T[3 * c + 1] * h, T[3 * c + 2]};
-            facade_to_world(f, p, &m->positions[3u * (v0 + (uint32_t)c)]);
-            m->indices[3u * ti + (uint32_t)c] = v0 + (uint32_t)c;
+            poly[c][0] = x0 + T[3 * c] * w, poly[c][1] = y0 + T[3 * c + 1] * h;
+            poly[c][2] = T[3 * c + 2];
         }
-        m->vertex_count += 3;
-        m->facade[ti] = fi, m->node[ti] = key, m->kind[ti] = PGT_FACADE_MESH,
-        m->surface[ti] = first + k;
+        uint32_t m = 3;
+        if (!whole) {
+            m = clip_line(tmp, (const float(*)[3])poly, m, 0, win[0], 1);
+            m = clip_line(poly, (const float(*)[3])tmp, m, 0, win[2], -1);
+            m = clip_line(tmp, (const float(*)[3])poly, m, 1, win[1], 1);
+            m = clip_line(poly, (const float(*)[3])tmp, m, 1, win[3], -1);
+        }
+        for (uint32_t p = 1; p + 1u < m; ++p) {
+            if (!whole && piece_area2(poly[0], poly[p], poly[p + 1u]) == 0.0) continue;
+            if (x->m->triangle_count + 1u > FACADE_MAX_TRIANGLES)
+                return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                     "explicit facades: more than %u triangles",
+                                     FACADE_MAX_TRIANGLES);
+            if (!reserve(x, 3, 1))
+                return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
+                                     "explicit facades: out of memory");
+            pgt_facade_mesh *me = x->m;
+            const uint32_t v0 = me->vertex_count, ti = me->triangle_count++;
+            const uint32_t corner[3] = {0, p, p + 1u};
+            for (uint32_t c = 0; c < 3; ++c) {
+                facade_to_world(f, poly[corner[c]], &me->positions[3u * (v0 + c)]);
+                me->indices[3u * ti + c] = v0 + c;
+            }
+            me->vertex_count += 3;
+            me->facade[ti] = fi, me->node[ti] = key, me->kind[ti] = PGT_FACADE_MESH,
+            me->surface[ti] = first + k;
+        }
     }
     return PGT_OK;
 }
@@ -237,12 +299,6 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
                 st.errors |= PGT_FACADE_ERR_ITEM;
                 break;
             }
-            if (it->target == PGT_GRAMMAR_TERMINAL_MESH && !facade_is_whole(f))
-                return pgt_error_set(err, PGT_ERROR_UNSUPPORTED,
-                                     "%s:%u:%u: building %u facade %u: Mesh terminals are not "
-                                     "clipped to the quads of a generic mesh (facades on meshes "
-                                     "take the parametric terminals)",
-                                     gfile(g), it->line, it->col, f->building, f->edge);
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) {
                 float id;
                 uint64_t counter = 0;

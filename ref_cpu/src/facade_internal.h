@@ -104,9 +104,12 @@ uint32_t facade_triangulate(const float *corners, uint32_t n, uint32_t *tris, ui
 uint32_t facade_gimage_triangles(const pgt_facade_scene *s, float id, const float **data,
                                  uint32_t *first);
 /* Nearest triangle of d[0 .. n) (x, y scaled by w, h) hit at t in [0, *best) by the block-local
- * ray a + t v; writes its unit normal (facade space, not turned). PGT_NONE if none. */
+ * ray a + t v; writes its unit normal (facade space, not turned). PGT_NONE if none. win (NULL:
+ * no test) is a mesh quad's window (x0, y0, x1, y1) in facade space and off the block's corner
+ * there: hits outside the window are dropped (another quad shows them). */
 uint32_t facade_gimage_hit(const float *d, uint32_t n, float w, float h, const float a[3],
-                           const float v[3], float *best, float nrm[3]);
+                           const float v[3], const float *win, const float off[2], float *best,
+                           float nrm[3]);
 
 /* ---- terminal space detail (facade_shade.c) ---- */
 

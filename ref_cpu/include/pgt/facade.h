@@ -112,8 +112,8 @@ typedef enum pgt_facade_kind {
 #define PGT_FACADE_ERR_PARTS 8u  /* a split with more than PGT_FACADE_MAX_PARTS parts */
 /* an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z)) */
 #define PGT_FACADE_ERR_ITEM 16u
-/* Mesh(id) names no geometry image of the scene, or stands on a generic mesh's quad (geometry
- * images are not clipped to a quad's window) */
+/* Mesh(id) names no geometry image of the scene (on a generic mesh's quad its triangles are cut
+ * to the quad's window like every terminal, not refused) */
 #define PGT_FACADE_ERR_GIMAGE 32u
 
 /* One building: an extruded footprint. */
@@ -166,7 +166,9 @@ typedef enum pgt_facade_gimage_role {
  * pgt_facade_scene_destroy frees them):
  *   oculus: a round window block of 352 triangles (facade_gimage.c): a wall with a circular
  *   opening, a protruding frame ring (6 cm), a cylindrical reveal and glass recessed 15 cm.
- * pgt_gen_city and the scene-file reader add them, so Mesh(0) is the oculus. */
+ * pgt_gen_city and the scene readers call this, so Mesh(0) is the oculus. Only a scene whose
+ * grammars (s->grammars, set before the call) have a Mesh terminal gets them: a scene carries no
+ * data it does not use, and its procedural bytes say so. */
 #define PGT_FACADE_GIMAGE_OCULUS 0u
 pgt_result pgt_facade_add_builtin_gimages(pgt_facade_scene *s, pgt_error *err);
 
@@ -438,8 +440,11 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
 /* ---- explicit geometry (issue 6 item 8) ---- */
 
 /* Every terminal of every facade instantiated as triangles (two per rectangle, in world
- * space, corners computed from the same facade-space rectangles the ray test uses), with per
- * triangle ids to compare hits. */
+ * space, corners computed from the same facade-space rectangles the ray test uses; a geometry
+ * image's triangles as they are), with per triangle ids to compare hits. On a generic mesh's quad
+ * everything is clipped to the quad's window in x and y: rectangles stay rectangles, a geometry
+ * image's triangle becomes the fan of its clipped convex polygon (up to 5 pieces, zero-area
+ * pieces dropped), each piece with the triangle's ids. */
 typedef struct pgt_facade_mesh {
     uint32_t vertex_count, triangle_count;
     float *positions;  /* 3 * vertex_count */
