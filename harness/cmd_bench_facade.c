@@ -28,10 +28,12 @@ static const char *bench_facade_usage =
     "\n"
     "Renders generated cities (pgt facade --city) from the default aerial camera and traces\n"
     "exactly the same rays with Embree on the explicit twin (pgt facade --embree-check), on\n"
-    "the same threads. Per city x resolution: one warm-up, then F timed frames of ours\n"
-    "(coverage + rays + shading) and of Embree in both packet and stream modes (trace only;\n"
-    "its BVH build is a column apart); medians, Mrays/s, bytes of both, agreement. A progress\n"
-    "line per row; rows of the paper's city (10K facades, 1280x720, GTX 480) as source=paper.\n"
+    "the same threads. Per city x resolution: one warm-up, then F timed rounds, each: ours\n"
+    "shaded (coverage + rays + shading), ours hits only (the same rays and development, no\n"
+    "shading: what a ray caster returns), Embree in packet and in stream mode (rays + stored\n"
+    "hits; its BVH build is a column apart); medians, Mrays/s, ours / Embree (hits only, the\n"
+    "same work; and shaded), bytes of both, agreement. A progress line per row; rows of the\n"
+    "paper's city (10K facades, 1280x720, GTX 480) as source=paper.\n"
     "\n"
     "  --out FILE       CSV to write (default results/facade.csv; temporary file + rename)\n"
     "  --buildings LIST comma-separated building counts (default 25,250,2500: ~100, ~1000 and\n"
@@ -108,7 +110,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     if (quick && !have_frames) frames = 2;
     if (quick && !have_buildings) nb = 2;
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
-    double *ms = malloc(3u * frames * sizeof(double));
+    double *ms = malloc(5u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");
     char tmp[4200];
     FILE *csv = pgt_cli_table_open(out_path,
@@ -125,10 +127,15 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
             "(pgt facade --help); %u threads for both\n",
             frames, seed, grammar, threads);
     fprintf(csv, "# ours: pgt_facade_render (coverage polygons, ray development, shading; "
-                 "ms_cover apart); Embree 3: BVH of the explicit twin (pgt_facade_explicit, "
+                 "ms_cover apart): ms, ours_mrays; the same without shading (hits_only: depth, "
+                 "ids and normal per pixel, what Embree's rays return): trace_ms, "
+                 "ours_trace_mrays; Embree 3: BVH of the explicit twin (pgt_facade_explicit, "
                  "build quality high) built once per city (embree_build_ms), rays of "
                  "pgt_facade_camera_ray as rtcIntersect16 4x4 packets and rtcIntersect1M "
-                 "coherent streams; embree_mrays = the faster mode's\n");
+                 "coherent streams, hits stored per pixel; embree_mrays = the faster mode's; "
+                 "ours_over_embree = ours_trace_mrays / embree_mrays (the same work), "
+                 "shaded_over_embree = ours_mrays / embree_mrays; the four are timed in turn "
+                 "frame after frame, so load on the shared machine falls on all alike\n");
     fprintf(csv, "# bytes: procedural = pgt_facade_scene_bytes (buildings, footprints, params, "
                  "grammars; facades_bytes = the derived facade array, apart); explicit = the "
                  "twin's arrays (positions, indices, per-triangle ids); embree = its reported "
@@ -143,8 +150,9 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "ours_mrays,embree_mrays,embree_mode,embree_packets_mrays,embree_streams_mrays,"
                  "ours_over_embree,embree_build_ms,procedural_bytes,facades_bytes,"
                  "explicit_triangles,explicit_bytes,embree_bytes,memory_ratio,agreement_pct,"
-                 "disagreements,near_edge,nodes_per_ray\n");
-    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,\n", PAPER_FACADES,
+                 "disagreements,near_edge,nodes_per_ray,trace_ms,ours_trace_mrays,"
+                 "shaded_over_embree\n");
+    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,,,,\n", PAPER_FACADES,
             PAPER_MS, 1280.0 * 720.0 / (PAPER_MS * 1e3), PAPER_PROCEDURAL_BYTES,
             PAPER_EXPLICIT_BYTES, PAPER_EXPLICIT_BYTES / PAPER_PROCEDURAL_BYTES);
     int failures = 0;
@@ -187,19 +195,27 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                 failures++;
                 goto next_res;
             }
-            double *cover = ms + frames, *theirs = ms + 2u * frames, mode_med[2] = {0, 0};
+            /* per frame in turn: ours shaded, ours hits only, Embree packets, Embree streams
+             * (the first round a warm-up) */
+            double *cover = ms + frames, *trace = ms + 2u * frames;
+            double *theirs[2] = {ms + 3u * frames, ms + 4u * frames};
+            pgt_facade_shading bare = sh;
+            bare.hits_only = 1;
+            pgt_facade_render_stats bst;
             int bad = 0;
             for (uint32_t f = 0; f <= frames && !bad; ++f) {
-                bad = pgt_facade_render(s, facades, fc, &cam, &sh, threads, &frame, &st, &err) !=
+                bad = pgt_facade_render(s, facades, fc, &cam, &bare, threads, &frame, &bst, &err) !=
                       PGT_OK;
-                if (f) ms[f - 1] = st.ms_total, cover[f - 1] = st.ms_cover;
-            }
-            for (uint32_t m = 0; m < 2 && !bad; ++m) {
-                for (uint32_t f = 0; f <= frames && !bad; ++f)
+                if (!bad && f) trace[f - 1] = bst.ms_total;
+                bad = bad || pgt_facade_render(s, facades, fc, &cam, &sh, threads, &frame, &st,
+                                               &err) != PGT_OK;
+                if (!bad && f) ms[f - 1] = st.ms_total, cover[f - 1] = st.ms_cover;
+                for (uint32_t m = 0; m < 2 && !bad; ++m)
                     bad = pgt_facade_embree_trace(&eb, &cam, (pgt_facade_embree_mode)m, &hits,
-                                                  &theirs[f ? f - 1 : 0], &err) != PGT_OK;
-                mode_med[m] = pgt_cli_median(theirs, frames);
+                                                  &theirs[m][f ? f - 1 : 0], &err) != PGT_OK;
             }
+            const double mode_med[2] = {bad ? 0.0 : pgt_cli_median(theirs[0], frames),
+                                        bad ? 0.0 : pgt_cli_median(theirs[1], frames)};
             if (bad || st.rays.errors) {
                 pgt_cli_fail(verb, "facade: %s", bad ? err.message : "the grammar failed");
                 failures++;
@@ -211,26 +227,29 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
             const double med = pgt_cli_median(ms, frames), best = pgt_cli_min(ms, frames);
             const uint32_t fast = mode_med[1] < mode_med[0] ? 1u : 0u;
             const double ours_mr = pixels / (med * 1e3), emb_mr = pixels / (mode_med[fast] * 1e3);
+            const double trace_med = pgt_cli_median(trace, frames);
+            const double trace_mr = pixels / (trace_med * 1e3);
             fprintf(csv,
                     "ours,%u,%u,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%.3f,%.3f,%.3f,%.0f,%zu,"
-                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f\n",
+                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f,%.3f,%.3f,%.3f\n",
                     buildings[c], fc, rw[r], rh[r], threads, frames, med, best,
                     pgt_cli_median(cover, frames), ours_mr, emb_mr, fast ? "streams" : "packets",
-                    pixels / (mode_med[0] * 1e3), pixels / (mode_med[1] * 1e3), ours_mr / emb_mr,
+                    pixels / (mode_med[0] * 1e3), pixels / (mode_med[1] * 1e3), trace_mr / emb_mr,
                     eb.build_ms, proc, (size_t)fc * sizeof(pgt_facade), mesh.triangle_count,
                     pgt_facade_mesh_bytes(&mesh), ebytes, (double)ebytes / (double)proc,
                     chk.agreement_pct, (unsigned long long)chk.disagree,
                     (unsigned long long)chk.near_edge,
-                    st.rays.volume_hits ? (double)st.rays.nodes / (double)st.rays.volume_hits
-                                        : 0.0);
+                    st.rays.volume_hits ? (double)st.rays.nodes / (double)st.rays.volume_hits : 0.0,
+                    trace_med, trace_mr, ours_mr / emb_mr);
             fflush(csv);
             fprintf(stderr,
-                    "pgt bench facade: %u facades, %ux%u, %u threads: ours %.1f ms (%.2f "
-                    "Mrays/s), Embree %.2f Mrays/s (%s; BVH %.0f ms), %.2fx; %zu vs %zu bytes "
-                    "(%.0fx); agreement %.4f %%\n",
-                    fc, rw[r], rh[r], threads, med, ours_mr, emb_mr, fast ? "streams" : "packets",
-                    eb.build_ms, ours_mr / emb_mr, proc, ebytes, (double)ebytes / (double)proc,
-                    chk.agreement_pct);
+                    "pgt bench facade: %u facades, %ux%u, %u threads: ours %.1f ms shaded "
+                    "(%.2f Mrays/s), %.1f ms hits only (%.2f Mrays/s); Embree %.2f Mrays/s (%s; "
+                    "BVH %.0f ms); ours / Embree %.2fx (shaded %.2fx); %zu vs %zu bytes (%.0fx); "
+                    "agreement %.4f %%\n",
+                    fc, rw[r], rh[r], threads, med, ours_mr, trace_med, trace_mr, emb_mr,
+                    fast ? "streams" : "packets", eb.build_ms, trace_mr / emb_mr, ours_mr / emb_mr,
+                    proc, ebytes, (double)ebytes / (double)proc, chk.agreement_pct);
         next_res:
             pgt_facade_embree_hits_destroy(&hits);
             pgt_facade_frame_destroy(&frame);

@@ -7,7 +7,8 @@ Three panels against the number of facades (log x), one line per resolution: ms 
 (median, log; ours solid, the fastest of ours as a tick), Mrays/s of ours and of Embree on the
 explicit twin, same rays and threads (the faster of its two modes), and the bytes of the
 procedural representation against Embree's (BVH + buffers) and the explicit twin's arrays
-(log). The paper's row (source=paper: 10K facades, 1280x720 on a GTX 480, ~650 KB vs ~400 MB)
+(log). Mrays/s: ours without shading (ours_trace_mrays: the same work as Embree's rays, hits
+stored per pixel) solid, ours shaded dotted, when the CSV has both. The paper's row (source=paper: 10K facades, 1280x720 on a GTX 480, ~650 KB vs ~400 MB)
 is drawn as a star in each panel where it has a number, and the issue's 143 ms target (7 fps)
 is dashed. Footnote: machine, commit and date of the CSV's header. Writes OUT_PREFIX.png
 (200 dpi) and OUT_PREFIX.pdf; on stdout the ours / Embree speed and memory ratios per row. Bad
@@ -76,6 +77,7 @@ def read(path):
             if k not in ("width", "height"):
                 r[k] = num(row, k, path, ln)
         r["ms_min"] = num(row, "ms_min", path, ln)
+        r["ours_trace_mrays"] = num(row, "ours_trace_mrays", path, ln)
         if r["facades"] is None:
             die(f"{path}:{ln}: no facades")
         (paper if r["source"] == "paper" else ours).append(r)
@@ -100,7 +102,10 @@ def main(argv):
         mins = [(r["facades"], r["ms_min"]) for r in rows if r["ms_min"]]
         if mins:
             a_ms.plot(*zip(*mins), "_", color=c, markersize=10)
-        for key, style, who in (("ours_mrays", "-o", "ours"), ("embree_mrays", "--s", "Embree")):
+        traced = any(r["ours_trace_mrays"] for r in rows)
+        for key, style, who in (("ours_trace_mrays", "-o", "ours, hits only"),
+                                ("ours_mrays", ":.", "ours, shaded" if traced else "ours"),
+                                ("embree_mrays", "--s", "Embree")):
             pts = [(r["facades"], r[key]) for r in rows if r[key]]
             if pts:
                 a_mr.plot(*zip(*pts), style, color=c, label=f"{who} {res}")
@@ -150,14 +155,16 @@ def main(argv):
         fig.savefig(out + ".pdf")
     except OSError as e:
         die(f"{out}: {e.strerror}")
-    print(f"{'facades':>8} {'res':>10} {'ms':>9} {'ours Mr/s':>9} {'Embree':>8} "
-          f"{'ours/Embree':>11} {'Embree/ours bytes':>17}")
+    print(f"{'facades':>8} {'res':>10} {'ms':>9} {'ours Mr/s':>9} {'hits only':>9} "
+          f"{'Embree':>8} {'ours/Embree':>11} {'Embree/ours bytes':>17}")
     for r in sorted(ours, key=lambda r: (r["res"], r["facades"])):
-        sp = r["ours_mrays"] / r["embree_mrays"] if r["ours_mrays"] and r["embree_mrays"] else 0
+        mine = r["ours_trace_mrays"] or r["ours_mrays"]
+        sp = mine / r["embree_mrays"] if mine and r["embree_mrays"] else 0
         mem = r["embree_bytes"] / r["procedural_bytes"] if r["embree_bytes"] and \
             r["procedural_bytes"] else 0
         print(f"{r['facades']:8.0f} {r['res']:>10} {r['ms'] or 0:9.1f} "
-              f"{r['ours_mrays'] or 0:9.2f} {r['embree_mrays'] or 0:8.2f} {sp:11.2f} {mem:17.0f}")
+              f"{r['ours_mrays'] or 0:9.2f} {r['ours_trace_mrays'] or 0:9.2f} "
+              f"{r['embree_mrays'] or 0:8.2f} {sp:11.2f} {mem:17.0f}")
 
 
 if __name__ == "__main__":

@@ -231,6 +231,28 @@ static void test_threads_same_frame(void) {
     CHECK(memcmp(a.depth, b.depth, n * sizeof(float)) == 0);
     CHECK(memcmp(a.facade, b.facade, n * sizeof(uint32_t)) == 0);
     CHECK(s1.rays.nodes == s2.rays.nodes && s1.rays.errors == 0);
+    /* hits only (what pgt bench facade times against Embree): the same rays, development and
+     * hits, no colour */
+    pgt_facade_frame c;
+    REQUIRE(pgt_facade_frame_create(&c, 80, 60, &err) == PGT_OK);
+    pgt_facade_shading bare = sh;
+    bare.hits_only = 1;
+    pgt_facade_render_stats s3;
+    CHECK(pgt_facade_render(&s, fa, fc, &cam, &bare, 2, &c, &s3, &err) == PGT_OK);
+    CHECK(memcmp(a.depth, c.depth, n * sizeof(float)) == 0);
+    CHECK(memcmp(a.terminal, c.terminal, n * sizeof(float)) == 0);
+    CHECK(memcmp(a.normal, c.normal, 3 * n * sizeof(float)) == 0);
+    CHECK(memcmp(a.facade, c.facade, n * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(a.node, c.node, n * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(a.surface, c.surface, n * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(a.developed, c.developed, n * sizeof(uint32_t)) == 0);
+    CHECK(s3.rays.nodes == s1.rays.nodes && s3.rays.quads == s1.rays.quads);
+    uint32_t black = 0;
+    for (size_t p = 0; p < n; ++p)
+        black += c.facade[p] == PGT_NONE ||
+                 (c.rgb[3 * p] == 0.0f && c.rgb[3 * p + 1] == 0.0f && c.rgb[3 * p + 2] == 0.0f);
+    CHECK(black == n);
+    pgt_facade_frame_destroy(&c);
     /* the frame's memo (split layouts, terminal rectangles, rule chains) changes nothing: every
      * pixel's nearest hit over all facades without it, by pgt_facade_intersect, is the same */
     uint32_t same = 0;

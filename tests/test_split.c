@@ -82,6 +82,25 @@ static void check_split(const char *what, const pgt_split_part *parts, uint32_t 
         CHECK_MSG(pgt_split_child_at(&plan, slots, got[k].end, -1, &c) == k,
                   "%s: child_at(end of %u, -1)", what, k);
     }
+    if (n <= 64) { /* pgt_split_flat_at on the layout answers as pgt_split_child_at */
+        float fs[64], fe[64];
+        pgt_split_child cc;
+        for (uint32_t k = 0; k < n; ++k) fs[k] = got[k].start, fe[k] = got[k].end;
+        const float probes[] = {-0.001f, 0.0f, 0.5f * length, length, length + 0.001f, NAN};
+        for (int dir = -1; dir <= 1; dir += 2) {
+            for (uint32_t k = 0; k < n; ++k)
+                for (int e = 0; e < 3; ++e) {
+                    const float t = e == 0 ? fs[k] : (e == 1 ? fe[k] : 0.5f * (fs[k] + fe[k]));
+                    CHECK_MSG(pgt_split_flat_at(fs, fe, n, t, dir) ==
+                                  pgt_split_child_at(&plan, slots, t, dir, &cc),
+                              "%s: flat_at(%g, %d) differs from child_at", what, t, dir);
+                }
+            for (uint32_t i = 0; i < COUNT(probes); ++i)
+                CHECK_MSG(pgt_split_flat_at(fs, fe, n, probes[i], dir) ==
+                              pgt_split_child_at(&plan, slots, probes[i], dir, &cc),
+                          "%s: flat_at(%g, %d) differs from child_at", what, probes[i], dir);
+        }
+    }
     pgt_split_child c;
     CHECK(pgt_split_child_get(&plan, slots, n, &c) == PGT_NONE);
     CHECK(pgt_split_child_at(&plan, slots, -0.001f, 1, &c) == PGT_NONE);
@@ -467,14 +486,20 @@ static uint32_t brute_child_at(const pgt_split_child *c, uint32_t n, float t, in
     return (direction >= 0 ? c[lo].start <= t : c[lo].start < t) ? lo : PGT_NONE;
 }
 
+/* pgt_split_child_at and pgt_split_flat_at (on the layout's starts and ends in fs, fe) against
+ * brute_child_at. */
 static void check_query(const pgt_split_plan *plan, const pgt_split_slot *slots,
-                        const pgt_split_child *c, uint32_t n, float t, uint32_t trial) {
+                        const pgt_split_child *c, const float *fs, const float *fe, uint32_t n,
+                        float t, uint32_t trial) {
     for (int dir = -1; dir <= 1; dir += 2) {
         pgt_split_child got;
         const uint32_t want_k = brute_child_at(c, n, t, dir);
         const uint32_t k = pgt_split_child_at(plan, slots, t, dir, &got);
         CHECK_MSG(k == want_k, "trial %u: child_at(%.9g, %d) = %u, the layout says %u", trial, t,
                   dir, k, want_k);
+        const uint32_t kf = pgt_split_flat_at(fs, fe, n, t, dir);
+        CHECK_MSG(kf == want_k, "trial %u: flat_at(%.9g, %d) = %u, the layout says %u", trial, t,
+                  dir, kf, want_k);
         if (k == want_k && k != PGT_NONE)
             CHECK_MSG(same_child(&got, &c[k]), "trial %u: child_at(%.9g) fields", trial, t);
     }
@@ -571,18 +596,24 @@ static void test_property_random_layouts(void) {
 
         /* child_at against the layout: random coordinates, then every child's ends and the
          * floats just beside them (at most 64 children, spread over the layout). */
+        float *fs = malloc(2u * ((size_t)n + 1u) * sizeof *fs), *fe = fs ? fs + n + 1u : NULL;
+        REQUIRE(fs);
+        for (uint32_t k = 0; k < n; ++k) fs[k] = c[k].start, fe[k] = c[k].end;
         const float span = length > 0.0f ? length : 1.0f;
         for (uint32_t s = 0; s < 64; ++s)
-            check_query(&plan, slots, c, n, uniform(&r, -0.05f * span, 1.05f * span), trial);
+            check_query(&plan, slots, c, fs, fe, n, uniform(&r, -0.05f * span, 1.05f * span),
+                        trial);
+        check_query(&plan, slots, c, fs, fe, n, NAN, trial);
         const uint32_t step = n > 64 ? n / 64 : 1;
         for (uint32_t k = 0; k < n; k += step) {
             const float ends[2] = {c[k].start, c[k].end};
             for (int e = 0; e < 2; ++e) {
-                check_query(&plan, slots, c, n, ends[e], trial);
-                check_query(&plan, slots, c, n, nextafterf(ends[e], -INFINITY), trial);
-                check_query(&plan, slots, c, n, nextafterf(ends[e], INFINITY), trial);
+                check_query(&plan, slots, c, fs, fe, n, ends[e], trial);
+                check_query(&plan, slots, c, fs, fe, n, nextafterf(ends[e], -INFINITY), trial);
+                check_query(&plan, slots, c, fs, fe, n, nextafterf(ends[e], INFINITY), trial);
             }
         }
+        free(fs);
         free(c);
     }
     printf("  %u random splits (%u with a repeat group, %u empty, %u too big to materialise), up "

@@ -542,19 +542,45 @@ typedef struct frame {
     int dir;
     float t_cur;
     const facade_split_state *sp; /* the layout: &split, or a memo entry this frame pins */
+    const facade_split_flat *fl;  /* its children as flat arrays, or NULL */
     facade_cache_split *pinned;   /* that memo entry, or NULL */
     facade_split_state split;
 } frame;
 
+/* Child k of a frame's split (k < child_count): from the flat arrays when it has them. */
+static void split_child(const frame *fr, uint32_t k, pgt_split_child *ch) {
+    if (fr->fl) {
+        ch->start = fr->fl->start[k], ch->end = fr->fl->end[k], ch->part = fr->fl->part[k];
+        ch->repetition = 0; /* not kept flat: unused here */
+        return;
+    }
+    pgt_split_child_get(&fr->sp->plan, fr->sp->slots, k, ch);
+}
+
+/* Fills a memo entry's flat children (its first reuse). */
+static void flatten(facade_cache_split *cs) {
+    const uint32_t n = cs->st.plan.child_count;
+    if (n > FACADE_FLAT_CHILDREN) {
+        cs->flat.state = FACADE_FLAT_TOO_MANY;
+        return;
+    }
+    for (uint32_t k = 0; k < n; ++k) {
+        pgt_split_child ch;
+        pgt_split_child_get(&cs->st.plan, cs->st.slots, k, &ch);
+        cs->flat.start[k] = ch.start, cs->flat.end[k] = ch.end, cs->flat.part[k] = (uint8_t)ch.part;
+    }
+    cs->flat.state = FACADE_FLAT_READY;
+}
+
 /* The child of a split after a gap at local coordinate p in direction dir: the first child
  * ending after p (dir > 0) or the last starting before p (dir < 0); PGT_NONE if none. */
-static uint32_t child_after_gap(const facade_split_state *st, float p, int dir) {
-    const uint32_t n = st->plan.child_count;
+static uint32_t child_after_gap(const frame *fr, float p, int dir) {
+    const uint32_t n = fr->sp->plan.child_count;
     uint32_t lo = 0, hi = n; /* dir > 0: first k with end > p; dir < 0: last k with start < p */
     pgt_split_child ch;
     while (lo < hi) {
         const uint32_t mid = lo + (hi - lo) / 2u;
-        pgt_split_child_get(&st->plan, st->slots, mid, &ch);
+        split_child(fr, mid, &ch);
         if (dir > 0 ? ch.end > p : !(ch.start < p))
             hi = mid;
         else
@@ -691,7 +717,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 continue;
             }
             pgt_split_child ch;
-            pgt_split_child_get(&fr->sp->plan, fr->sp->slots, fr->next, &ch);
+            split_child(fr, fr->next, &ch);
             const uint32_t ax = fr->axis;
             const float o = ax == 0 ? fr->x0 : fr->y0;
             float t_near = fr->t_cur, t_far = fr->t_out;
@@ -865,17 +891,19 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         /* the layout: a memo entry (pinned while this frame uses it, so no descendant evicts
          * it), or computed into the entry when it is free, or into the frame */
         if (cs && cs->valid && key_equal(&cs->k, &ck)) {
+            if (cs->flat.state == FACADE_FLAT_UNKNOWN) flatten(cs);
             nf->sp = &cs->st, nf->pinned = cs, cs->pins++;
+            nf->fl = cs->flat.state == FACADE_FLAT_READY ? &cs->flat : NULL;
         } else if (cs && cs->pins == 0) {
             cs->valid = 0;
             if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &cs->st))
                 break;
-            cs->valid = 1, cs->k = ck;
-            nf->sp = &cs->st, nf->pinned = cs, cs->pins++;
+            cs->valid = 1, cs->k = ck, cs->flat.state = FACADE_FLAT_UNKNOWN;
+            nf->sp = &cs->st, nf->pinned = cs, cs->pins++, nf->fl = NULL;
         } else {
             if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &nf->split))
                 break;
-            nf->sp = &nf->split, nf->pinned = NULL;
+            nf->sp = &nf->split, nf->pinned = NULL, nf->fl = NULL;
         }
         if (!tail) {
             ++sp;
@@ -891,8 +919,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         float p = a[ax] + fr->t_in * v[ax] - (ax == 0 ? fr->x0 : fr->y0);
         p = p < 0.0f ? 0.0f : (p > L ? L : p);
         pgt_split_child ch;
-        uint32_t k = pgt_split_child_at(&nf->sp->plan, nf->sp->slots, p, nf->dir, &ch);
-        if (k == PGT_NONE) k = child_after_gap(nf->sp, p, nf->dir);
+        uint32_t k = nf->fl ? pgt_split_flat_at(nf->fl->start, nf->fl->end,
+                                                nf->sp->plan.child_count, p, nf->dir)
+                            : pgt_split_child_at(&nf->sp->plan, nf->sp->slots, p, nf->dir, &ch);
+        if (k == PGT_NONE) k = child_after_gap(nf, p, nf->dir);
         nf->next = k;
     }
     for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */

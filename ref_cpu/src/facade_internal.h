@@ -32,11 +32,22 @@ typedef struct facade_cache_key {
     float w, h;                         /* the scope (a split's length is w or h by axis) */
     float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
 } facade_cache_key;
+/* A memo entry's children as flat arrays (pgt_split_flat_at), made when the memo first reuses
+ * it, so a layout used once costs nothing more: child k is [start[k], end[k]) of part part[k],
+ * the bits of pgt_split_child_get. Splits of more children keep the plan's queries. */
+#define FACADE_FLAT_CHILDREN 32u
+enum { FACADE_FLAT_UNKNOWN = 0, FACADE_FLAT_READY = 1, FACADE_FLAT_TOO_MANY = 2 };
+typedef struct facade_split_flat {
+    uint32_t state; /* FACADE_FLAT_* */
+    float start[FACADE_FLAT_CHILDREN], end[FACADE_FLAT_CHILDREN];
+    uint8_t part[FACADE_FLAT_CHILDREN];
+} facade_split_flat;
 typedef struct facade_cache_split {
     facade_cache_key k;
     uint32_t valid;
     uint32_t pins; /* frames of the ray being developed that use it */
     facade_split_state st;
+    facade_split_flat flat;
 } facade_cache_split;
 /* Rectangles per bounding box in a cached terminal (the window's 27 make 5 groups). */
 #define FACADE_QUAD_GROUP 6u

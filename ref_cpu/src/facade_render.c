@@ -431,6 +431,15 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                     continue;
                 }
                 const pgt_facade_shading *sh = c->sh;
+                if (sh->hits_only) {
+                    float n[3] = {h->n[0], h->n[1], h->n[2]};
+                    if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+                    for (int j = 0; j < 3; ++j)
+                        fr->rgb[3 * p + j] = 0.0f, fr->normal[3 * p + j] = n[j];
+                    fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
+                    fr->facade[p] = h->facade, fr->node[p] = h->node, fr->surface[p] = h->surface;
+                    continue;
+                }
                 /* the hit point and the unit direction towards the light */
                 float P[3], L[3];
                 for (int j = 0; j < 3; ++j) P[j] = cam->eye[j] + h->t * dirs[k][j];

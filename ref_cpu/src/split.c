@@ -365,3 +365,19 @@ uint32_t pgt_split_child_at(const pgt_split_plan *plan, const pgt_split_slot *sl
     out->repetition = rep;
     return offset + slots[k].rank;
 }
+
+uint32_t pgt_split_flat_at(const float *start, const float *end, uint32_t n, float t,
+                           int direction) {
+    /* the first child ending after t (direction >= 0) or at or after t (< 0); children are
+     * ordered and do not overlap, so only it can hold t. NaN fails every comparison: none. */
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2u;
+        if (direction >= 0 ? end[mid] > t : end[mid] >= t)
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    if (lo == n) return PGT_NONE;
+    return (direction >= 0 ? start[lo] <= t : start[lo] < t) ? lo : PGT_NONE;
+}

@@ -176,6 +176,13 @@ uint32_t pgt_split_child_get(const pgt_split_plan *plan, const pgt_split_slot *s
 uint32_t pgt_split_child_at(const pgt_split_plan *plan, const pgt_split_slot *slots, float t,
                             int direction, pgt_split_child *out);
 
+/* pgt_split_child_at on children already materialised (start[k], end[k] of child k, as
+ * pgt_split_layout or pgt_split_child_get give them, n of them): the same index for every t and
+ * direction (tests/test_split.c checks both against the layout). A binary search over n; for a
+ * caller that queries one split many times. */
+uint32_t pgt_split_flat_at(const float *start, const float *end, uint32_t n, float t,
+                           int direction);
+
 #ifdef __cplusplus
 }
 #endif
