@@ -420,16 +420,22 @@ static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
 
 /* A footprint facade's window is the whole facade and its b is +Y: then the mapping below is
  * the one footprint facades always had (y straight from the world's, no offsets), bit for bit. */
-void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
-                     float v[3]) {
+/* facade_to_local knowing whole = facade_is_whole(f), which costs ten comparisons. */
+static void to_local(const pgt_facade *f, int whole, const float org[3], const float dir[3],
+                     float a[3], float v[3]) {
     const float d[3] = {org[0] - f->origin[0], org[1] - f->origin[1], org[2] - f->origin[2]};
-    if (facade_is_whole(f)) {
+    if (whole) {
         a[0] = dot3(d, f->t), a[1] = d[1], a[2] = dot3(d, f->n);
         v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
         return;
     }
     a[0] = f->u0 + dot3(d, f->t), a[1] = f->v0 + dot3(d, f->b), a[2] = dot3(d, f->n);
     v[0] = dot3(dir, f->t), v[1] = dot3(dir, f->b), v[2] = dot3(dir, f->n);
+}
+
+void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
+                     float v[3]) {
+    to_local(f, facade_is_whole(f), org, dir, a, v);
 }
 
 void facade_vector_to_world(const pgt_facade *f, const float v[3], float out[3]) {
@@ -678,10 +684,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     if (!stats) memset(&dummy, 0, sizeof dummy), stats = &dummy;
     stats->rays++;
     float a[3], v[3];
-    facade_to_local(f, org, dir, a, v);
+    const int whole = facade_is_whole(f);
+    to_local(f, whole, org, dir, a, v);
     if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
     float t0 = 0.0f, t1 = hit->t;
-    const int whole = facade_is_whole(f);
     slab(a[0], v[0], f->u0, f->u0 + f->width, &t0, &t1);
     slab(a[1], v[1], f->v0, f->v0 + f->height, &t0, &t1);
     slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
