@@ -40,7 +40,7 @@ static const char *bench_facade_usage =
     "                   ~10000 facades)\n"
     "  --res LIST       comma-separated WxH (default 512x512,1280x720)\n"
     "  --threads N      threads of both (default 2)\n"
-    "  --frames F       timed frames per measurement, 1 to 1000 (default 5)\n"
+    "  --frames F       timed frames per measurement, 1 to 1000 (default 9)\n"
     "  --grammar FILE   the city's grammar (default grammars/facade.grammar)\n"
     "  --seed S         the city's seed (default 1)\n"
     "  --quick          buildings 25,250 and 2 frames (a smoke run)\n";
@@ -69,7 +69,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     const char *verb = "bench", *out_path = "results/facade.csv", *grammar = NULL, *v;
     uint32_t buildings[BENCH_FACADE_MAX_LIST] = {25, 250, 2500}, nb = 3;
     uint32_t rw[BENCH_FACADE_MAX_LIST] = {512, 1280}, rh[BENCH_FACADE_MAX_LIST] = {512, 720};
-    uint32_t nr = 2, threads = 2, frames = 5, seed = 1;
+    uint32_t nr = 2, threads = 2, frames = 9, seed = 1;
     int quick = 0, have_frames = 0, have_buildings = 0;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i];
