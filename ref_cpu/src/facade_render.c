@@ -360,9 +360,10 @@ static albedo_rgb albedo(const pgt_facade_scene *sc, uint32_t kind, uint32_t sur
 static const float SKY[3] = {0.62f, 0.74f, 0.88f};
 
 /* Pixel p of the frame sees nothing. */
-static void write_sky(pgt_facade_frame *fr, size_t p) {
-    fr->depth[p] = INFINITY, fr->terminal[p] = 0.0f;
-    fr->facade[p] = PGT_NONE, fr->node[p] = 0, fr->surface[p] = 0;
+static void write_sky(pgt_facade_frame *fr, size_t p, int hits_only) {
+    fr->depth[p] = INFINITY, fr->facade[p] = PGT_NONE;
+    if (hits_only) return; /* a miss: depth and facade say it all */
+    fr->terminal[p] = 0.0f, fr->node[p] = 0, fr->surface[p] = 0;
     for (int j = 0; j < 3; ++j) fr->rgb[3 * p + j] = SKY[j], fr->normal[3 * p + j] = 0.0f;
 }
 
@@ -386,7 +387,7 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
             for (uint32_t y = Y0; y < Y1; ++y)
                 for (uint32_t x = X0; x < X1; ++x) {
                     fr->developed[(size_t)y * W + x] = 0;
-                    write_sky(fr, (size_t)y * W + x);
+                    write_sky(fr, (size_t)y * W + x, c->sh->hits_only);
                 }
             continue;
         }
@@ -427,15 +428,11 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 const pgt_facade_hit *h = &hits[k];
                 fr->developed[p] = dev[k];
                 if (h->facade == PGT_NONE) {
-                    write_sky(fr, p);
+                    write_sky(fr, p, c->sh->hits_only);
                     continue;
                 }
                 const pgt_facade_shading *sh = c->sh;
-                if (sh->hits_only) {
-                    float n[3] = {h->n[0], h->n[1], h->n[2]};
-                    if (dot3(n, dirs[k]) > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
-                    for (int j = 0; j < 3; ++j)
-                        fr->rgb[3 * p + j] = 0.0f, fr->normal[3 * p + j] = n[j];
+                if (sh->hits_only) { /* what a ray caster returns; rgb, normal untouched */
                     fr->depth[p] = h->t, fr->terminal[p] = (float)h->kind;
                     fr->facade[p] = h->facade, fr->node[p] = h->node, fr->surface[p] = h->surface;
                     continue;

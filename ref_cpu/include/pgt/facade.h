@@ -393,10 +393,12 @@ typedef struct pgt_facade_shading {
     /* LOD transitions for PGT_FACADE_DETAIL_LOD: [near, far] of the relief, normal mapping and
      * thickness ramps; all zero means the PGT_FACADE_LOD_* defaults */
     float relief_near, relief_far, normal_near, normal_far, thick_near, thick_far;
-    /* 1: no shading, only what a ray caster returns per pixel: depth (t), terminal, facade,
-     * node, surface and the geometric normal facing the camera; rgb 0. The rays, coverage and
-     * development are those of a shaded frame (same hits, same developed counts); pgt bench
-     * facade times this against Embree's rays, which do no shading either. */
+    /* 1: no shading, only what a ray caster returns per pixel: depth (t), facade and developed
+     * are written, and for a hit terminal, node and surface; rgb, normal (and terminal, node,
+     * surface of a miss) are left as they were. The rays,
+     * coverage and development are those of a shaded frame (same hits, same developed counts);
+     * pgt bench facade times this against Embree's rays, which store a hit (t, triangle,
+     * barycentrics) and shade nothing either. */
     int hits_only;
 } pgt_facade_shading;
 
