@@ -443,7 +443,13 @@ assert [(r["source"], r["facades"], r["width"]) for r in rows] == [("paper", "10
 assert rows[0]["ms"] == "143" and rows[0]["procedural_bytes"] == "650000", rows[0]
 for r in rows[1:]:
     assert None not in r and all(r.values()), r
-    assert float(r["agreement_pct"]) >= 99.0 and float(r["memory_ratio"]) > 1, r' \
+    assert float(r["agreement_pct"]) >= 99.0 and float(r["memory_ratio"]) > 1, r
+    f = lambda k: float(r[k])
+    # ours / Embree is the hits-only frame against Embree, the shaded ratio beside it (the
+    # columns have 3 decimals: a loose tolerance, the definitions are what is checked)
+    assert abs(f("ours_over_embree") - f("ours_trace_mrays") / f("embree_mrays")) <= 1e-2 * f("ours_over_embree") + 2e-3, r
+    assert abs(f("shaded_over_embree") - f("ours_mrays") / f("embree_mrays")) <= 1e-2 * f("shaded_over_embree") + 2e-3, r
+    assert abs(f("ours_trace_mrays") - f("width") * f("height") / (f("trace_ms") * 1e3)) <= 1e-2 * f("ours_trace_mrays") + 2e-3, r' \
   && ok bench_facade_rows || bad bench_facade_rows "$(cat res/facade.csv)"
 
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
