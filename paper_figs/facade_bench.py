@@ -78,6 +78,7 @@ def read(path):
                 r[k] = num(row, k, path, ln)
         r["ms_min"] = num(row, "ms_min", path, ln)
         r["ours_trace_mrays"] = num(row, "ours_trace_mrays", path, ln)
+        r["best_over_embree"] = num(row, "best_over_embree", path, ln)
         if r["facades"] is None:
             die(f"{path}:{ln}: no facades")
         (paper if r["source"] == "paper" else ours).append(r)
@@ -156,7 +157,7 @@ def main(argv):
     except OSError as e:
         die(f"{out}: {e.strerror}")
     print(f"{'facades':>8} {'res':>10} {'ms':>9} {'ours Mr/s':>9} {'hits only':>9} "
-          f"{'Embree':>8} {'ours/Embree':>11} {'Embree/ours bytes':>17}")
+          f"{'Embree':>8} {'ours/Embree':>11} {'fastest':>7} {'Embree/ours bytes':>17}")
     for r in sorted(ours, key=lambda r: (r["res"], r["facades"])):
         mine = r["ours_trace_mrays"] or r["ours_mrays"]
         sp = mine / r["embree_mrays"] if mine and r["embree_mrays"] else 0
@@ -164,7 +165,8 @@ def main(argv):
             r["procedural_bytes"] else 0
         print(f"{r['facades']:8.0f} {r['res']:>10} {r['ms'] or 0:9.1f} "
               f"{r['ours_mrays'] or 0:9.2f} {r['ours_trace_mrays'] or 0:9.2f} "
-              f"{r['embree_mrays'] or 0:8.2f} {sp:11.2f} {mem:17.0f}")
+              f"{r['embree_mrays'] or 0:8.2f} {sp:11.2f} {r['best_over_embree'] or 0:7.2f} "
+              f"{mem:17.0f}")
 
 
 if __name__ == "__main__":
