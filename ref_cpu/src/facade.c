@@ -688,8 +688,11 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     to_local(f, whole, org, dir, a, v);
     if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
     float t0 = 0.0f, t1 = hit->t;
-    slab(a[0], v[0], f->u0, f->u0 + f->width, &t0, &t1);
-    slab(a[1], v[1], f->v0, f->v0 + f->height, &t0, &t1);
+    /* the facade's window in facade space (x0, y0, x1, y1): a mesh quad's cuts its terminals */
+    const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
+    const float *wp = whole ? NULL : win;
+    slab(a[0], v[0], win[0], win[2], &t0, &t1);
+    slab(a[1], v[1], win[1], win[3], &t0, &t1);
     slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
     if (!(t0 <= t1)) return 0; /* misses the volume: nothing developed */
     const float inv[3] = {1.0f / v[0], 1.0f / v[1], 1.0f / v[2]}; /* inf where v is 0: unused */
@@ -789,6 +792,9 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             }
             stats->terminals++;
             const uint32_t item = sq->first_item + pos;
+            /* the ray in the terminal's block coordinates, and the block's corner */
+            const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
+            const float off[2] = {fr->x0, fr->y0};
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
                 float id, nrm[3];
                 uint64_t counter = 0;
@@ -803,14 +809,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                     break;
                 }
                 stats->quads += n;
-                const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
-                float win[4], off[2]; /* a mesh quad's window cuts the triangles (sec. 10) */
-                if (!whole) {
-                    win[0] = f->u0, win[1] = f->v0, win[2] = f->u0 + f->width;
-                    win[3] = f->v0 + f->height, off[0] = fr->x0, off[1] = fr->y0;
-                }
-                const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, v, whole ? NULL : win,
-                                                     off, &best, nrm);
+                const uint32_t k =
+                    facade_gimage_hit(td, n, fr->w, fr->h, al, v, wp, off, &best, nrm);
                 if (k != PGT_NONE) {
                     best_kind = PGT_FACADE_MESH, best_surface = first + k, best_key = key;
                     best_item = item, best_axis = 3u;
@@ -844,10 +844,6 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                     groups = ce->groups;
                 }
             }
-            const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
-            const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
-            const float off[2] = {fr->x0, fr->y0};
-            const float *wp = whole ? NULL : win;
             const uint32_t k =
                 groups ? hit_quads_grouped(qs, n, groups, al, v, inv, wp, off, &best, &stats->quads)
                        : hit_quads(qs, n, al, v, inv, wp, off, &best, &stats->quads);

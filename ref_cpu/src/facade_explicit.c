@@ -5,7 +5,6 @@
  * evaluation helpers as the ray development (facade_internal.h), so the two see the same split
  * layouts, the same random draws (keyed by node) and the same rectangles; only the order of the
  * traversal differs (every child, depth first, explicit stack). */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -164,13 +163,12 @@ static uint32_t clip_line(float (*out)[3], const float (*p)[3], uint32_t n, uint
     return m;
 }
 
-/* Twice the area of triangle a b c (facade space, double): 0 for a piece without area. */
-static double piece_area2(const float *a, const float *b, const float *c) {
+/* Does triangle a b c (facade space) have area? Its edges' cross product in double is not 0. */
+static int piece_has_area(const float *a, const float *b, const float *c) {
     const double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
     const double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
-    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
-                 z = e1[0] * e2[1] - e1[1] * e2[0];
-    return sqrt(x * x + y * y + z * z);
+    return e1[1] * e2[2] - e1[2] * e2[1] != 0.0 || e1[2] * e2[0] - e1[0] * e2[2] != 0.0 ||
+           e1[0] * e2[1] - e1[1] * e2[0] != 0.0;
 }
 
 /* Appends the triangles of a geometry image on the scope [x0, x0 + w] x [y0, y0 + h]. On a mesh
@@ -208,7 +206,7 @@ static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const 
             m = clip_line(poly, (const float(*)[3])tmp, m, 1, win[3], -1);
         }
         for (uint32_t p = 1; p + 1u < m; ++p) {
-            if (!whole && piece_area2(poly[0], poly[p], poly[p + 1u]) == 0.0) continue;
+            if (!whole && !piece_has_area(poly[0], poly[p], poly[p + 1u])) continue;
             if (x->m->triangle_count + 1u > FACADE_MAX_TRIANGLES)
                 return pgt_error_set(err, PGT_ERROR_LIMIT,
                                      "explicit facades: more than %u triangles",
