@@ -246,4 +246,48 @@ static void compare_camera(const pgt_facade_scene *s, const pgt_facade *fa, uint
     pgt_facade_frame_destroy(&fr);
 }
 
+/* Renders `sh` with every ray developed alone (single_rays) into a new frame and counts the
+ * channels (rgb, depth, terminal, normal, facade, node, surface, developed: 8) and the
+ * statistics (rays, volume hits, nodes, terminals, rectangle tests, errors, covered pixels: 7)
+ * in which it differs from `packed`, rendered by the same call with packets (stats `ps`). */
+static uint32_t packets_differ(const pgt_facade_scene *s, const pgt_facade *fa, uint32_t fc,
+                               const pgt_facade_camera *cam, const pgt_facade_shading *sh,
+                               const pgt_facade_frame *packed, const pgt_facade_render_stats *ps) {
+    pgt_facade_frame one;
+    pgt_error err = {0};
+    if (pgt_facade_frame_create(&one, cam->width, cam->height, &err) != PGT_OK) return 15;
+    const size_t n = (size_t)cam->width * cam->height;
+    /* a hits-only frame leaves rgb and normal as they were: the same start for both */
+    memcpy(one.rgb, packed->rgb, 3 * n * sizeof(float));
+    memcpy(one.normal, packed->normal, 3 * n * sizeof(float));
+    memcpy(one.terminal, packed->terminal, n * sizeof(float));
+    memcpy(one.node, packed->node, n * sizeof(uint32_t));
+    memcpy(one.surface, packed->surface, n * sizeof(uint32_t));
+    pgt_facade_shading alone = *sh;
+    alone.single_rays = 1;
+    pgt_facade_render_stats os;
+    uint32_t d = 0;
+    if (pgt_facade_render(s, fa, fc, cam, &alone, 2, &one, &os, &err) != PGT_OK) {
+        pgt_facade_frame_destroy(&one);
+        return 15;
+    }
+    d += memcmp(one.rgb, packed->rgb, 3 * n * sizeof(float)) != 0;
+    d += memcmp(one.depth, packed->depth, n * sizeof(float)) != 0;
+    d += memcmp(one.terminal, packed->terminal, n * sizeof(float)) != 0;
+    d += memcmp(one.normal, packed->normal, 3 * n * sizeof(float)) != 0;
+    d += memcmp(one.facade, packed->facade, n * sizeof(uint32_t)) != 0;
+    d += memcmp(one.node, packed->node, n * sizeof(uint32_t)) != 0;
+    d += memcmp(one.surface, packed->surface, n * sizeof(uint32_t)) != 0;
+    d += memcmp(one.developed, packed->developed, n * sizeof(uint32_t)) != 0;
+    d += os.rays.rays != ps->rays.rays;
+    d += os.rays.volume_hits != ps->rays.volume_hits;
+    d += os.rays.nodes != ps->rays.nodes;
+    d += os.rays.terminals != ps->rays.terminals;
+    d += os.rays.quads != ps->rays.quads;
+    d += os.rays.errors != ps->rays.errors;
+    d += os.covered_pixels != ps->covered_pixels;
+    pgt_facade_frame_destroy(&one);
+    return d;
+}
+
 #endif

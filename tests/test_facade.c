@@ -285,6 +285,97 @@ static void test_threads_same_frame(void) {
     pgt_grammar_destroy(&g);
 }
 
+static float dot3f(const float a[3], const float b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Screen tiles of facade_render.c (TILE): a packet holds rays of one tile. */
+#define RENDER_TILE 16u
+
+/* Packets (a tile's rays through one facade developed together: the default) give the frame and
+ * the counts of developing every ray alone, to the bit: three grammars (geometry images among
+ * them); cameras from the air, along a street, grazing, steep inside the city and straight at a
+ * facade from close by (a tile's rays then go both ways along a split's axis: one frame each);
+ * shaded with shadows, with LOD (thickness scaled per facade), hits only. */
+static void test_packets_same_frame(void) {
+    static const char *grammars[] = {"facade.grammar", "facade_rich.grammar",
+                                     "facade_gimage.grammar"};
+    uint32_t mixed = 0, frames = 0;
+    for (size_t gi = 0; gi < sizeof grammars / sizeof grammars[0]; ++gi) {
+        pgt_grammar g;
+        REQUIRE(load(&g, grammars[gi]));
+        pgt_facade_scene s;
+        pgt_error err = {0};
+        REQUIRE(pgt_gen_city(&s, &g, 9, 11, &err) == PGT_OK);
+        pgt_facade *fa = NULL;
+        uint32_t fc = 0;
+        REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+        const float L = (float)(3 * PGT_GEN_CITY_LOT);
+        /* straight at facade 0's middle from 6 m */
+        const pgt_facade *f0 = &fa[0];
+        float mid[3], eye0[3];
+        for (int k = 0; k < 3; ++k) {
+            mid[k] = f0->origin[k] + 0.5f * f0->width * f0->t[k] + 0.5f * f0->height * f0->b[k];
+            eye0[k] = mid[k] + 6.0f * f0->n[k];
+        }
+        const float cams[][10] = {
+            {-0.4f * L, 0.5f * L, -0.4f * L, 0.5f * L, 0.0f, 0.5f * L, 0, 1, 0, 50},
+            {-5.0f, 1.7f, 28.0f, L, 6.0f, 28.5f, 0, 1, 0, 60},
+            {-2.0f, 20.0f, 27.5f, L, 1.0f, 28.2f, 0, 1, 0, 40},
+            {0.5f * L, 0.3f * L, 0.5f * L, 0.5f * L + 1.0f, 0.0f, 0.5f * L + 3.0f, 0, 1, 0, 90},
+            {eye0[0], eye0[1], eye0[2], mid[0], mid[1], mid[2], 0, 1, 0, 90},
+        };
+        /* 88 x 72: the image's middle column and row fall inside a tile */
+        const uint32_t W = 88, H = 72;
+        pgt_facade_frame fr;
+        REQUIRE(pgt_facade_frame_create(&fr, W, H, &err) == PGT_OK);
+        for (size_t ci = 0; ci < sizeof cams / sizeof cams[0]; ++ci) {
+            pgt_facade_camera cam;
+            REQUIRE(pgt_facade_camera_init(&cam, &cams[ci][0], &cams[ci][3], &cams[ci][6],
+                                           cams[ci][9], W, H, &err) == PGT_OK);
+            for (int mode = 0; mode < 3; ++mode) {
+                pgt_facade_shading sh = {
+                    .light = {0.5f * L, 3.0f * L, 0.2f * L}, .ambient = 0.3f, .shadows = 1};
+                if (mode == 1) { /* every LOD ramp inside the scene: zscale below 1 */
+                    sh.detail = PGT_FACADE_DETAIL_LOD;
+                    sh.relief_near = 5.0f, sh.relief_far = 10.0f, sh.normal_near = 10.0f;
+                    sh.normal_far = 20.0f, sh.thick_near = 5.0f, sh.thick_far = 40.0f;
+                }
+                sh.hits_only = mode == 2;
+                pgt_facade_render_stats ps;
+                REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &fr, &ps, &err) == PGT_OK);
+                const uint32_t d = packets_differ(&s, fa, fc, &cam, &sh, &fr, &ps);
+                CHECK_MSG(d == 0, "%s, camera %zu, mode %d: %u channels or counts differ",
+                          grammars[gi], ci, mode, d);
+                CHECK(ps.rays.errors == 0 && ps.rays.volume_hits > 0);
+                frames++;
+            }
+            /* tiles where rays hitting one facade go both ways along its x or y axis */
+            for (uint32_t ty = 0; ty < H; ty += RENDER_TILE)
+                for (uint32_t tx = 0; tx < W; tx += RENDER_TILE) {
+                    const uint32_t p0 = ty * W + tx, fi = fr.facade[p0];
+                    if (fi >= fc) continue;
+                    int sign[2][2] = {{0, 0}, {0, 0}};
+                    for (uint32_t y = ty; y < ty + RENDER_TILE && y < H; ++y)
+                        for (uint32_t x = tx; x < tx + RENDER_TILE && x < W; ++x) {
+                            if (fr.facade[y * W + x] != fi) continue;
+                            float o[3], dir[3];
+                            pgt_facade_camera_ray(&cam, x, y, o, dir);
+                            sign[0][dot3f(dir, fa[fi].t) < 0.0f] = 1;
+                            sign[1][dot3f(dir, fa[fi].b) < 0.0f] = 1;
+                        }
+                    mixed += (sign[0][0] && sign[0][1]) || (sign[1][0] && sign[1][1]);
+                }
+        }
+        pgt_facade_frame_destroy(&fr);
+        free(fa);
+        pgt_facade_scene_destroy(&s);
+        pgt_grammar_destroy(&g);
+    }
+    printf("  %u frames alike; %u tiles whose rays cross a facade both ways\n", frames, mixed);
+    CHECK(mixed > 0);
+}
+
 static pgt_result compile(pgt_grammar *g, const char *text) {
     pgt_error err = {0};
     return pgt_grammar_compile(g, text, strlen(text), "t.grammar", &err);
@@ -363,6 +454,20 @@ static void test_errors(void) {
     memset(&st, 0, sizeof st);
     CHECK(pgt_facade_intersect(&s, &fa[0], 0, o, d, &h, &st) == 0);
     CHECK(st.errors & (PGT_FACADE_ERR_DEPTH | PGT_FACADE_ERR_BUDGET));
+    { /* a frame: packets that fail are replayed ray by ray, so the errors are the same */
+        pgt_facade_camera fcam;
+        const float fe[3] = {10, 8, -30}, fat[3] = {10, 8, 0}, fup[3] = {0, 1, 0};
+        REQUIRE(pgt_facade_camera_init(&fcam, fe, fat, fup, 60, 40, 30, &err) == PGT_OK);
+        pgt_facade_frame fr;
+        REQUIRE(pgt_facade_frame_create(&fr, 40, 30, &err) == PGT_OK);
+        const pgt_facade_shading sh = {.light = {10, 50, -30}, .ambient = 0.3f};
+        pgt_facade_render_stats ps;
+        REQUIRE(pgt_facade_render(&s, fa, fc, &fcam, &sh, 2, &fr, &ps, &err) == PGT_OK);
+        CHECK(ps.rays.errors & (PGT_FACADE_ERR_DEPTH | PGT_FACADE_ERR_BUDGET));
+        CHECK(ps.rays.volume_hits > 0);
+        CHECK(packets_differ(&s, fa, fc, &fcam, &sh, &fr, &ps) == 0);
+        pgt_facade_frame_destroy(&fr);
+    }
     free(fa);
     pgt_grammar_destroy(&g);
     /* cameras */
@@ -591,6 +696,7 @@ static const pgt_test_case cases[] = {
     {"rich_grammar_vs_explicit", test_rich_grammar_vs_explicit},
     {"gimage_grammar_vs_explicit", test_gimage_grammar_vs_explicit},
     {"threads_same_frame", test_threads_same_frame},
+    {"packets_same_frame", test_packets_same_frame},
     {"errors", test_errors},
     {"relief_depth", test_relief_depth},
     {"lod_levels", test_lod_levels},

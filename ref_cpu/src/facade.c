@@ -553,14 +553,15 @@ typedef struct frame {
     facade_split_state split;
 } frame;
 
-/* Child k of a frame's split (k < child_count): from the flat arrays when it has them. */
-static void split_child(const frame *fr, uint32_t k, pgt_split_child *ch) {
-    if (fr->fl) {
-        ch->start = fr->fl->start[k], ch->end = fr->fl->end[k], ch->part = fr->fl->part[k];
+/* Child k of layout sp (k < child_count): from its flat arrays fl when it has them (not NULL). */
+static void split_child(const facade_split_state *sp, const facade_split_flat *fl, uint32_t k,
+                        pgt_split_child *ch) {
+    if (fl) {
+        ch->start = fl->start[k], ch->end = fl->end[k], ch->part = fl->part[k];
         ch->repetition = 0; /* not kept flat: unused here */
         return;
     }
-    pgt_split_child_get(&fr->sp->plan, fr->sp->slots, k, ch);
+    pgt_split_child_get(&sp->plan, sp->slots, k, ch);
 }
 
 /* Fills a memo entry's flat children (its first reuse). */
@@ -580,13 +581,14 @@ static void flatten(facade_cache_split *cs) {
 
 /* The child of a split after a gap at local coordinate p in direction dir: the first child
  * ending after p (dir > 0) or the last starting before p (dir < 0); PGT_NONE if none. */
-static uint32_t child_after_gap(const frame *fr, float p, int dir) {
-    const uint32_t n = fr->sp->plan.child_count;
+static uint32_t child_after_gap(const facade_split_state *sp, const facade_split_flat *fl, float p,
+                                int dir) {
+    const uint32_t n = sp->plan.child_count;
     uint32_t lo = 0, hi = n; /* dir > 0: first k with end > p; dir < 0: last k with start < p */
     pgt_split_child ch;
     while (lo < hi) {
         const uint32_t mid = lo + (hi - lo) / 2u;
-        split_child(fr, mid, &ch);
+        split_child(sp, fl, mid, &ch);
         if (dir > 0 ? ch.end > p : !(ch.start < p))
             hi = mid;
         else
@@ -671,6 +673,88 @@ static int key_equal(const facade_cache_key *a, const facade_cache_key *b) {
     return 1;
 }
 
+/* The rectangles of terminal item `it` (index `item`, node `key`) on a w x h scope with the
+ * frame's arguments, in block coordinates: from the memo when it holds them, else evaluated
+ * (into the memo's slot when there is a memo, else into q_own and surf_own). *groups is the
+ * memo's group boxes (NULL without a memo). An evaluation error is or-ed into c->stats and
+ * leaves no rectangle. Returns the count; *q and *surf point at the rectangles and their ids. */
+static uint32_t terminal_quads(const facade_ctx *c, facade_cache *cache, const pgt_facade *f,
+                               uint32_t grammar, const pgt_grammar_item *it, uint32_t item,
+                               uint32_t key, float w, float h, const float *args, uint32_t argc,
+                               pgt_facade_quad *q_own, uint8_t *surf_own, const pgt_facade_quad **q,
+                               const uint8_t **surf, const float **groups) {
+    facade_cache_key ck;
+    facade_cache_terminal *ce = NULL;
+    if (cache)
+        ce = &cache->term[memo_key(&ck, cache, f, grammar, item, key, w, h, args, argc) %
+                          FACADE_CACHE_TERMINALS];
+    if (ce && ce->n != PGT_NONE && key_equal(&ce->k, &ck)) {
+        *q = ce->q, *surf = ce->surf, *groups = ce->groups;
+        return ce->n;
+    }
+    pgt_facade_quad *dst = ce ? ce->q : q_own;
+    uint8_t *sd = ce ? ce->surf : surf_own;
+    uint32_t n = facade_terminal(c, it, args, argc, key, 0.0f, 0.0f, w, h, dst);
+    n = compact_quads(dst, n, sd);
+    *q = dst, *surf = sd, *groups = NULL;
+    if (ce) {
+        ce->n = c->stats->errors ? PGT_NONE : n, ce->k = ck;
+        group_boxes(dst, n, ce->groups);
+        *groups = ce->groups;
+    }
+    return n;
+}
+
+/* The layout of split item `it` (index `item`, node `key`) across `length` of a w x h scope with
+ * the frame's arguments, for one frame: a memo entry (pinned while the frame uses it, so that no
+ * descendant evicts it; flattened at its first reuse), or computed into the memo's slot when no
+ * frame pins it, or into `own`. Returns 0 on an evaluation error (or-ed into c->stats). */
+static int split_layout(const facade_ctx *c, facade_cache *cache, const pgt_facade *f,
+                        uint32_t grammar, const pgt_grammar_item *it, uint32_t item, uint32_t key,
+                        float w, float h, float length, const float *args, uint32_t argc,
+                        facade_split_state *own, const facade_split_state **sp,
+                        const facade_split_flat **fl, facade_cache_split **pinned) {
+    facade_cache_key ck;
+    facade_cache_split *cs = NULL;
+    if (cache)
+        cs = &cache->split[memo_key(&ck, cache, f, grammar, item, key, w, h, args, argc) %
+                           FACADE_CACHE_SPLITS];
+    if (cs && cs->valid && key_equal(&cs->k, &ck)) {
+        if (cs->flat.state == FACADE_FLAT_UNKNOWN) flatten(cs);
+        *sp = &cs->st, *pinned = cs, cs->pins++;
+        *fl = cs->flat.state == FACADE_FLAT_READY ? &cs->flat : NULL;
+        return 1;
+    }
+    if (cs && cs->pins == 0) {
+        cs->valid = 0;
+        if (!facade_split(c, it, args, argc, key, length, &cs->st)) return 0;
+        cs->valid = 1, cs->k = ck, cs->flat.state = FACADE_FLAT_UNKNOWN;
+        *sp = &cs->st, *pinned = cs, cs->pins++, *fl = NULL;
+        return 1;
+    }
+    if (!facade_split(c, it, args, argc, key, length, own)) return 0;
+    *sp = own, *pinned = NULL, *fl = NULL;
+    return 1;
+}
+
+/* The nearest hit of a development into *hit: distance t along the facade-space ray a + t v,
+ * terminal node key, kind, surface, item, and the normal of the hit rectangle's axis (0 t, 1 b,
+ * 2 n of the facade) or, axis 3, the geometry image triangle's facade-space normal n. */
+static void write_hit(pgt_facade_hit *hit, const pgt_facade *f, uint32_t fi, float t, uint32_t key,
+                      uint32_t kind, uint32_t surface, uint32_t item, uint32_t axis,
+                      const float n[3], const float a[3], const float v[3], float zscale) {
+    hit->t = t, hit->facade = fi, hit->node = key, hit->kind = kind;
+    hit->surface = surface, hit->item = item;
+    if (axis == 3) { /* a geometry image's triangle */
+        facade_vector_to_world(f, n, hit->n);
+    } else {
+        const float *nrm = axis == 0 ? f->t : (axis == 1 ? f->b : f->n);
+        hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];
+    }
+    for (int k = 0; k < 3; ++k) hit->p[k] = a[k] + t * v[k];
+    hit->p[2] *= zscale; /* the scaled geometry's z */
+}
+
 int pgt_facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
                          const float org[3], const float dir[3], pgt_facade_hit *hit,
                          pgt_facade_ray_stats *stats) {
@@ -726,7 +810,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 continue;
             }
             pgt_split_child ch;
-            split_child(fr, fr->next, &ch);
+            split_child(fr->sp, fr->fl, fr->next, &ch);
             const uint32_t ax = fr->axis;
             const float o = ax == 0 ? fr->x0 : fr->y0;
             float t_near = fr->t_cur, t_far = fr->t_out;
@@ -818,32 +902,14 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 }
                 continue;
             }
-            const pgt_facade_quad *qs = quads;
-            const uint8_t *surf = NULL;
+            const pgt_facade_quad *qs;
+            const uint8_t *surf;
+            const float *groups;
             uint8_t surf_local[PGT_FACADE_MAX_QUADS];
-            uint32_t n;
-            facade_cache_key ck;
-            facade_cache_terminal *ce = NULL;
-            if (cache)
-                ce = &cache->term[memo_key(&ck, cache, f, B->grammar, item, key, fr->w, fr->h,
-                                           fr->args, fr->argc) %
-                                  FACADE_CACHE_TERMINALS];
-            const float *groups = NULL;
-            if (ce && ce->n != PGT_NONE && key_equal(&ce->k, &ck)) {
-                qs = ce->q, n = ce->n, surf = ce->surf, groups = ce->groups;
-            } else {
-                /* in block coordinates: the ray is shifted to the scope's corner below */
-                pgt_facade_quad *dst = ce ? ce->q : quads;
-                uint8_t *sd = ce ? ce->surf : surf_local;
-                n = facade_terminal(&c, it, fr->args, fr->argc, key, 0.0f, 0.0f, fr->w, fr->h, dst);
-                n = compact_quads(dst, n, sd);
-                qs = dst, surf = sd;
-                if (ce) {
-                    ce->n = stats->errors ? PGT_NONE : n, ce->k = ck;
-                    group_boxes(dst, n, ce->groups);
-                    groups = ce->groups;
-                }
-            }
+            /* in block coordinates: the ray is shifted to the scope's corner (al) */
+            const uint32_t n =
+                terminal_quads(&c, cache, f, B->grammar, it, item, key, fr->w, fr->h, fr->args,
+                               fr->argc, quads, surf_local, &qs, &surf, &groups);
             const uint32_t k =
                 groups ? hit_quads_grouped(qs, n, groups, al, v, inv, wp, off, &best, &stats->quads)
                        : hit_quads(qs, n, al, v, inv, wp, off, &best, &stats->quads);
@@ -884,29 +950,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         }
         frame *nf = tail ? fr : &stack[sp];
         const uint32_t ax = it->target, item = sq->first_item + pos;
-        facade_cache_key ck;
-        facade_cache_split *cs = NULL;
-        if (cache)
-            cs = &cache->split[memo_key(&ck, cache, f, B->grammar, item, key, fr->w, fr->h,
-                                        fr->args, fr->argc) %
-                               FACADE_CACHE_SPLITS];
-        /* the layout: a memo entry (pinned while this frame uses it, so no descendant evicts
-         * it), or computed into the entry when it is free, or into the frame */
-        if (cs && cs->valid && key_equal(&cs->k, &ck)) {
-            if (cs->flat.state == FACADE_FLAT_UNKNOWN) flatten(cs);
-            nf->sp = &cs->st, nf->pinned = cs, cs->pins++;
-            nf->fl = cs->flat.state == FACADE_FLAT_READY ? &cs->flat : NULL;
-        } else if (cs && cs->pins == 0) {
-            cs->valid = 0;
-            if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &cs->st))
-                break;
-            cs->valid = 1, cs->k = ck, cs->flat.state = FACADE_FLAT_UNKNOWN;
-            nf->sp = &cs->st, nf->pinned = cs, cs->pins++, nf->fl = NULL;
-        } else {
-            if (!facade_split(&c, it, fr->args, fr->argc, key, ax == 0 ? fr->w : fr->h, &nf->split))
-                break;
-            nf->sp = &nf->split, nf->pinned = NULL, nf->fl = NULL;
-        }
+        if (!split_layout(&c, cache, f, B->grammar, it, item, key, fr->w, fr->h,
+                          ax == 0 ? fr->w : fr->h, fr->args, fr->argc, &nf->split, &nf->sp, &nf->fl,
+                          &nf->pinned))
+            break;
         if (!tail) {
             ++sp;
             nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h, nf->t_in = fr->t_in;
@@ -924,23 +971,388 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         uint32_t k = nf->fl ? pgt_split_flat_at(nf->fl->start, nf->fl->end,
                                                 nf->sp->plan.child_count, p, nf->dir)
                             : pgt_split_child_at(&nf->sp->plan, nf->sp->slots, p, nf->dir, &ch);
-        if (k == PGT_NONE) k = child_after_gap(nf, p, nf->dir);
+        if (k == PGT_NONE) k = child_after_gap(nf->sp, nf->fl, p, nf->dir);
         nf->next = k;
     }
     for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */
         if (stack[i].type == FR_SPLIT && stack[i].pinned) stack[i].pinned->pins--;
     if (best_kind == 0) return 0;
-    hit->t = best, hit->facade = fi, hit->node = best_key, hit->kind = best_kind;
-    hit->surface = best_surface, hit->item = best_item;
-    if (best_axis == 3) { /* a geometry image's triangle */
-        facade_vector_to_world(f, best_n, hit->n);
-    } else {
-        const float *nrm = best_axis == 0 ? f->t : (best_axis == 1 ? f->b : f->n);
-        hit->n[0] = nrm[0], hit->n[1] = nrm[1], hit->n[2] = nrm[2];
-    }
-    for (int k = 0; k < 3; ++k) hit->p[k] = a[k] + best * v[k];
-    hit->p[2] *= zscale; /* the scaled geometry's z */
+    write_hit(hit, f, fi, best, best_key, best_kind, best_surface, best_item, best_axis, best_n, a,
+              v, zscale);
     return 1;
+}
+
+/* ---- packets: the rays of one screen tile through one facade, developed together ---- */
+
+/* A packet's frame: what frame holds, once for the packet, and per ray of the packet the ray's
+ * interval in the scope (t_in, t_out), for a split the ray's progress t_cur and the child it
+ * enters by (first). mask: the rays still developing the frame. */
+typedef struct pframe {
+    uint32_t type, key;
+    float x0, y0, w, h;
+    uint32_t argc;
+    float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+    uint64_t mask;
+    /* FR_SEQ */
+    uint32_t seq, pos;
+    /* FR_SPLIT: one direction for all its rays; next is the packet's cursor */
+    uint32_t axis, next;
+    int dir;
+    const facade_split_state *sp;
+    const facade_split_flat *fl;
+    facade_cache_split *pinned;
+    facade_split_state split;
+    float t_in[FACADE_PACKET], t_out[FACADE_PACKET], t_cur[FACADE_PACKET];
+    uint32_t first[FACADE_PACKET];
+} pframe;
+
+struct facade_packet_work {
+    pframe stack[PGT_FACADE_MAX_DEPTH];
+    float a[FACADE_PACKET][3], v[FACADE_PACKET][3], inv[FACADE_PACKET][3];
+    float best[FACADE_PACKET], best_n[FACADE_PACKET][3];
+    uint32_t best_kind[FACADE_PACKET], best_surface[FACADE_PACKET], best_key[FACADE_PACKET];
+    uint32_t best_item[FACADE_PACKET], best_axis[FACADE_PACKET], nodes[FACADE_PACKET];
+};
+
+facade_packet_work *facade_packet_work_create(void) { return malloc(sizeof(facade_packet_work)); }
+
+void facade_packet_work_destroy(facade_packet_work *w) { free(w); }
+
+/* Index of the lowest set bit of a non-zero mask. */
+static uint32_t low_bit(uint64_t m) { return (uint32_t)__builtin_ctzll(m); }
+
+/* Adds k nodes to every ray of mask m. */
+static void add_nodes(facade_packet_work *w, uint64_t m, uint32_t k) {
+    for (; m; m &= m - 1u) w->nodes[low_bit(m)] += k;
+}
+
+/* Copies the scope of frame `from` (corner, size, arguments) into `to`. */
+static void pframe_scope(pframe *to, const pframe *from) {
+    to->x0 = from->x0, to->y0 = from->y0, to->w = from->w, to->h = from->h;
+    to->argc = from->argc;
+    memcpy(to->args, from->args, from->argc * sizeof(float));
+}
+
+/* Budget a packet may spend before it gives up and replays its rays one by one (each ray of the
+ * packet spends at most what the packet spends; the slack covers one child's rule calls). */
+#define PACKET_BUDGET (PGT_FACADE_NODE_BUDGET - FACADE_COLLAPSE_MAX - 4u)
+
+/* Develops the packet; returns 0 when it must be replayed ray by ray: an error (evaluation,
+ * budget, depth, item) whose exact place and partial hit are those of the single-ray
+ * development. */
+static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const facade_ctx *cx,
+                          uint32_t grammar, uint64_t mask0, uint32_t key0, uint32_t seq0,
+                          const float *wp, facade_cache *cache, facade_packet_work *w,
+                          pgt_facade_ray_stats *ls) {
+    const pgt_grammar *g = cx->g;
+    pframe *stack = w->stack;
+    uint32_t sp = 0, spent = 0;
+    pframe *fr = &stack[sp++];
+    fr->type = FR_SEQ, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->scope_w;
+    fr->h = f->scope_h, fr->argc = 0, fr->seq = seq0, fr->pos = 0, fr->mask = mask0;
+    add_nodes(w, mask0, 1u);
+    int ok = 1;
+    while (sp > 0) {
+        fr = &stack[sp - 1];
+        if (fr->type == FR_SPLIT) {
+            const uint32_t c = fr->next;
+            if (c == PGT_NONE || c >= fr->sp->plan.child_count) fr->mask = 0;
+            /* rays done: a hit before the cursor, or out of the scope */
+            uint64_t live = 0;
+            for (uint64_t m = fr->mask; m; m &= m - 1u) {
+                const uint32_t r = low_bit(m);
+                if (!(w->best[r] <= fr->t_cur[r] || fr->t_cur[r] >= fr->t_out[r]))
+                    live |= (uint64_t)1 << r;
+            }
+            fr->mask = live;
+            if (!live) {
+                if (fr->pinned) fr->pinned->pins--;
+                --sp;
+                continue;
+            }
+            pgt_split_child ch;
+            split_child(fr->sp, fr->fl, c, &ch);
+            const uint32_t ax = fr->axis, seq = fr->sp->seq[ch.part];
+            const float o = ax == 0 ? fr->x0 : fr->y0;
+            fr->next = fr->dir > 0 ? c + 1u : (c == 0 ? PGT_NONE : c - 1u);
+            /* the child's frame goes to stack[sp]: its rays' intervals are written there */
+            pframe *nf = &stack[sp < PGT_FACADE_MAX_DEPTH ? sp : sp - 1u];
+            uint64_t enter = 0;
+            for (uint64_t m = live; m; m &= m - 1u) {
+                const uint32_t r = low_bit(m);
+                if (fr->dir > 0 ? fr->first[r] > c : fr->first[r] < c) continue; /* not yet */
+                const float va = w->v[r][ax], aa = w->a[r][ax];
+                float t_near = fr->t_cur[r], t_far = fr->t_out[r];
+                if (va != 0.0f) {
+                    const float ts = (o + ch.start - aa) / va, te = (o + ch.end - aa) / va;
+                    const float tn = fr->dir > 0 ? ts : te, tf = fr->dir > 0 ? te : ts;
+                    if (tn > t_near) t_near = tn;
+                    if (tf < t_far) t_far = tf;
+                }
+                fr->t_cur[r] = t_far > fr->t_cur[r] ? t_far : fr->t_cur[r];
+                if (seq == PGT_NONE || !(t_near <= t_far) || t_near >= w->best[r]) continue;
+                nf->t_in[r] = t_near, nf->t_out[r] = t_far;
+                enter |= (uint64_t)1 << r;
+            }
+            if (!enter) continue;
+            if (sp == PGT_FACADE_MAX_DEPTH || spent >= PACKET_BUDGET) {
+                ok = 0;
+                break;
+            }
+            ++sp, ++spent;
+            add_nodes(w, enter, 1u);
+            uint32_t nseq = seq, nkey = pgt_facade_child_key(fr->key, c), nargc = fr->argc;
+            const uint32_t *col = cache->collapse[grammar];
+            for (uint32_t hop = 0; hop < FACADE_COLLAPSE_MAX && col[nseq] != PGT_NONE; ++hop) {
+                nkey = pgt_facade_child_key(nkey, 0), nseq = col[nseq], nargc = 0;
+                add_nodes(w, enter, 1u), ++spent;
+            }
+            nf->type = FR_SEQ, nf->key = nkey, nf->mask = enter;
+            nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
+            if (ax == 0)
+                nf->x0 = fr->x0 + ch.start, nf->w = ch.end - ch.start;
+            else
+                nf->y0 = fr->y0 + ch.start, nf->h = ch.end - ch.start;
+            nf->argc = nargc;
+            memcpy(nf->args, fr->args, nargc * sizeof(float));
+            nf->seq = nseq, nf->pos = 0;
+            continue;
+        }
+        /* FR_SEQ: the next item of the sequence, on the same scope, for the rays not done */
+        const pgt_grammar_sequence *sq = &g->sequences[fr->seq];
+        uint64_t live = 0;
+        if (fr->pos < sq->item_count)
+            for (uint64_t m = fr->mask; m; m &= m - 1u) {
+                const uint32_t r = low_bit(m);
+                if (!(w->best[r] <= fr->t_in[r])) live |= (uint64_t)1 << r;
+            }
+        fr->mask = live;
+        if (!live) {
+            --sp;
+            continue;
+        }
+        const uint32_t pos = fr->pos++, item = sq->first_item + pos;
+        const pgt_grammar_item *it = &g->items[item];
+        const uint32_t key = pgt_facade_child_key(fr->key, pos);
+        if (it->kind == PGT_GRAMMAR_ITEM_TERMINAL) {
+            const uint32_t kind = pgt_facade_kind_of(it->target);
+            if (kind == PGT_FACADE_MISS) {
+                ok = 0;
+                break;
+            }
+            ls->terminals += (uint64_t)__builtin_popcountll(live);
+            const float off[2] = {fr->x0, fr->y0};
+            if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
+                float id;
+                uint64_t counter = 0;
+                const float *td = NULL;
+                if (!facade_eval(cx, g->args[it->first_arg], fr->args, fr->argc, key, &counter,
+                                 &id)) {
+                    ok = 0;
+                    break;
+                }
+                uint32_t firsttri = 0;
+                const uint32_t n = facade_gimage_triangles(s, id, &td, &firsttri);
+                if (n == 0) {
+                    ok = 0;
+                    break;
+                }
+                for (uint64_t m = live; m; m &= m - 1u) {
+                    const uint32_t r = low_bit(m);
+                    const float al[3] = {w->a[r][0] - fr->x0, w->a[r][1] - fr->y0, w->a[r][2]};
+                    float nrm[3];
+                    ls->quads += n;
+                    const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, w->v[r], wp, off,
+                                                         &w->best[r], nrm);
+                    if (k != PGT_NONE) {
+                        w->best_kind[r] = PGT_FACADE_MESH, w->best_surface[r] = firsttri + k;
+                        w->best_key[r] = key, w->best_item[r] = item, w->best_axis[r] = 3u;
+                        memcpy(w->best_n[r], nrm, sizeof nrm);
+                    }
+                }
+                continue;
+            }
+            const pgt_facade_quad *qs;
+            const uint8_t *surf;
+            const float *groups;
+            pgt_facade_quad q_own[PGT_FACADE_MAX_QUADS];
+            uint8_t surf_own[PGT_FACADE_MAX_QUADS];
+            const uint32_t n =
+                terminal_quads(cx, cache, f, grammar, it, item, key, fr->w, fr->h, fr->args,
+                               fr->argc, q_own, surf_own, &qs, &surf, &groups);
+            for (uint64_t m = live; m; m &= m - 1u) {
+                const uint32_t r = low_bit(m);
+                const float al[3] = {w->a[r][0] - fr->x0, w->a[r][1] - fr->y0, w->a[r][2]};
+                const uint32_t k = groups ? hit_quads_grouped(qs, n, groups, al, w->v[r], w->inv[r],
+                                                              wp, off, &w->best[r], &ls->quads)
+                                          : hit_quads(qs, n, al, w->v[r], w->inv[r], wp, off,
+                                                      &w->best[r], &ls->quads);
+                if (k != PGT_NONE) {
+                    w->best_kind[r] = kind, w->best_surface[r] = surf[k], w->best_key[r] = key;
+                    w->best_item[r] = item, w->best_axis[r] = qs[k].axis;
+                }
+            }
+            continue;
+        }
+        /* an item in tail position takes over its sequence's frame, as in facade_intersect */
+        const int tail = fr->pos == sq->item_count;
+        if (sp + 2u > PGT_FACADE_MAX_DEPTH || spent >= PACKET_BUDGET) {
+            ok = 0;
+            break;
+        }
+        ++spent;
+        if (it->kind == PGT_GRAMMAR_ITEM_CALL) {
+            float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
+            uint32_t seq;
+            if (!facade_call(cx, it, fr->args, fr->argc, key, args, &seq)) {
+                ok = 0;
+                break;
+            }
+            if (seq == PGT_NONE) continue;
+            pframe *nf = tail ? fr : &stack[sp++];
+            add_nodes(w, live, 1u);
+            if (!tail)
+                for (uint64_t m = live; m; m &= m - 1u) {
+                    const uint32_t r = low_bit(m);
+                    nf->t_in[r] = fr->t_in[r], nf->t_out[r] = fr->t_out[r];
+                }
+            nf->type = FR_SEQ, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
+            nf->h = fr->h, nf->argc = it->arg_count, nf->mask = live;
+            memcpy(nf->args, args, it->arg_count * sizeof(float));
+            nf->seq = seq, nf->pos = 0;
+            continue;
+        }
+        if (it->kind != PGT_GRAMMAR_ITEM_SPLIT || it->target > 1u) {
+            ok = 0;
+            break;
+        }
+        /* a split: one frame for the rays going up the axis, one for those going down */
+        const uint32_t ax = it->target;
+        pframe *nf = tail ? fr : &stack[sp];
+        const facade_split_state *lay;
+        const facade_split_flat *fl;
+        facade_cache_split *pinned;
+        if (!split_layout(cx, cache, f, grammar, it, item, key, fr->w, fr->h,
+                          ax == 0 ? fr->w : fr->h, fr->args, fr->argc, &nf->split, &lay, &fl,
+                          &pinned)) {
+            ok = 0;
+            break;
+        }
+        add_nodes(w, live, 1u);
+        const float L = ax == 0 ? fr->w : fr->h, o = ax == 0 ? fr->x0 : fr->y0;
+        uint64_t up = 0, down = 0;
+        uint32_t lo = PGT_NONE, hi = 0;
+        for (uint64_t m = live; m; m &= m - 1u) {
+            const uint32_t r = low_bit(m);
+            const int dir = w->v[r][ax] < 0.0f ? -1 : 1;
+            /* getSplitIndex(p): the child holding the entry point */
+            float p = w->a[r][ax] + fr->t_in[r] * w->v[r][ax] - o;
+            p = p < 0.0f ? 0.0f : (p > L ? L : p);
+            pgt_split_child ch;
+            uint32_t k = fl ? pgt_split_flat_at(fl->start, fl->end, lay->plan.child_count, p, dir)
+                            : pgt_split_child_at(&lay->plan, lay->slots, p, dir, &ch);
+            if (k == PGT_NONE) k = child_after_gap(lay, fl, p, dir);
+            if (k == PGT_NONE) continue; /* the node counts, no child is entered */
+            nf->first[r] = k, nf->t_cur[r] = fr->t_in[r];
+            if (!tail) nf->t_in[r] = fr->t_in[r], nf->t_out[r] = fr->t_out[r];
+            if (dir > 0) {
+                up |= (uint64_t)1 << r;
+                lo = k < lo ? k : lo;
+            } else {
+                down |= (uint64_t)1 << r;
+                hi = k > hi ? k : hi;
+            }
+        }
+        if (!up && !down) {
+            if (pinned) pinned->pins--;
+            if (tail) fr->mask = 0;
+            continue;
+        }
+        if (!tail) {
+            ++sp;
+            pframe_scope(nf, fr);
+        }
+        nf->type = FR_SPLIT, nf->key = key, nf->axis = ax;
+        nf->sp = lay, nf->fl = fl, nf->pinned = pinned;
+        nf->mask = up ? up : down, nf->dir = up ? 1 : -1, nf->next = up ? lo : hi;
+        if (up && down) { /* the rays going down get a frame above, on the same layout */
+            pframe *df = &stack[sp++];
+            pframe_scope(df, nf);
+            df->type = FR_SPLIT, df->key = key, df->axis = ax, df->sp = nf->sp, df->fl = fl;
+            df->pinned = pinned;
+            if (pinned) pinned->pins++;
+            df->mask = down, df->dir = -1, df->next = hi;
+            for (uint64_t m = down; m; m &= m - 1u) {
+                const uint32_t r = low_bit(m);
+                df->t_in[r] = nf->t_in[r], df->t_out[r] = nf->t_out[r];
+                df->t_cur[r] = nf->t_cur[r], df->first[r] = nf->first[r];
+            }
+        }
+    }
+    for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */
+        if (stack[i].type == FR_SPLIT && stack[i].pinned) stack[i].pinned->pins--;
+    return ok && !ls->errors;
+}
+
+void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                             const float org[3], const float (*dirs)[3], const uint32_t *idx,
+                             uint32_t n, pgt_facade_hit *hits, uint32_t *dev,
+                             pgt_facade_ray_stats *stats, facade_cache *cache,
+                             facade_packet_work *w, float zscale) {
+    pgt_facade_ray_stats ls;
+    memset(&ls, 0, sizeof ls);
+    const int whole = facade_is_whole(f);
+    const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
+    uint64_t mask = 0;
+    ls.rays = n;
+    for (uint32_t r = 0; r < n; ++r) {
+        float *a = w->a[r], *v = w->v[r];
+        to_local(f, whole, org, dirs[idx[r]], a, v);
+        if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
+        float t0 = 0.0f, t1 = hits[idx[r]].t;
+        slab(a[0], v[0], win[0], win[2], &t0, &t1);
+        slab(a[1], v[1], win[1], win[3], &t0, &t1);
+        slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
+        if (!(t0 <= t1)) continue; /* misses the volume: nothing developed */
+        for (int k = 0; k < 3; ++k) w->inv[r][k] = 1.0f / v[k];
+        w->best[r] = hits[idx[r]].t, w->best_kind[r] = 0, w->nodes[r] = 0;
+        w->stack[0].t_in[r] = t0, w->stack[0].t_out[r] = t1;
+        mask |= (uint64_t)1 << r;
+    }
+    ls.volume_hits = (uint64_t)__builtin_popcountll(mask);
+    int ok = 1;
+    if (mask) {
+        const pgt_facade_building *B = &s->buildings[f->building];
+        const facade_ctx c = {&s->grammars[B->grammar], s->params + B->first_param, B->seed, &ls,
+                              NULL};
+        const uint32_t key0 = facade_axiom_key(s, f);
+        const uint32_t seq0 = facade_select_case(&c, 0, NULL, 0, key0);
+        if (ls.errors)
+            ok = 0;
+        else if (seq0 != PGT_NONE)
+            ok = packet_develop(s, f, &c, B->grammar, mask, key0, seq0, whole ? NULL : win, cache,
+                                w, &ls);
+        else
+            mask = 0;
+    }
+    if (!ok) { /* replay ray by ray: the same hits, counts and errors as without packets */
+        for (uint32_t r = 0; r < n; ++r) {
+            const uint64_t before = stats->nodes;
+            facade_intersect(s, f, fi, org, dirs[idx[r]], &hits[idx[r]], stats, cache, zscale);
+            dev[idx[r]] += (uint32_t)(stats->nodes - before);
+        }
+        return;
+    }
+    for (uint64_t m = mask; m; m &= m - 1u) {
+        const uint32_t r = low_bit(m);
+        ls.nodes += w->nodes[r], dev[idx[r]] += w->nodes[r];
+        if (w->best_kind[r] == 0) continue;
+        write_hit(&hits[idx[r]], f, fi, w->best[r], w->best_key[r], w->best_kind[r],
+                  w->best_surface[r], w->best_item[r], w->best_axis[r], w->best_n[r], w->a[r],
+                  w->v[r], zscale);
+    }
+    stats->rays += ls.rays, stats->volume_hits += ls.volume_hits, stats->nodes += ls.nodes;
+    stats->terminals += ls.terminals, stats->quads += ls.quads;
 }
 
 /* ---- roofs ---- */

@@ -96,6 +96,27 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                      const float org[3], const float dir[3], pgt_facade_hit *hit,
                      pgt_facade_ray_stats *stats, facade_cache *cache, float zscale);
 
+/* Rays of a packet (facade_intersect_packet) at most: one bit each in a 64-bit mask. */
+#define FACADE_PACKET 64u
+/* A thread's work area for packets: the packet's development stack and per-ray state. */
+typedef struct facade_packet_work facade_packet_work;
+facade_packet_work *facade_packet_work_create(void); /* NULL when out of memory */
+void facade_packet_work_destroy(facade_packet_work *w);
+
+/* facade_intersect (with memo `cache`, not NULL) for the n <= FACADE_PACKET rays org + t
+ * dirs[idx[i]] through facade f, hits[idx[i]] in and out, dev[idx[i]] += the nodes each ray
+ * developed: the same hits, node counts and statistics as facade_intersect ray after ray. What
+ * does not depend on the ray (memo look-ups, layouts, rule calls, keys, frames) is done once
+ * per node for the rays that reach it; every ray keeps its own order of children and terminals
+ * (a split's rays going up and down the axis get a frame each). A packet that meets an error
+ * (evaluation, node budget, depth) is replayed ray by ray, so errors are those of
+ * facade_intersect. */
+void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                             const float org[3], const float (*dirs)[3], const uint32_t *idx,
+                             uint32_t n, pgt_facade_hit *hits, uint32_t *dev,
+                             pgt_facade_ray_stats *stats, facade_cache *cache,
+                             facade_packet_work *w, float zscale);
+
 /* ---- roofs ---- */
 
 /* The roof of building b (its footprint at base + height) hit by the ray at t in [0, hit->t):

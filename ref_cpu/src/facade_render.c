@@ -161,6 +161,7 @@ typedef struct render_ctx {
     pgt_facade_ray_stats *wstats; /* per worker */
     uint64_t *wcovered;           /* per worker */
     facade_cache *caches;         /* per worker */
+    facade_packet_work **packets; /* per worker (NULL entries with single_rays) */
 } render_ctx;
 
 static void to_camera(const pgt_facade_camera *cam, const float p[3], float out[3]) {
@@ -375,8 +376,9 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
     const uint32_t W = cam->width, H = cam->height;
     float dirs[TILE * TILE][3], org[3];
     pgt_facade_hit hits[TILE * TILE];
-    uint32_t dev[TILE * TILE];
+    uint32_t dev[TILE * TILE], idx[TILE * TILE];
     facade_cache *cache = &c->caches[worker];
+    facade_packet_work *pw = c->packets[worker];
     facade_cache_clear(cache);
     for (uint32_t tile = b; tile < e; ++tile) {
         const uint32_t tx = tile % c->tiles_x, ty = tile / c->tiles_x;
@@ -403,6 +405,7 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
             const cover *cv = &c->cov[fi];
             const uint32_t x0 = cv->x0 > X0 ? cv->x0 : X0, x1 = cv->x1 + 1u < X1 ? cv->x1 + 1u : X1;
             const uint32_t y0 = cv->y0 > Y0 ? cv->y0 : Y0, y1 = cv->y1 + 1u < Y1 ? cv->y1 + 1u : Y1;
+            uint32_t n = 0; /* the rays this volume may hit nearer than their hit so far */
             for (uint32_t y = y0; y < y1; ++y)
                 for (uint32_t x = x0; x < x1; ++x) {
                     const uint32_t k = (y - Y0) * tw + (x - X0);
@@ -413,12 +416,23 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                                               &hits[k]);
                         continue;
                     }
-                    c->wcovered[worker]++;
-                    const uint64_t before = st->nodes;
-                    facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[k], &hits[k], st, cache,
-                                     zscale_of(c->sh, cv->dist));
-                    dev[k] += (uint32_t)(st->nodes - before);
+                    idx[n++] = k;
                 }
+            c->wcovered[worker] += n;
+            const float zs = zscale_of(c->sh, cv->dist);
+            if (pw) { /* developed in packets, the same hits */
+                for (uint32_t i = 0; i < n; i += FACADE_PACKET)
+                    facade_intersect_packet(c->s, &c->f[fi], fi, cam->eye, (const float(*)[3])dirs,
+                                            idx + i, n - i < FACADE_PACKET ? n - i : FACADE_PACKET,
+                                            hits, dev, st, cache, pw, zs);
+                continue;
+            }
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint64_t before = st->nodes;
+                facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[idx[i]], &hits[idx[i]], st,
+                                 cache, zs);
+                dev[idx[i]] += (uint32_t)(st->nodes - before);
+            }
         }
         /* shading */
         for (uint32_t y = Y0; y < Y1; ++y)
@@ -576,6 +590,10 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
     const uint32_t workers =
         threads == 0 ? 1u : (threads > PGT_MAX_THREADS ? PGT_MAX_THREADS : threads);
     c.caches = malloc(workers * sizeof *c.caches);
+    c.packets = calloc(workers, sizeof *c.packets);
+    int packets_ok = c.packets != NULL;
+    for (uint32_t w = 0; packets_ok && !shading->single_rays && w < workers; ++w)
+        packets_ok = (c.packets[w] = facade_packet_work_create()) != NULL;
     uint8_t **draws = calloc(s->grammar_count ? s->grammar_count : 1u, sizeof *draws);
     uint32_t **collapse = calloc(s->grammar_count ? s->grammar_count : 1u, sizeof *collapse);
     int draws_ok = draws != NULL && collapse != NULL;
@@ -587,7 +605,8 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
         c.caches[w].collapse = (const uint32_t *const *)collapse;
     }
     pgt_result r = PGT_OK;
-    if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.wcovered || !c.caches || !draws_ok) {
+    if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.wcovered || !c.caches || !draws_ok ||
+        !packets_ok) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
         goto done;
     }
@@ -656,6 +675,8 @@ done:
     free(c.wstats);
     free(c.wcovered);
     free(c.caches);
+    for (uint32_t w = 0; c.packets && w < workers; ++w) facade_packet_work_destroy(c.packets[w]);
+    free(c.packets);
     for (uint32_t k = 0; draws && k < s->grammar_count; ++k) free(draws[k]);
     for (uint32_t k = 0; collapse && k < s->grammar_count; ++k) free(collapse[k]);
     free(draws);

@@ -400,6 +400,11 @@ typedef struct pgt_facade_shading {
      * pgt bench facade times this against Embree's rays, which store a hit (t, triangle,
      * barycentrics) and shade nothing either. */
     int hits_only;
+    /* 1: every ray developed alone (Algorithm 1 as written). 0 (the default): the rays of a
+     * screen tile that a facade's coverage selects are developed together in packets of up to
+     * 64, the work that does not depend on the ray done once per node; the frame is the same
+     * to the bit (tests/test_facade.c compares both) */
+    int single_rays;
 } pgt_facade_shading;
 
 /* The material pattern of surface `surface` of a terminal of kind `kind` (facade_shade.c):
