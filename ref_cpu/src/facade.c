@@ -397,21 +397,26 @@ int facade_split(const facade_ctx *c, const pgt_grammar_item *it, const float *a
     return 1;
 }
 
-/* Slab of the ray a + t v with [lo, hi] on one axis, intersected into [*t0, *t1]. */
 /* Slab of the ray a + t v with [lo, hi] on one axis (inv = 1 / v, precomputed by the caller
- * where it tests many slabs), intersected into [*t0, *t1]; a parallel ray outside empties it. */
-static void slab_inv(float a, float v, float inv, float lo, float hi, float *t0, float *t1) {
+ * where it tests many slabs; dlo = lo - a and dhi = hi - a, by a caller whose rays share a),
+ * intersected into [*t0, *t1]; a parallel ray outside empties it. */
+static void slab_pre(float a, float v, float inv, float lo, float hi, float dlo, float dhi,
+                     float *t0, float *t1) {
     if (v == 0.0f) {
         if (a < lo || a > hi) *t0 = INFINITY, *t1 = -INFINITY;
         return;
     }
-    float ta = (lo - a) * inv, tb = (hi - a) * inv;
+    float ta = dlo * inv, tb = dhi * inv;
     if (ta > tb) {
         const float s = ta;
         ta = tb, tb = s;
     }
     if (ta > *t0) *t0 = ta;
     if (tb < *t1) *t1 = tb;
+}
+
+static void slab_inv(float a, float v, float inv, float lo, float hi, float *t0, float *t1) {
+    slab_pre(a, v, inv, lo, hi, lo - a, hi - a, t0, t1);
 }
 
 static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
@@ -421,16 +426,28 @@ static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
 /* A footprint facade's window is the whole facade and its b is +Y: then the mapping below is
  * the one footprint facades always had (y straight from the world's, no offsets), bit for bit. */
 /* facade_to_local knowing whole = facade_is_whole(f), which costs ten comparisons. */
-static void to_local(const pgt_facade *f, int whole, const float org[3], const float dir[3],
-                     float a[3], float v[3]) {
+/* The point org in facade space (a) and the direction dir (v). */
+static void local_point(const pgt_facade *f, int whole, const float org[3], float a[3]) {
     const float d[3] = {org[0] - f->origin[0], org[1] - f->origin[1], org[2] - f->origin[2]};
     if (whole) {
         a[0] = dot3(d, f->t), a[1] = d[1], a[2] = dot3(d, f->n);
-        v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
         return;
     }
     a[0] = f->u0 + dot3(d, f->t), a[1] = f->v0 + dot3(d, f->b), a[2] = dot3(d, f->n);
+}
+
+static void local_dir(const pgt_facade *f, int whole, const float dir[3], float v[3]) {
+    if (whole) {
+        v[0] = dot3(dir, f->t), v[1] = dir[1], v[2] = dot3(dir, f->n);
+        return;
+    }
     v[0] = dot3(dir, f->t), v[1] = dot3(dir, f->b), v[2] = dot3(dir, f->n);
+}
+
+static void to_local(const pgt_facade *f, int whole, const float org[3], const float dir[3],
+                     float a[3], float v[3]) {
+    local_point(f, whole, org, a);
+    local_dir(f, whole, dir, v);
 }
 
 void facade_to_local(const pgt_facade *f, const float org[3], const float dir[3], float a[3],
@@ -458,16 +475,16 @@ void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
  * that another quad of the mesh shows. A rectangle's plane is placed in facade space as
  * facade_terminal places it for the explicit twin (c + off), so both keep or drop a rectangle
  * lying on the window's border alike (the explicit twin clips rectangles to the window). */
-static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3], const float v[3],
-                          const float inv[3], const float *win, const float off[2], float *best,
-                          uint64_t *tests) {
+static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float *num, const float a[3],
+                          const float v[3], const float inv[3], const float *win,
+                          const float off[2], float *best, uint64_t *tests) {
     static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
     uint32_t found = PGT_NONE;
     *tests += n;
     for (uint32_t k = 0; k < n; ++k) {
         /* inv is infinite where v is 0: t is then infinite or NaN and fails the test */
         const uint32_t ax = q[k].axis;
-        const float t = (q[k].c - a[ax]) * inv[ax];
+        const float t = num[k] * inv[ax]; /* num[k] = q[k].c - a[ax] */
         if (!(t >= 0.0f && t < *best)) continue;
         const uint32_t o0 = other[ax][0], o1 = other[ax][1];
         const float u0 = a[o0] + t * v[o0], u1 = a[o1] + t * v[o1];
@@ -482,21 +499,45 @@ static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float a[3]
     return found;
 }
 
-/* hit_quads over groups of FACADE_QUAD_GROUP rectangles, skipping a group whose box
- * (groups[6 k .. 6 k + 6): lo xyz, hi xyz, grown by FACADE_GROUP_GROW) the ray misses before
- * *best: the same answer, fewer tests. */
-static uint32_t hit_quads_grouped(const pgt_facade_quad *q, uint32_t n, const float *groups,
-                                  const float a[3], const float v[3], const float inv[3],
-                                  const float *win, const float off[2], float *best,
-                                  uint64_t *tests) {
+/* Groups of one terminal's rectangles at most. */
+#define QUAD_GROUPS ((PGT_FACADE_MAX_QUADS + FACADE_QUAD_GROUP - 1u) / FACADE_QUAD_GROUP)
+
+/* The part of a terminal's ray tests that does not depend on the direction, for rays from the
+ * block-local origin a (every ray of a packet starts at the eye): each rectangle's plane minus
+ * a (c - a[axis]) and each group box's faces minus a. */
+typedef struct quad_prep {
+    float a[3];
+    float num[PGT_FACADE_MAX_QUADS];
+    float dlo[QUAD_GROUPS][3], dhi[QUAD_GROUPS][3];
+} quad_prep;
+
+/* Prepares rectangles q[0 .. n) and their group boxes (groups, or NULL) for rays from a. */
+static void prepare_quads(const pgt_facade_quad *q, uint32_t n, const float *groups,
+                          const float a[3], quad_prep *p) {
+    p->a[0] = a[0], p->a[1] = a[1], p->a[2] = a[2];
+    for (uint32_t k = 0; k < n; ++k) p->num[k] = q[k].c - a[q[k].axis];
+    for (uint32_t g = 0; groups && g * FACADE_QUAD_GROUP < n; ++g)
+        for (int k = 0; k < 3; ++k)
+            p->dlo[g][k] = groups[6u * g + k] - a[k], p->dhi[g][k] = groups[6u * g + 3 + k] - a[k];
+}
+
+/* hit_quads for the ray p->a + t v, over groups of FACADE_QUAD_GROUP rectangles when the
+ * terminal has their boxes (groups[6 k .. 6 k + 6): lo xyz, hi xyz, grown by FACADE_GROUP_GROW;
+ * NULL: none), skipping a group whose box the ray misses before *best: the same answer, fewer
+ * tests. */
+static uint32_t hit_terminal(const pgt_facade_quad *q, uint32_t n, const float *groups,
+                             const quad_prep *p, const float v[3], const float inv[3],
+                             const float *win, const float off[2], float *best, uint64_t *tests) {
+    if (!groups) return hit_quads(q, n, p->num, p->a, v, inv, win, off, best, tests);
     uint32_t found = PGT_NONE;
-    for (uint32_t g0 = 0; g0 < n; g0 += FACADE_QUAD_GROUP) {
-        const float *bx = groups + 6u * (g0 / FACADE_QUAD_GROUP);
+    for (uint32_t g0 = 0, g = 0; g0 < n; g0 += FACADE_QUAD_GROUP, ++g) {
+        const float *bx = groups + 6u * g;
         float t0 = 0.0f, t1 = *best;
-        for (int k = 0; k < 3; ++k) slab_inv(a[k], v[k], inv[k], bx[k], bx[3 + k], &t0, &t1);
+        for (int k = 0; k < 3; ++k)
+            slab_pre(p->a[k], v[k], inv[k], bx[k], bx[3 + k], p->dlo[g][k], p->dhi[g][k], &t0, &t1);
         if (!(t0 <= t1)) continue;
         const uint32_t m = n - g0 < FACADE_QUAD_GROUP ? n - g0 : FACADE_QUAD_GROUP;
-        const uint32_t k = hit_quads(q + g0, m, a, v, inv, win, off, best, tests);
+        const uint32_t k = hit_quads(q + g0, m, p->num + g0, p->a, v, inv, win, off, best, tests);
         if (k != PGT_NONE) found = g0 + k;
     }
     return found;
@@ -910,9 +951,10 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             const uint32_t n =
                 terminal_quads(&c, cache, f, B->grammar, it, item, key, fr->w, fr->h, fr->args,
                                fr->argc, quads, surf_local, &qs, &surf, &groups);
+            quad_prep prep;
+            prepare_quads(qs, n, groups, al, &prep);
             const uint32_t k =
-                groups ? hit_quads_grouped(qs, n, groups, al, v, inv, wp, off, &best, &stats->quads)
-                       : hit_quads(qs, n, al, v, inv, wp, off, &best, &stats->quads);
+                hit_terminal(qs, n, groups, &prep, v, inv, wp, off, &best, &stats->quads);
             if (k != PGT_NONE) {
                 best_kind = pgt_facade_kind_of(it->target), best_surface = surf[k], best_key = key;
                 best_item = item, best_axis = qs[k].axis;
@@ -1008,7 +1050,8 @@ typedef struct pframe {
 
 struct facade_packet_work {
     pframe stack[PGT_FACADE_MAX_DEPTH];
-    float a[FACADE_PACKET][3], v[FACADE_PACKET][3], inv[FACADE_PACKET][3];
+    float a[3]; /* the rays' origin in facade space: the same for all */
+    float v[FACADE_PACKET][3], inv[FACADE_PACKET][3];
     float best[FACADE_PACKET], best_n[FACADE_PACKET][3];
     uint32_t best_kind[FACADE_PACKET], best_surface[FACADE_PACKET], best_key[FACADE_PACKET];
     uint32_t best_item[FACADE_PACKET], best_axis[FACADE_PACKET], nodes[FACADE_PACKET];
@@ -1081,7 +1124,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             for (uint64_t m = live; m; m &= m - 1u) {
                 const uint32_t r = low_bit(m);
                 if (fr->dir > 0 ? fr->first[r] > c : fr->first[r] < c) continue; /* not yet */
-                const float va = w->v[r][ax], aa = w->a[r][ax];
+                const float va = w->v[r][ax], aa = w->a[ax];
                 float t_near = fr->t_cur[r], t_far = fr->t_out[r];
                 if (va != 0.0f) {
                     const float ts = (o + ch.start - aa) / va, te = (o + ch.end - aa) / va;
@@ -1157,9 +1200,9 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
                     ok = 0;
                     break;
                 }
+                const float al[3] = {w->a[0] - fr->x0, w->a[1] - fr->y0, w->a[2]};
                 for (uint64_t m = live; m; m &= m - 1u) {
                     const uint32_t r = low_bit(m);
-                    const float al[3] = {w->a[r][0] - fr->x0, w->a[r][1] - fr->y0, w->a[r][2]};
                     float nrm[3];
                     ls->quads += n;
                     const uint32_t k = facade_gimage_hit(td, n, fr->w, fr->h, al, w->v[r], wp, off,
@@ -1180,13 +1223,13 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             const uint32_t n =
                 terminal_quads(cx, cache, f, grammar, it, item, key, fr->w, fr->h, fr->args,
                                fr->argc, q_own, surf_own, &qs, &surf, &groups);
+            const float al[3] = {w->a[0] - fr->x0, w->a[1] - fr->y0, w->a[2]};
+            quad_prep prep; /* once for all the rays: they share the origin */
+            prepare_quads(qs, n, groups, al, &prep);
             for (uint64_t m = live; m; m &= m - 1u) {
                 const uint32_t r = low_bit(m);
-                const float al[3] = {w->a[r][0] - fr->x0, w->a[r][1] - fr->y0, w->a[r][2]};
-                const uint32_t k = groups ? hit_quads_grouped(qs, n, groups, al, w->v[r], w->inv[r],
-                                                              wp, off, &w->best[r], &ls->quads)
-                                          : hit_quads(qs, n, al, w->v[r], w->inv[r], wp, off,
-                                                      &w->best[r], &ls->quads);
+                const uint32_t k = hit_terminal(qs, n, groups, &prep, w->v[r], w->inv[r], wp, off,
+                                                &w->best[r], &ls->quads);
                 if (k != PGT_NONE) {
                     w->best_kind[r] = kind, w->best_surface[r] = surf[k], w->best_key[r] = key;
                     w->best_item[r] = item, w->best_axis[r] = qs[k].axis;
@@ -1246,7 +1289,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             const uint32_t r = low_bit(m);
             const int dir = w->v[r][ax] < 0.0f ? -1 : 1;
             /* getSplitIndex(p): the child holding the entry point */
-            float p = w->a[r][ax] + fr->t_in[r] * w->v[r][ax] - o;
+            float p = w->a[ax] + fr->t_in[r] * w->v[r][ax] - o;
             p = p < 0.0f ? 0.0f : (p > L ? L : p);
             pgt_split_child ch;
             uint32_t k = fl ? pgt_split_flat_at(fl->start, fl->end, lay->plan.child_count, p, dir)
@@ -1305,16 +1348,22 @@ void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uin
     const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
     uint64_t mask = 0;
     ls.rays = n;
+    float *a = w->a;
+    local_point(f, whole, org, a);
+    if (zscale != 1.0f) a[2] /= zscale;
+    /* the volume's faces minus the origin, for every ray's slabs */
+    const float lo[3] = {win[0], win[1], -f->recess}, hi[3] = {win[2], win[3], f->protrusion};
+    const float dlo[3] = {lo[0] - a[0], lo[1] - a[1], lo[2] - a[2]};
+    const float dhi[3] = {hi[0] - a[0], hi[1] - a[1], hi[2] - a[2]};
     for (uint32_t r = 0; r < n; ++r) {
-        float *a = w->a[r], *v = w->v[r];
-        to_local(f, whole, org, dirs[idx[r]], a, v);
-        if (zscale != 1.0f) a[2] /= zscale, v[2] /= zscale;
+        float *v = w->v[r], *inv = w->inv[r];
+        local_dir(f, whole, dirs[idx[r]], v);
+        if (zscale != 1.0f) v[2] /= zscale;
+        for (int k = 0; k < 3; ++k) inv[k] = 1.0f / v[k];
         float t0 = 0.0f, t1 = hits[idx[r]].t;
-        slab(a[0], v[0], win[0], win[2], &t0, &t1);
-        slab(a[1], v[1], win[1], win[3], &t0, &t1);
-        slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
+        for (int k = 0; k < 3; ++k)
+            slab_pre(a[k], v[k], inv[k], lo[k], hi[k], dlo[k], dhi[k], &t0, &t1);
         if (!(t0 <= t1)) continue; /* misses the volume: nothing developed */
-        for (int k = 0; k < 3; ++k) w->inv[r][k] = 1.0f / v[k];
         w->best[r] = hits[idx[r]].t, w->best_kind[r] = 0, w->nodes[r] = 0;
         w->stack[0].t_in[r] = t0, w->stack[0].t_out[r] = t1;
         mask |= (uint64_t)1 << r;
@@ -1348,8 +1397,8 @@ void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uin
         ls.nodes += w->nodes[r], dev[idx[r]] += w->nodes[r];
         if (w->best_kind[r] == 0) continue;
         write_hit(&hits[idx[r]], f, fi, w->best[r], w->best_key[r], w->best_kind[r],
-                  w->best_surface[r], w->best_item[r], w->best_axis[r], w->best_n[r], w->a[r],
-                  w->v[r], zscale);
+                  w->best_surface[r], w->best_item[r], w->best_axis[r], w->best_n[r], w->a, w->v[r],
+                  zscale);
     }
     stats->rays += ls.rays, stats->volume_hits += ls.volume_hits, stats->nodes += ls.nodes;
     stats->terminals += ls.terminals, stats->quads += ls.quads;
