@@ -282,16 +282,25 @@ pgt_result pgt_facade_camera_init(pgt_facade_camera *cam, const float eye[3], co
     return PGT_OK;
 }
 
+float facade_camera_sx(const pgt_facade_camera *cam, uint32_t x) {
+    const float W = (float)cam->width, H = (float)cam->height;
+    return (2.0f * ((float)x + 0.5f) / W - 1.0f) * cam->tan_half * (W / H);
+}
+
+float facade_camera_sy(const pgt_facade_camera *cam, uint32_t y) {
+    const float H = (float)cam->height;
+    return (1.0f - 2.0f * ((float)y + 0.5f) / H) * cam->tan_half;
+}
+
+void facade_camera_dir(const pgt_facade_camera *cam, float sx, float sy, float dir[3]) {
+    for (int k = 0; k < 3; ++k) dir[k] = cam->forward[k] + sx * cam->right[k] + sy * cam->upward[k];
+    normalize3(dir);
+}
+
 void pgt_facade_camera_ray(const pgt_facade_camera *cam, uint32_t x, uint32_t y, float org[3],
                            float dir[3]) {
-    const float W = (float)cam->width, H = (float)cam->height;
-    const float sx = (2.0f * ((float)x + 0.5f) / W - 1.0f) * cam->tan_half * (W / H);
-    const float sy = (1.0f - 2.0f * ((float)y + 0.5f) / H) * cam->tan_half;
-    for (int k = 0; k < 3; ++k) {
-        org[k] = cam->eye[k];
-        dir[k] = cam->forward[k] + sx * cam->right[k] + sy * cam->upward[k];
-    }
-    normalize3(dir);
+    for (int k = 0; k < 3; ++k) org[k] = cam->eye[k];
+    facade_camera_dir(cam, facade_camera_sx(cam, x), facade_camera_sy(cam, y), dir);
 }
 
 /* ---- development ---- */

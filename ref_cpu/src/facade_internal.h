@@ -89,6 +89,13 @@ typedef struct facade_ctx {
     pgt_error *err;              /* the first evaluation error's message, or NULL */
 } facade_ctx;
 
+/* pgt_facade_camera_ray in parts: the image-plane offsets of pixel column x and of row y, and
+ * the unit direction through them (a caller tracing a block of pixels computes each column's and
+ * row's offset once; the same bits). */
+float facade_camera_sx(const pgt_facade_camera *cam, uint32_t x);
+float facade_camera_sy(const pgt_facade_camera *cam, uint32_t y);
+void facade_camera_dir(const pgt_facade_camera *cam, float sx, float sy, float dir[3]);
+
 /* pgt_facade_intersect with a memo (NULL: none) and the terminals' z (protrusions and recesses,
  * and the volume's F and B) scaled by zscale in (0, 1] (LOD, sec. 7): the ray's z is divided by
  * zscale instead, which meets the scaled geometry at the same t. */

@@ -374,7 +374,7 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
     pgt_facade_frame *fr = c->frame;
     pgt_facade_ray_stats *st = &c->wstats[worker];
     const uint32_t W = cam->width, H = cam->height;
-    float dirs[TILE * TILE][3], org[3];
+    float dirs[TILE * TILE][3];
     pgt_facade_hit hits[TILE * TILE];
     uint32_t dev[TILE * TILE], idx[TILE * TILE];
     facade_cache *cache = &c->caches[worker];
@@ -393,13 +393,17 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 }
             continue;
         }
-        for (uint32_t y = Y0; y < Y1; ++y)
+        float sx[TILE]; /* pgt_facade_camera_ray's rays, each column's offset computed once */
+        for (uint32_t x = X0; x < X1; ++x) sx[x - X0] = facade_camera_sx(cam, x);
+        for (uint32_t y = Y0; y < Y1; ++y) {
+            const float sy = facade_camera_sy(cam, y);
             for (uint32_t x = X0; x < X1; ++x) {
                 const uint32_t k = (y - Y0) * tw + (x - X0);
-                pgt_facade_camera_ray(cam, x, y, org, dirs[k]);
+                facade_camera_dir(cam, sx[x - X0], sy, dirs[k]);
                 hits[k].t = INFINITY, hits[k].facade = PGT_NONE, hits[k].kind = 0;
                 dev[k] = 0;
             }
+        }
         for (uint32_t l = c->tile_first[tile]; l < c->tile_first[tile + 1]; ++l) {
             const uint32_t fi = c->tile_list[l];
             const cover *cv = &c->cov[fi];
