@@ -484,9 +484,10 @@ void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
  * that another quad of the mesh shows. A rectangle's plane is placed in facade space as
  * facade_terminal places it for the explicit twin (c + off), so both keep or drop a rectangle
  * lying on the window's border alike (the explicit twin clips rectangles to the window). */
-static uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n, const float *num, const float a[3],
-                          const float v[3], const float inv[3], const float *win,
-                          const float off[2], float *best, uint64_t *tests) {
+static FACADE_ALWAYS_INLINE uint32_t hit_quads(const pgt_facade_quad *q, uint32_t n,
+                                               const float *num, const float a[3], const float v[3],
+                                               const float inv[3], const float *win,
+                                               const float off[2], float *best, uint64_t *tests) {
     static const uint32_t other[3][2] = {{1, 2}, {0, 2}, {0, 1}};
     uint32_t found = PGT_NONE;
     *tests += n;
@@ -534,9 +535,11 @@ static void prepare_quads(const pgt_facade_quad *q, uint32_t n, const float *gro
  * terminal has their boxes (groups[6 k .. 6 k + 6): lo xyz, hi xyz, grown by FACADE_GROUP_GROW;
  * NULL: none), skipping a group whose box the ray misses before *best: the same answer, fewer
  * tests. */
-static uint32_t hit_terminal(const pgt_facade_quad *q, uint32_t n, const float *groups,
-                             const quad_prep *p, const float v[3], const float inv[3],
-                             const float *win, const float off[2], float *best, uint64_t *tests) {
+static FACADE_ALWAYS_INLINE uint32_t hit_terminal(const pgt_facade_quad *q, uint32_t n,
+                                                  const float *groups, const quad_prep *p,
+                                                  const float v[3], const float inv[3],
+                                                  const float *win, const float off[2], float *best,
+                                                  uint64_t *tests) {
     if (!groups) return hit_quads(q, n, p->num, p->a, v, inv, win, off, best, tests);
     uint32_t found = PGT_NONE;
     for (uint32_t g0 = 0, g = 0; g0 < n; g0 += FACADE_QUAD_GROUP, ++g) {
