@@ -1111,16 +1111,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
         fr = &stack[sp - 1];
         if (fr->type == FR_SPLIT) {
             const uint32_t c = fr->next;
-            if (c == PGT_NONE || c >= fr->sp->plan.child_count) fr->mask = 0;
-            /* rays done: a hit before the cursor, or out of the scope */
-            uint64_t live = 0;
-            for (uint64_t m = fr->mask; m; m &= m - 1u) {
-                const uint32_t r = low_bit(m);
-                if (!(w->best[r] <= fr->t_cur[r] || fr->t_cur[r] >= fr->t_out[r]))
-                    live |= (uint64_t)1 << r;
-            }
-            fr->mask = live;
-            if (!live) {
+            if (c == PGT_NONE || c >= fr->sp->plan.child_count) {
                 if (fr->pinned) fr->pinned->pins--;
                 --sp;
                 continue;
@@ -1129,12 +1120,14 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             split_child(fr->sp, fr->fl, c, &ch);
             const uint32_t ax = fr->axis, seq = fr->sp->seq[ch.part];
             const float o = ax == 0 ? fr->x0 : fr->y0;
-            fr->next = fr->dir > 0 ? c + 1u : (c == 0 ? PGT_NONE : c - 1u);
             /* the child's frame goes to stack[sp]: its rays' intervals are written there */
             pframe *nf = &stack[sp < PGT_FACADE_MAX_DEPTH ? sp : sp - 1u];
-            uint64_t enter = 0;
-            for (uint64_t m = live; m; m &= m - 1u) {
+            uint64_t live = 0, enter = 0;
+            for (uint64_t m = fr->mask; m; m &= m - 1u) {
                 const uint32_t r = low_bit(m);
+                /* done: a hit before the cursor, or out of the scope */
+                if (w->best[r] <= fr->t_cur[r] || fr->t_cur[r] >= fr->t_out[r]) continue;
+                live |= (uint64_t)1 << r;
                 if (fr->dir > 0 ? fr->first[r] > c : fr->first[r] < c) continue; /* not yet */
                 const float va = w->v[r][ax], aa = w->a[ax];
                 float t_near = fr->t_cur[r], t_far = fr->t_out[r];
@@ -1149,19 +1142,25 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
                 nf->t_in[r] = t_near, nf->t_out[r] = t_far;
                 enter |= (uint64_t)1 << r;
             }
+            fr->mask = live;
+            if (!live) {
+                if (fr->pinned) fr->pinned->pins--;
+                --sp;
+                continue;
+            }
+            fr->next = fr->dir > 0 ? c + 1u : (c == 0 ? PGT_NONE : c - 1u);
             if (!enter) continue;
             if (sp == PGT_FACADE_MAX_DEPTH || spent >= PACKET_BUDGET) {
                 ok = 0;
                 break;
             }
-            ++sp, ++spent;
-            add_nodes(w, enter, 1u);
-            uint32_t nseq = seq, nkey = pgt_facade_child_key(fr->key, c), nargc = fr->argc;
+            ++sp;
+            uint32_t nseq = seq, nkey = pgt_facade_child_key(fr->key, c), nargc = fr->argc,
+                     hops = 0;
             const uint32_t *col = cache->collapse[grammar];
-            for (uint32_t hop = 0; hop < FACADE_COLLAPSE_MAX && col[nseq] != PGT_NONE; ++hop) {
+            for (; hops < FACADE_COLLAPSE_MAX && col[nseq] != PGT_NONE; ++hops)
                 nkey = pgt_facade_child_key(nkey, 0), nseq = col[nseq], nargc = 0;
-                add_nodes(w, enter, 1u), ++spent;
-            }
+            add_nodes(w, enter, 1u + hops), spent += 1u + hops;
             nf->type = FR_SEQ, nf->key = nkey, nf->mask = enter;
             nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
             if (ax == 0)
