@@ -315,7 +315,7 @@ for r in rows:
 
 # pgt facade, pgt bench facade (the algorithms are test_facade, the Embree check test_facade_embree)
 expect facade_help 0 "$pgt" facade --help
-for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene; do
+for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene --single-rays; do
   grep -q -- "$flag" out.txt && ok "facade_help_documents_$flag" || bad "facade_help_documents_$flag" "missing"
 done
 grep -q "facade" <("$pgt" --help) && ok help_lists_facade || bad help_lists_facade "no facade in pgt --help"
@@ -373,6 +373,11 @@ grep -q "^scene: 4 buildings, 16 facades" out.txt && ok facade_scene_file_counts
 expect facade_embree_check 0 "$pgt" facade --city 4 -o f3.exr --width 96 --height 64 --embree-check
 grep -q "^check: agreement .* -> PASS" out.txt && grep -q "^embree: BVH build" out.txt && grep -q "Embree / ours" out.txt \
   && ok facade_embree_check_prints || bad facade_embree_check_prints "$(cat out.txt)"
+# packets (the default) and every ray alone give the same frame, shaded with shadows
+expect facade_single_rays 0 "$pgt" facade --scene f.scene -o f4.exr --width 96 --height 64 --camera "$cam" \
+  --shadows --single-rays
+expect facade_packets 0 "$pgt" facade --scene f.scene -o f5.exr --width 96 --height 64 --camera "$cam" --shadows
+cmp -s f4.exr f5.exr && ok facade_single_rays_same_frame || bad facade_single_rays_same_frame "f4.exr and f5.exr differ"
 expect facade_overwrite_scene 2 "$pgt" facade --scene f.scene -o f.exr --save-scene f.scene
 one_line facade_overwrite_scene_one_line "never overwrites an input"
 # malformed scene files: each names FILE:LINE, exit 2
