@@ -110,7 +110,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     if (quick && !have_frames) frames = 2;
     if (quick && !have_buildings) nb = 2;
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
-    double *ms = malloc(5u * frames * sizeof(double));
+    double *ms = malloc(6u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");
     char tmp[4200];
     FILE *csv = pgt_cli_table_open(out_path,
@@ -136,8 +136,11 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "ours_over_embree = ours_trace_mrays / embree_mrays (the same work), "
                  "shaded_over_embree = ours_mrays / embree_mrays, best_over_embree = the fastest "
                  "hits-only frame against the fastest frame of Embree's faster mode (the least "
-                 "disturbed of each on a shared machine); the four are timed in turn "
-                 "frame after frame, so load on the shared machine falls on all alike\n");
+                 "disturbed of each on a shared machine); single_trace_ms: the hits-only frame "
+                 "with every ray developed alone (pgt_facade_shading.single_rays, pgt facade "
+                 "--single-rays; the same frame), packet_speedup = single_trace_ms / trace_ms; "
+                 "the five are timed in turn frame after frame, so load on the shared machine "
+                 "falls on all alike\n");
     fprintf(csv, "# bytes: procedural = pgt_facade_scene_bytes (buildings, footprints, params, "
                  "grammars; facades_bytes = the derived facade array, apart); explicit = the "
                  "twin's arrays (positions, indices, per-triangle ids); embree = its reported "
@@ -153,8 +156,8 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "ours_over_embree,embree_build_ms,procedural_bytes,facades_bytes,"
                  "explicit_triangles,explicit_bytes,embree_bytes,memory_ratio,agreement_pct,"
                  "disagreements,near_edge,nodes_per_ray,trace_ms,ours_trace_mrays,"
-                 "shaded_over_embree,best_over_embree\n");
-    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,,,,,\n",
+                 "shaded_over_embree,best_over_embree,single_trace_ms,packet_speedup\n");
+    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,,,,,,,\n",
             PAPER_FACADES, PAPER_MS, 1280.0 * 720.0 / (PAPER_MS * 1e3), PAPER_PROCEDURAL_BYTES,
             PAPER_EXPLICIT_BYTES, PAPER_EXPLICIT_BYTES / PAPER_PROCEDURAL_BYTES);
     int failures = 0;
@@ -197,17 +200,21 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                 failures++;
                 goto next_res;
             }
-            /* per frame in turn: ours shaded, ours hits only, Embree packets, Embree streams
-             * (the first round a warm-up) */
-            double *cover = ms + frames, *trace = ms + 2u * frames;
+            /* per frame in turn: ours hits only with single rays, ours hits only, ours shaded,
+             * Embree packets, Embree streams (the first round a warm-up) */
+            double *cover = ms + frames, *trace = ms + 2u * frames, *single = ms + 5u * frames;
             double *theirs[2] = {ms + 3u * frames, ms + 4u * frames};
-            pgt_facade_shading bare = sh;
+            pgt_facade_shading bare = sh, alone = sh;
             bare.hits_only = 1;
+            alone.hits_only = 1, alone.single_rays = 1;
             pgt_facade_render_stats bst;
             int bad = 0;
             for (uint32_t f = 0; f <= frames && !bad; ++f) {
-                bad = pgt_facade_render(s, facades, fc, &cam, &bare, threads, &frame, &bst, &err) !=
-                      PGT_OK;
+                bad = pgt_facade_render(s, facades, fc, &cam, &alone, threads, &frame, &bst,
+                                        &err) != PGT_OK;
+                if (!bad && f) single[f - 1] = bst.ms_total;
+                bad = bad || pgt_facade_render(s, facades, fc, &cam, &bare, threads, &frame, &bst,
+                                               &err) != PGT_OK;
                 if (!bad && f) trace[f - 1] = bst.ms_total;
                 bad = bad || pgt_facade_render(s, facades, fc, &cam, &sh, threads, &frame, &st,
                                                &err) != PGT_OK;
@@ -233,9 +240,10 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
             const double trace_mr = pixels / (trace_med * 1e3);
             const double best_ratio =
                 pgt_cli_min(theirs[fast], frames) / pgt_cli_min(trace, frames);
+            const double single_med = pgt_cli_median(single, frames);
             fprintf(csv,
                     "ours,%u,%u,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%.3f,%.3f,%.3f,%.0f,%zu,"
-                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
                     buildings[c], fc, rw[r], rh[r], threads, frames, med, best,
                     pgt_cli_median(cover, frames), ours_mr, emb_mr, fast ? "streams" : "packets",
                     pixels / (mode_med[0] * 1e3), pixels / (mode_med[1] * 1e3), trace_mr / emb_mr,
@@ -244,16 +252,18 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                     chk.agreement_pct, (unsigned long long)chk.disagree,
                     (unsigned long long)chk.near_edge,
                     st.rays.volume_hits ? (double)st.rays.nodes / (double)st.rays.volume_hits : 0.0,
-                    trace_med, trace_mr, ours_mr / emb_mr, best_ratio);
+                    trace_med, trace_mr, ours_mr / emb_mr, best_ratio, single_med,
+                    single_med / trace_med);
             fflush(csv);
             fprintf(stderr,
                     "pgt bench facade: %u facades, %ux%u, %u threads: ours %.1f ms shaded "
                     "(%.2f Mrays/s), %.1f ms hits only (%.2f Mrays/s); Embree %.2f Mrays/s (%s; "
                     "BVH %.0f ms); ours / Embree %.2fx (shaded %.2fx, fastest frames %.2fx); "
-                    "%zu vs %zu bytes (%.0fx); agreement %.4f %%\n",
+                    "packets %.2fx single rays; %zu vs %zu bytes (%.0fx); agreement %.4f %%\n",
                     fc, rw[r], rh[r], threads, med, ours_mr, trace_med, trace_mr, emb_mr,
                     fast ? "streams" : "packets", eb.build_ms, trace_mr / emb_mr, ours_mr / emb_mr,
-                    best_ratio, proc, ebytes, (double)ebytes / (double)proc, chk.agreement_pct);
+                    best_ratio, single_med / trace_med, proc, ebytes, (double)ebytes / (double)proc,
+                    chk.agreement_pct);
         next_res:
             pgt_facade_embree_hits_destroy(&hits);
             pgt_facade_frame_destroy(&frame);

@@ -455,7 +455,8 @@ for r in rows[1:]:
     assert abs(f("ours_over_embree") - f("ours_trace_mrays") / f("embree_mrays")) <= 1e-2 * f("ours_over_embree") + 2e-3, r
     assert abs(f("shaded_over_embree") - f("ours_mrays") / f("embree_mrays")) <= 1e-2 * f("shaded_over_embree") + 2e-3, r
     assert abs(f("ours_trace_mrays") - f("width") * f("height") / (f("trace_ms") * 1e3)) <= 1e-2 * f("ours_trace_mrays") + 2e-3, r
-    assert f("best_over_embree") > 0, r' \
+    assert f("best_over_embree") > 0, r
+    assert abs(f("packet_speedup") - f("single_trace_ms") / f("trace_ms")) <= 1e-2 * f("packet_speedup") + 2e-3, r' \
   && ok bench_facade_rows || bad bench_facade_rows "$(cat res/facade.csv)"
 
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
