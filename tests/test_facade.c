@@ -18,6 +18,19 @@
 
 #include "facade_oracle.h"
 
+/* The views the tests take of a generated city spanning L metres (eye, look-at, up, fov). */
+#define CITY_VIEWS 4
+static void city_view(float L, int k, float view[10]) {
+    const float views[CITY_VIEWS][10] = {
+        {-0.4f * L, 0.5f * L, -0.4f * L, 0.5f * L, 0.0f, 0.5f * L, 0, 1, 0, 50}, /* aerial */
+        {-5.0f, 1.7f, 28.0f, L, 6.0f, 28.5f, 0, 1, 0, 60},  /* street level, along a street */
+        {-2.0f, 20.0f, 27.5f, L, 1.0f, 28.2f, 0, 1, 0, 40}, /* grazing the facades */
+        {0.5f * L, 0.3f * L, 0.5f * L, 0.5f * L + 1.0f, 0.0f, 0.5f * L + 3.0f, 0, 1, 0,
+         90}, /* steep, inside the city */
+    };
+    memcpy(view, views[k], sizeof views[k]);
+}
+
 static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
     pgt_grammar g;
     REQUIRE(load(&g, grammar));
@@ -36,19 +49,14 @@ static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
         oracle_init(&o, &m, fc + s.building_count); /* roofs are facade_count + building */
         /* the city spans side lots of PGT_GEN_CITY_LOT metres */
         const float L = (float)(side * PGT_GEN_CITY_LOT);
-        const float cams[][10] = {
-            {-0.4f * L, 0.5f * L, -0.4f * L, 0.5f * L, 0.0f, 0.5f * L, 0, 1, 0, 50}, /* aerial */
-            {-5.0f, 1.7f, 28.0f, L, 6.0f, 28.5f, 0, 1, 0, 60},  /* street level, along a street */
-            {-2.0f, 20.0f, 27.5f, L, 1.0f, 28.2f, 0, 1, 0, 40}, /* grazing the facades */
-            {0.5f * L, 0.3f * L, 0.5f * L, 0.5f * L + 1.0f, 0.0f, 0.5f * L + 3.0f, 0, 1, 0,
-             90}, /* steep, inside the city */
-        };
         agreement a;
         memset(&a, 0, sizeof a);
-        for (size_t k = 0; k < sizeof cams / sizeof cams[0]; ++k) {
+        for (int k = 0; k < CITY_VIEWS; ++k) {
+            float cv[10];
+            city_view(L, k, cv);
             pgt_facade_camera cam;
-            REQUIRE(pgt_facade_camera_init(&cam, &cams[k][0], &cams[k][3], &cams[k][6], cams[k][9],
-                                           96, 72, &err) == PGT_OK);
+            REQUIRE(pgt_facade_camera_init(&cam, &cv[0], &cv[3], &cv[6], cv[9], 96, 72, &err) ==
+                    PGT_OK);
             compare_camera(&s, fa, fc, &o, &cam, &a, 1);
         }
         const double share = (double)(a.agree + a.near_edge) / a.rays;
@@ -313,26 +321,25 @@ static void test_packets_same_frame(void) {
         const float L = (float)(3 * PGT_GEN_CITY_LOT);
         /* straight at facade 0's middle from 6 m */
         const pgt_facade *f0 = &fa[0];
-        float mid[3], eye0[3];
+        float straight[10] = {0, 0, 0, 0, 0, 0, 0, 1, 0, 90}; /* eye, at (the middle), up, fov */
         for (int k = 0; k < 3; ++k) {
-            mid[k] = f0->origin[k] + 0.5f * f0->width * f0->t[k] + 0.5f * f0->height * f0->b[k];
-            eye0[k] = mid[k] + 6.0f * f0->n[k];
+            straight[3 + k] =
+                f0->origin[k] + 0.5f * f0->width * f0->t[k] + 0.5f * f0->height * f0->b[k];
+            straight[k] = straight[3 + k] + 6.0f * f0->n[k];
         }
-        const float cams[][10] = {
-            {-0.4f * L, 0.5f * L, -0.4f * L, 0.5f * L, 0.0f, 0.5f * L, 0, 1, 0, 50},
-            {-5.0f, 1.7f, 28.0f, L, 6.0f, 28.5f, 0, 1, 0, 60},
-            {-2.0f, 20.0f, 27.5f, L, 1.0f, 28.2f, 0, 1, 0, 40},
-            {0.5f * L, 0.3f * L, 0.5f * L, 0.5f * L + 1.0f, 0.0f, 0.5f * L + 3.0f, 0, 1, 0, 90},
-            {eye0[0], eye0[1], eye0[2], mid[0], mid[1], mid[2], 0, 1, 0, 90},
-        };
         /* 88 x 72: the image's middle column and row fall inside a tile */
         const uint32_t W = 88, H = 72;
         pgt_facade_frame fr;
         REQUIRE(pgt_facade_frame_create(&fr, W, H, &err) == PGT_OK);
-        for (size_t ci = 0; ci < sizeof cams / sizeof cams[0]; ++ci) {
+        for (int ci = 0; ci <= CITY_VIEWS; ++ci) { /* the city's views, then straight on */
+            float cv[10];
+            if (ci < CITY_VIEWS)
+                city_view(L, ci, cv);
+            else
+                memcpy(cv, straight, sizeof cv);
             pgt_facade_camera cam;
-            REQUIRE(pgt_facade_camera_init(&cam, &cams[ci][0], &cams[ci][3], &cams[ci][6],
-                                           cams[ci][9], W, H, &err) == PGT_OK);
+            REQUIRE(pgt_facade_camera_init(&cam, &cv[0], &cv[3], &cv[6], cv[9], W, H, &err) ==
+                    PGT_OK);
             for (int mode = 0; mode < 3; ++mode) {
                 pgt_facade_shading sh = {
                     .light = {0.5f * L, 3.0f * L, 0.2f * L}, .ambient = 0.3f, .shadows = 1};
@@ -345,7 +352,7 @@ static void test_packets_same_frame(void) {
                 pgt_facade_render_stats ps;
                 REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 2, &fr, &ps, &err) == PGT_OK);
                 const uint32_t d = packets_differ(&s, fa, fc, &cam, &sh, &fr, &ps);
-                CHECK_MSG(d == 0, "%s, camera %zu, mode %d: %u channels or counts differ",
+                CHECK_MSG(d == 0, "%s, camera %d, mode %d: %u channels or counts differ",
                           grammars[gi], ci, mode, d);
                 CHECK(ps.rays.errors == 0 && ps.rays.volume_hits > 0);
                 frames++;

@@ -424,12 +424,8 @@ static void slab_pre(float a, float v, float inv, float lo, float hi, float dlo,
     if (tb < *t1) *t1 = tb;
 }
 
-static void slab_inv(float a, float v, float inv, float lo, float hi, float *t0, float *t1) {
-    slab_pre(a, v, inv, lo, hi, lo - a, hi - a, t0, t1);
-}
-
 static void slab(float a, float v, float lo, float hi, float *t0, float *t1) {
-    slab_inv(a, v, 1.0f / v, lo, hi, t0, t1);
+    slab_pre(a, v, 1.0f / v, lo, hi, lo - a, hi - a, t0, t1);
 }
 
 /* A footprint facade's window is the whole facade and its b is +Y: then the mapping below is
@@ -509,16 +505,13 @@ static FACADE_ALWAYS_INLINE uint32_t hit_quads(const pgt_facade_quad *q, uint32_
     return found;
 }
 
-/* Groups of one terminal's rectangles at most. */
-#define QUAD_GROUPS ((PGT_FACADE_MAX_QUADS + FACADE_QUAD_GROUP - 1u) / FACADE_QUAD_GROUP)
-
 /* The part of a terminal's ray tests that does not depend on the direction, for rays from the
  * block-local origin a (every ray of a packet starts at the eye): each rectangle's plane minus
  * a (c - a[axis]) and each group box's faces minus a. */
 typedef struct quad_prep {
     float a[3];
     float num[PGT_FACADE_MAX_QUADS];
-    float dlo[QUAD_GROUPS][3], dhi[QUAD_GROUPS][3];
+    float dlo[FACADE_QUAD_GROUPS][3], dhi[FACADE_QUAD_GROUPS][3];
 } quad_prep;
 
 /* Prepares rectangles q[0 .. n) and their group boxes (groups, or NULL) for rays from a. */
@@ -651,6 +644,35 @@ static uint32_t child_after_gap(const facade_split_state *sp, const facade_split
     return lo > 0 ? lo - 1u : PGT_NONE;
 }
 
+/* Algorithm 1's step into child ch of a split on axis ax (scope corner o on that axis) going
+ * dir along it, for the ray a + t v whose progress through the split is t_cur and which leaves
+ * the split's scope at t_out: the ray's interval [*t_near, *t_far] inside the child. */
+static FACADE_ALWAYS_INLINE void child_span(const pgt_split_child *ch, float o, float a, float v,
+                                            int dir, float t_cur, float t_out, float *t_near,
+                                            float *t_far) {
+    *t_near = t_cur, *t_far = t_out;
+    if (v != 0.0f) {
+        const float ts = (o + ch->start - a) / v, te = (o + ch->end - a) / v;
+        const float tn = dir > 0 ? ts : te, tf = dir > 0 ? te : ts;
+        if (tn > *t_near) *t_near = tn;
+        if (tf < *t_far) *t_far = tf;
+    }
+}
+
+/* getSplitIndex(p): the child of layout sp (flat arrays fl, or NULL) the ray a + t v enters by
+ * at t_in, going dir along the split's axis (a, v: their components on it; o and L: the scope's
+ * corner and length there); after a gap, the next child that way; PGT_NONE if none. */
+static FACADE_ALWAYS_INLINE uint32_t entry_child(const facade_split_state *sp,
+                                                 const facade_split_flat *fl, float a, float v,
+                                                 float t_in, float o, float L, int dir) {
+    float p = a + t_in * v - o;
+    p = p < 0.0f ? 0.0f : (p > L ? L : p);
+    pgt_split_child ch;
+    const uint32_t k = fl ? pgt_split_flat_at(fl->start, fl->end, sp->plan.child_count, p, dir)
+                          : pgt_split_child_at(&sp->plan, sp->slots, p, dir, &ch);
+    return k != PGT_NONE ? k : child_after_gap(sp, fl, p, dir);
+}
+
 void facade_cache_clear(facade_cache *c) {
     for (uint32_t k = 0; k < FACADE_CACHE_SPLITS; ++k) c->split[k].valid = 0, c->split[k].pins = 0;
     for (uint32_t k = 0; k < FACADE_CACHE_TERMINALS; ++k) c->term[k].n = PGT_NONE;
@@ -755,6 +777,21 @@ static uint32_t terminal_quads(const facade_ctx *c, facade_cache *cache, const p
         group_boxes(dst, n, ce->groups);
         *groups = ce->groups;
     }
+    return n;
+}
+
+/* The geometry image of Mesh terminal item `it` (its id evaluated for node `key` with the
+ * frame's arguments): returns its triangle count, *d its triangles and *first the scene index of
+ * its first; 0 on an error, or-ed into c->stats (the evaluation's, or an id naming no image). */
+static uint32_t terminal_gimage(const facade_ctx *c, const pgt_facade_scene *s,
+                                const pgt_grammar_item *it, const float *args, uint32_t argc,
+                                uint32_t key, const float **d, uint32_t *first) {
+    float id;
+    uint64_t counter = 0;
+    *d = NULL, *first = 0;
+    if (!facade_eval(c, c->g->args[it->first_arg], args, argc, key, &counter, &id)) return 0;
+    const uint32_t n = facade_gimage_triangles(s, id, d, first);
+    if (n == 0) c->stats->errors |= PGT_FACADE_ERR_GIMAGE;
     return n;
 }
 
@@ -866,13 +903,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             split_child(fr->sp, fr->fl, fr->next, &ch);
             const uint32_t ax = fr->axis;
             const float o = ax == 0 ? fr->x0 : fr->y0;
-            float t_near = fr->t_cur, t_far = fr->t_out;
-            if (v[ax] != 0.0f) {
-                const float ts = (o + ch.start - a[ax]) / v[ax], te = (o + ch.end - a[ax]) / v[ax];
-                const float tn = fr->dir > 0 ? ts : te, tf = fr->dir > 0 ? te : ts;
-                if (tn > t_near) t_near = tn;
-                if (tf < t_far) t_far = tf;
-            }
+            float t_near, t_far;
+            child_span(&ch, o, a[ax], v[ax], fr->dir, fr->t_cur, fr->t_out, &t_near, &t_far);
             fr->t_cur = t_far > fr->t_cur ? t_far : fr->t_cur;
             const uint32_t cur = fr->next;
             fr->next = fr->dir > 0 ? cur + 1u : (cur == 0 ? PGT_NONE : cur - 1u);
@@ -933,18 +965,11 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
             const float al[3] = {a[0] - fr->x0, a[1] - fr->y0, a[2]};
             const float off[2] = {fr->x0, fr->y0};
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
-                float id, nrm[3];
-                uint64_t counter = 0;
-                const float *td = NULL;
-                if (!facade_eval(&c, g->args[it->first_arg], fr->args, fr->argc, key, &counter,
-                                 &id))
-                    break;
-                uint32_t first = 0;
-                const uint32_t n = facade_gimage_triangles(s, id, &td, &first);
-                if (n == 0) {
-                    stats->errors |= PGT_FACADE_ERR_GIMAGE;
-                    break;
-                }
+                float nrm[3];
+                const float *td;
+                uint32_t first;
+                const uint32_t n = terminal_gimage(&c, s, it, fr->args, fr->argc, key, &td, &first);
+                if (n == 0) break;
                 stats->quads += n;
                 const uint32_t k =
                     facade_gimage_hit(td, n, fr->w, fr->h, al, v, wp, off, &best, nrm);
@@ -1017,16 +1042,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         stats->nodes++;
         nf->type = FR_SPLIT, nf->key = key;
         nf->axis = ax, nf->dir = v[ax] < 0.0f ? -1 : 1, nf->t_cur = fr->t_in;
-        /* getSplitIndex(p): the child holding the entry point */
-        const float L = ax == 0 ? fr->w : fr->h;
-        float p = a[ax] + fr->t_in * v[ax] - (ax == 0 ? fr->x0 : fr->y0);
-        p = p < 0.0f ? 0.0f : (p > L ? L : p);
-        pgt_split_child ch;
-        uint32_t k = nf->fl ? pgt_split_flat_at(nf->fl->start, nf->fl->end,
-                                                nf->sp->plan.child_count, p, nf->dir)
-                            : pgt_split_child_at(&nf->sp->plan, nf->sp->slots, p, nf->dir, &ch);
-        if (k == PGT_NONE) k = child_after_gap(nf->sp, nf->fl, p, nf->dir);
-        nf->next = k;
+        nf->next = entry_child(nf->sp, nf->fl, a[ax], v[ax], fr->t_in, ax == 0 ? fr->x0 : fr->y0,
+                               ax == 0 ? fr->w : fr->h, nf->dir);
     }
     for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */
         if (stack[i].type == FR_SPLIT && stack[i].pinned) stack[i].pinned->pins--;
@@ -1061,7 +1078,9 @@ typedef struct pframe {
 } pframe;
 
 struct facade_packet_work {
-    pframe stack[PGT_FACADE_MAX_DEPTH];
+    /* one frame more than a ray may use: a split writes its rays' intervals in the child to the
+     * frame above it before it knows whether any ray enters the child (and so whether it fits) */
+    pframe stack[PGT_FACADE_MAX_DEPTH + 1u];
     float a[3]; /* the rays' origin in facade space: the same for all */
     float v[FACADE_PACKET][3], inv[FACADE_PACKET][3];
     float best[FACADE_PACKET], best_n[FACADE_PACKET][3];
@@ -1120,8 +1139,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             split_child(fr->sp, fr->fl, c, &ch);
             const uint32_t ax = fr->axis, seq = fr->sp->seq[ch.part];
             const float o = ax == 0 ? fr->x0 : fr->y0;
-            /* the child's frame goes to stack[sp]: its rays' intervals are written there */
-            pframe *nf = &stack[sp < PGT_FACADE_MAX_DEPTH ? sp : sp - 1u];
+            pframe *nf = &stack[sp]; /* the child's frame: its rays' intervals go there */
             uint64_t live = 0, enter = 0;
             for (uint64_t m = fr->mask; m; m &= m - 1u) {
                 const uint32_t r = low_bit(m);
@@ -1129,14 +1147,9 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
                 if (w->best[r] <= fr->t_cur[r] || fr->t_cur[r] >= fr->t_out[r]) continue;
                 live |= (uint64_t)1 << r;
                 if (fr->dir > 0 ? fr->first[r] > c : fr->first[r] < c) continue; /* not yet */
-                const float va = w->v[r][ax], aa = w->a[ax];
-                float t_near = fr->t_cur[r], t_far = fr->t_out[r];
-                if (va != 0.0f) {
-                    const float ts = (o + ch.start - aa) / va, te = (o + ch.end - aa) / va;
-                    const float tn = fr->dir > 0 ? ts : te, tf = fr->dir > 0 ? te : ts;
-                    if (tn > t_near) t_near = tn;
-                    if (tf < t_far) t_far = tf;
-                }
+                float t_near, t_far;
+                child_span(&ch, o, w->a[ax], w->v[r][ax], fr->dir, fr->t_cur[r], fr->t_out[r],
+                           &t_near, &t_far);
                 fr->t_cur[r] = t_far > fr->t_cur[r] ? t_far : fr->t_cur[r];
                 if (seq == PGT_NONE || !(t_near <= t_far) || t_near >= w->best[r]) continue;
                 nf->t_in[r] = t_near, nf->t_out[r] = t_far;
@@ -1197,16 +1210,10 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
             ls->terminals += (uint64_t)__builtin_popcountll(live);
             const float off[2] = {fr->x0, fr->y0};
             if (it->target == PGT_GRAMMAR_TERMINAL_MESH) { /* 6.2.2: brute force */
-                float id;
-                uint64_t counter = 0;
-                const float *td = NULL;
-                if (!facade_eval(cx, g->args[it->first_arg], fr->args, fr->argc, key, &counter,
-                                 &id)) {
-                    ok = 0;
-                    break;
-                }
-                uint32_t firsttri = 0;
-                const uint32_t n = facade_gimage_triangles(s, id, &td, &firsttri);
+                const float *td;
+                uint32_t firsttri;
+                const uint32_t n =
+                    terminal_gimage(cx, s, it, fr->args, fr->argc, key, &td, &firsttri);
                 if (n == 0) {
                     ok = 0;
                     break;
@@ -1299,13 +1306,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
         for (uint64_t m = live; m; m &= m - 1u) {
             const uint32_t r = low_bit(m);
             const int dir = w->v[r][ax] < 0.0f ? -1 : 1;
-            /* getSplitIndex(p): the child holding the entry point */
-            float p = w->a[ax] + fr->t_in[r] * w->v[r][ax] - o;
-            p = p < 0.0f ? 0.0f : (p > L ? L : p);
-            pgt_split_child ch;
-            uint32_t k = fl ? pgt_split_flat_at(fl->start, fl->end, lay->plan.child_count, p, dir)
-                            : pgt_split_child_at(&lay->plan, lay->slots, p, dir, &ch);
-            if (k == PGT_NONE) k = child_after_gap(lay, fl, p, dir);
+            const uint32_t k = entry_child(lay, fl, w->a[ax], w->v[r][ax], fr->t_in[r], o, L, dir);
             if (k == PGT_NONE) continue; /* the node counts, no child is entered */
             nf->first[r] = k, nf->t_cur[r] = fr->t_in[r];
             if (!tail) nf->t_in[r] = fr->t_in[r], nf->t_out[r] = fr->t_out[r];
@@ -1348,11 +1349,13 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
     return ok && !ls->errors;
 }
 
-void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
-                             const float org[3], const float (*dirs)[3], const uint32_t *idx,
-                             uint32_t n, pgt_facade_hit *hits, uint32_t *dev,
-                             pgt_facade_ray_stats *stats, facade_cache *cache,
-                             facade_packet_work *w, float zscale) {
+/* facade_intersect_packet with a work area; returns 0, having written nothing, when the packet
+ * must be replayed ray by ray. */
+static int packet_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                            const float org[3], const float (*dirs)[3], const uint32_t *idx,
+                            uint32_t n, pgt_facade_hit *hits, uint32_t *dev,
+                            pgt_facade_ray_stats *stats, facade_cache *cache, facade_packet_work *w,
+                            float zscale) {
     pgt_facade_ray_stats ls;
     memset(&ls, 0, sizeof ls);
     const int whole = facade_is_whole(f);
@@ -1395,14 +1398,7 @@ void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uin
         else
             mask = 0;
     }
-    if (!ok) { /* replay ray by ray: the same hits, counts and errors as without packets */
-        for (uint32_t r = 0; r < n; ++r) {
-            const uint64_t before = stats->nodes;
-            facade_intersect(s, f, fi, org, dirs[idx[r]], &hits[idx[r]], stats, cache, zscale);
-            dev[idx[r]] += (uint32_t)(stats->nodes - before);
-        }
-        return;
-    }
+    if (!ok) return 0;
     for (uint64_t m = mask; m; m &= m - 1u) {
         const uint32_t r = low_bit(m);
         ls.nodes += w->nodes[r], dev[idx[r]] += w->nodes[r];
@@ -1413,6 +1409,23 @@ void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uin
     }
     stats->rays += ls.rays, stats->volume_hits += ls.volume_hits, stats->nodes += ls.nodes;
     stats->terminals += ls.terminals, stats->quads += ls.quads;
+    return 1;
+}
+
+void facade_intersect_packet(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                             const float org[3], const float (*dirs)[3], const uint32_t *idx,
+                             uint32_t n, pgt_facade_hit *hits, uint32_t *dev,
+                             pgt_facade_ray_stats *stats, facade_cache *cache,
+                             facade_packet_work *w, float zscale) {
+    if (w && packet_intersect(s, f, fi, org, dirs, idx, n, hits, dev, stats, cache, w, zscale))
+        return;
+    /* ray by ray (no work area, or a packet to replay): the hits, counts and errors of
+     * facade_intersect, which is what a packet gives */
+    for (uint32_t r = 0; r < n; ++r) {
+        const uint64_t before = stats->nodes;
+        facade_intersect(s, f, fi, org, dirs[idx[r]], &hits[idx[r]], stats, cache, zscale);
+        dev[idx[r]] += (uint32_t)(stats->nodes - before);
+    }
 }
 
 /* ---- roofs ---- */

@@ -54,8 +54,10 @@ typedef struct facade_cache_split {
     facade_split_state st;
     facade_split_flat flat;
 } facade_cache_split;
-/* Rectangles per bounding box in a cached terminal (the window's 27 make 5 groups). */
+/* Rectangles per bounding box in a cached terminal (the window's 27 make 5 groups), and groups
+ * of one terminal at most. */
 #define FACADE_QUAD_GROUP 6u
+#define FACADE_QUAD_GROUPS ((PGT_FACADE_MAX_QUADS + FACADE_QUAD_GROUP - 1u) / FACADE_QUAD_GROUP)
 /* A group's box is grown by this share of (1 + |its coordinates|) so that rounding in the slab
  * test never culls a rectangle lying on the box's face. */
 #define FACADE_GROUP_GROW 1e-5f
@@ -65,7 +67,7 @@ typedef struct facade_cache_split {
 typedef struct facade_cache_terminal {
     facade_cache_key k;
     uint32_t n; /* PGT_NONE: empty */
-    float groups[6u * ((PGT_FACADE_MAX_QUADS + FACADE_QUAD_GROUP - 1u) / FACADE_QUAD_GROUP)];
+    float groups[6u * FACADE_QUAD_GROUPS];
     uint8_t surf[PGT_FACADE_MAX_QUADS]; /* surface id of q[i] (zero-area ones left out) */
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
 } facade_cache_terminal;
@@ -117,7 +119,8 @@ void facade_packet_work_destroy(facade_packet_work *w);
 
 /* facade_intersect (with memo `cache`, not NULL) for the n <= FACADE_PACKET rays org + t
  * dirs[idx[i]] through facade f, hits[idx[i]] in and out, dev[idx[i]] += the nodes each ray
- * developed: the same hits, node counts and statistics as facade_intersect ray after ray. What
+ * developed: the same hits, node counts and statistics as facade_intersect ray after ray, which
+ * is what it runs without a work area (w NULL: pgt_facade_shading.single_rays). What
  * does not depend on the ray (memo look-ups, layouts, rule calls, keys, frames) is done once
  * per node for the rays that reach it; every ray keeps its own order of children and terminals
  * (a split's rays going up and down the axis get a frame each). A packet that meets an error

@@ -424,19 +424,11 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                 }
             c->wcovered[worker] += n;
             const float zs = zscale_of(c->sh, cv->dist);
-            if (pw) { /* developed in packets, the same hits */
-                for (uint32_t i = 0; i < n; i += FACADE_PACKET)
-                    facade_intersect_packet(c->s, &c->f[fi], fi, cam->eye, (const float(*)[3])dirs,
-                                            idx + i, n - i < FACADE_PACKET ? n - i : FACADE_PACKET,
-                                            hits, dev, st, cache, pw, zs);
-                continue;
-            }
-            for (uint32_t i = 0; i < n; ++i) {
-                const uint64_t before = st->nodes;
-                facade_intersect(c->s, &c->f[fi], fi, cam->eye, dirs[idx[i]], &hits[idx[i]], st,
-                                 cache, zs);
-                dev[idx[i]] += (uint32_t)(st->nodes - before);
-            }
+            /* in packets (pw NULL: every ray alone), the same hits */
+            for (uint32_t i = 0; i < n; i += FACADE_PACKET)
+                facade_intersect_packet(c->s, &c->f[fi], fi, cam->eye, (const float(*)[3])dirs,
+                                        idx + i, n - i < FACADE_PACKET ? n - i : FACADE_PACKET,
+                                        hits, dev, st, cache, pw, zs);
         }
         /* shading */
         for (uint32_t y = Y0; y < Y1; ++y)
