@@ -172,6 +172,26 @@ const char *const pgt_cli_shared_meshes[] = {
 const uint32_t pgt_cli_shared_mesh_count =
     sizeof pgt_cli_shared_meshes / sizeof *pgt_cli_shared_meshes;
 
+int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char *buf,
+                      size_t buf_size, const char **out, uint32_t max, uint32_t *n) {
+    if (strlen(text) >= buf_size)
+        return pgt_cli_fail(verb, "%s: list longer than %zu characters", flag, buf_size - 1u);
+    memcpy(buf, text, strlen(text) + 1u);
+    const uint32_t before = *n;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u meshes in all", flag, max);
+        out[(*n)++] = tok;
+    }
+    if (*n == before) return pgt_cli_fail(verb, "%s: empty list", flag);
+    return 0;
+}
+
+const char *pgt_cli_mesh_label(const char *name) {
+    const char *slash = strrchr(name, '/');
+    return slash ? slash + 1 : name;
+}
+
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err) {
     uint32_t g = pgt_gen_default_find(name);

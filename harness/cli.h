@@ -75,6 +75,16 @@ extern const char *const pgt_cli_shared_meshes[];
 extern const uint32_t pgt_cli_shared_mesh_count;
 #define PGT_CLI_SHARED_MESH_DIR PGT_SHARED_DIR "/datasets/meshes"
 
+/* Appends the comma-separated names of `text` (a flag's value) to out[*n ...], at most max in
+ * all: copies text into buf (which the names then point into; it must outlive them). A clear
+ * error naming `flag` (returns PGT_EXIT_USAGE) for an empty list or too many names, else 0. */
+int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char *buf,
+                      size_t buf_size, const char **out, uint32_t max, uint32_t *n);
+
+/* A mesh name as a table shows it: the file name of a path (what follows the last '/'), the
+ * name itself otherwise. Benchmark CSVs compare across machines, whose folders differ. */
+const char *pgt_cli_mesh_label(const char *name);
+
 /* Loads a mesh named on a command line: a generated default dataset (pgt_datasets --list), an
  * existing file, or a file name inside shared_dir. UVs are kept, so are labels. */
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,

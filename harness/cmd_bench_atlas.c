@@ -22,7 +22,7 @@
 
 static const char *bench_atlas_usage =
     "usage: pgt bench atlas [--out FILE] [--repeat R] [--threads LIST] [--res N]\n"
-    "                       [--meshes LIST] [--shared DIR]\n"
+    "                       [--meshes LIST] [--add LIST] [--shared DIR]\n"
     "\n"
     "Times the atlas builder (charts, layout, raster, pointers, angles; no file I/O) and writes\n"
     "Table 1 of paper 000: one CSV row per mesh x thread count (source=ours) after the paper's\n"
@@ -36,7 +36,10 @@ static const char *bench_atlas_usage =
     "                  cube_sphere_64 (generated, 49152 faces: the issue's 50k-face performance\n"
     "                  target), or a file name in the shared mesh folder (default: spot.obj,\n"
     "                  bob_tri.obj, human_neutral.obj, pizza.obj, ogre_bs_rest.obj,\n"
-    "                  cube_sphere_8, cube_sphere_64)\n"
+    "                  cube_sphere_8, cube_sphere_64); a name with a '/' is a file anywhere,\n"
+    "                  shown in the CSV by its file name\n"
+    "  --add LIST      more meshes after those (scripts/main.sh adds the MeshLab Voronoi\n"
+    "                  atlases of mountain and nefertiti-lowres, *_voronoi.obj)\n"
     "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n";
 
 #define BENCH_ATLAS_MAX_LIST 32
@@ -69,7 +72,8 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     uint32_t repeat = 5, res = PGT_ATLAS_DEFAULT_RES, threads[BENCH_ATLAS_MAX_LIST], n_threads = 0;
     const char *meshes[BENCH_ATLAS_MAX_LIST];
     uint32_t n_meshes = 0;
-    char mesh_buf[4096];
+    char mesh_buf[4096], add_buf[4096];
+    const char *add = NULL;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -93,16 +97,12 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--meshes")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
-            snprintf(mesh_buf, sizeof mesh_buf, "%s", v);
             n_meshes = 0;
-            for (char *save = NULL, *tok = strtok_r(mesh_buf, ",", &save); tok;
-                 tok = strtok_r(NULL, ",", &save)) {
-                if (n_meshes >= BENCH_ATLAS_MAX_LIST)
-                    return pgt_cli_fail("bench", "--meshes: at most %d meshes",
-                                        BENCH_ATLAS_MAX_LIST);
-                meshes[n_meshes++] = tok;
-            }
-            if (!n_meshes) return pgt_cli_fail("bench", "--meshes: empty list");
+            if (pgt_cli_name_list("bench", a, v, mesh_buf, sizeof mesh_buf, meshes,
+                                  BENCH_ATLAS_MAX_LIST, &n_meshes))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--add")) {
+            if (!(add = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
         } else {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench atlas --help)", a);
         }
@@ -110,6 +110,9 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     if (!n_meshes)
         for (size_t i = 0; i < sizeof(default_meshes) / sizeof(default_meshes[0]); ++i)
             meshes[n_meshes++] = default_meshes[i];
+    if (add && pgt_cli_name_list("bench", "--add", add, add_buf, sizeof add_buf, meshes,
+                                 BENCH_ATLAS_MAX_LIST, &n_meshes))
+        return PGT_EXIT_USAGE;
     if (!n_threads) {
         threads[n_threads++] = 1;
         if (pgt_cli_cpu_count() > 1) threads[n_threads++] = pgt_cli_cpu_count();
@@ -179,7 +182,7 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             const double med_total = pgt_cli_median(total, repeat);
             fprintf(csv,
                     "ours,%s,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%.4f,%u,%u,%u\n",
-                    meshes[mi], m.face_count, st.charts, res, threads[ti],
+                    pgt_cli_mesh_label(meshes[mi]), m.face_count, st.charts, res, threads[ti],
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_charts), scratch),
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_layout), scratch),
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_raster), scratch),
@@ -190,7 +193,8 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             fflush(csv);
             fprintf(stderr,
                     "pgt bench atlas: %s (%u faces, %u charts) %ux%u, %u threads: %.1f ms\n",
-                    meshes[mi], m.face_count, st.charts, res, res, threads[ti], med_total);
+                    pgt_cli_mesh_label(meshes[mi]), m.face_count, st.charts, res, res, threads[ti],
+                    med_total);
         }
         pgt_mesh_destroy(&m);
     }

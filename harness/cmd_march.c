@@ -294,8 +294,9 @@ done:
 /* ---- pgt bench march ------------------------------------------------------------------------ */
 
 static const char *bench_march_usage =
-    "usage: pgt bench march [--out FILE] [--meshes LIST] [--shared DIR] [--threads LIST]\n"
-    "                       [--walkers W] [--steps N] [--step S] [--res R] [--repeat R] [--quick]\n"
+    "usage: pgt bench march [--out FILE] [--meshes LIST] [--add LIST] [--shared DIR]\n"
+    "                       [--threads LIST] [--walkers W] [--steps N] [--step S] [--res R]\n"
+    "                       [--repeat R] [--quick]\n"
     "\n"
     "Marching steps per second per core (the issue's target: >= 20 million) on the atlases of\n"
     "the given meshes, built in memory with pgt atlas's defaults. W walkers start at seeded\n"
@@ -307,7 +308,10 @@ static const char *bench_march_usage =
     "  --out FILE      CSV to write (default results/march.csv; temporary file + rename)\n"
     "  --meshes LIST   comma-separated: a generated default dataset (pgt_datasets --list) or a\n"
     "                  file name in the shared mesh folder (default: cube_sphere_8 and every\n"
-    "                  mesh of the shared folder that has UVs)\n"
+    "                  mesh of the shared folder that has UVs); a name with a '/' is a file\n"
+    "                  anywhere, shown in the CSV by its file name\n"
+    "  --add LIST      more meshes after those (scripts/main.sh adds the MeshLab Voronoi\n"
+    "                  atlases of mountain and nefertiti-lowres, *_voronoi.obj)\n"
     "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
     "  --threads LIST  comma-separated thread counts (default 1,2)\n"
     "  --walkers W     walkers, 1 to 1048576 (default 16384)\n"
@@ -354,7 +358,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     float step = 2.0f;
     const char *meshes[BENCH_MARCH_MAX_LIST];
     uint32_t n_meshes = 0;
-    char list_buf[4096];
+    char list_buf[4096], add_buf[4096];
+    const char *add = NULL;
     int quick = 0, have_walkers = 0, have_steps = 0, have_repeat = 0;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i], *v;
@@ -367,15 +372,12 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             if (!(shared_dir = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--meshes")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
-            snprintf(list_buf, sizeof list_buf, "%s", v);
             n_meshes = 0;
-            for (char *save = NULL, *tok = strtok_r(list_buf, ",", &save); tok;
-                 tok = strtok_r(NULL, ",", &save)) {
-                if (n_meshes >= BENCH_MARCH_MAX_LIST)
-                    return pgt_cli_fail(verb, "--meshes: at most %d meshes", BENCH_MARCH_MAX_LIST);
-                meshes[n_meshes++] = tok;
-            }
-            if (!n_meshes) return pgt_cli_fail(verb, "--meshes: empty list");
+            if (pgt_cli_name_list(verb, a, v, list_buf, sizeof list_buf, meshes,
+                                  BENCH_MARCH_MAX_LIST, &n_meshes))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--add")) {
+            if (!(add = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--threads")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             char buf[512];
@@ -428,6 +430,9 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         for (uint32_t k = 0; k < pgt_cli_shared_mesh_count && n_meshes < BENCH_MARCH_MAX_LIST; ++k)
             meshes[n_meshes++] = pgt_cli_shared_meshes[k]; /* those without UVs are skipped */
     }
+    if (add && pgt_cli_name_list(verb, "--add", add, add_buf, sizeof add_buf, meshes,
+                                 BENCH_MARCH_MAX_LIST, &n_meshes))
+        return PGT_EXIT_USAGE;
 
     char tmp[4200];
     FILE *csv = pgt_cli_table_open(out_path,
@@ -535,16 +540,17 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                 const double msps = (double)total / (med * 1e-3) / 1e6;
                 const double per_cpu = cpu_med > 0.0 ? (double)total / (cpu_med * 1e-3) / 1e6 : 0.0;
                 const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
-                fprintf(csv,
-                        "%s,%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
-                        meshes[mi], m.face_count, st.charts, res, (double)step, walkers, steps,
-                        threads[ti], with_pos ? "yes" : "no", (unsigned long long)total, jpk,
-                        stopped, med, best, msps, msps / threads[ti], cpu_med, per_cpu);
+                fprintf(
+                    csv, "%s,%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
+                    pgt_cli_mesh_label(meshes[mi]), m.face_count, st.charts, res, (double)step,
+                    walkers, steps, threads[ti], with_pos ? "yes" : "no", (unsigned long long)total,
+                    jpk, stopped, med, best, msps, msps / threads[ti], cpu_med, per_cpu);
                 fprintf(stderr,
                         "pgt bench march: %s (%u charts) %u thread%s%s: %.2f M steps/s (%.2f per "
                         "core; %.2f per CPU-second), %.1f jumps per 1000 steps\n",
-                        meshes[mi], st.charts, threads[ti], threads[ti] > 1 ? "s" : "",
-                        with_pos ? " +position" : "", msps, msps / threads[ti], per_cpu, jpk);
+                        pgt_cli_mesh_label(meshes[mi]), st.charts, threads[ti],
+                        threads[ti] > 1 ? "s" : "", with_pos ? " +position" : "", msps,
+                        msps / threads[ti], per_cpu, jpk);
             }
     next:
         pgt_march_atlas_destroy(&a);

@@ -16,6 +16,8 @@
 # and prints INFO lines that are not asserted: mirrored charts, flipped faces, non-disk charts,
 # texels covered twice inside one chart (fold-overs), the spread of the UV/3D area ratio.
 # A negative check: a missing input gives exit 2 and exactly one line on stderr.
+# Then pgt on the two atlased meshes (with PGT_CLI, PGT_TEST_ATLAS, PGT_TEST_MARCH set; see below):
+# pgt atlas through the CLI, test_atlas voronoi_atlases and test_march real_random_marches.
 # Prints PASS/FAIL lines and TIME lines (wall ms of the wrapper per mesh); exit 0 if all pass,
 # 1 otherwise, 77 (skip) when meshlabserver or xvfb-run is missing, except under CI=true where
 # that is a failure.
@@ -304,6 +306,7 @@ sys.exit(main())
 PY
 
 # --- the two meshes ---------------------------------------------------------------------------
+made=''
 for m in mountain nefertiti-lowres; do
     in=$meshes/$m.obj
     out=$outdir/$m.atlas.obj
@@ -328,7 +331,40 @@ for m in mountain nefertiti-lowres; do
     n=$(grep -c '^FAIL' "$tmp/$m.py")
     fails=$((fails + n))
     if [ "$prc" -ne 0 ] && [ "$n" -eq 0 ]; then fail "$m: analyzer exit $prc"; fi
+    made=${made:+$made:}$out
 done
+
+# --- pgt on the atlased meshes ("so nefertiti-lowres and mountain get atlases too") -------------
+# With PGT_CLI, PGT_TEST_ATLAS and PGT_TEST_MARCH set to the pgt, test_atlas and test_march binaries
+# (ctest sets them, tests/CMakeLists.txt): pgt atlas builds each geometry image through the CLI,
+# test_atlas's voronoi_atlases case checks the contract, the symmetry and the rotations, and
+# test_march's real_random_marches case marches thousands of random walkers on them (the checks
+# the shared UV meshes get). Unset (a run by hand): skipped with a line saying so.
+if [ -z "$made" ]; then
+    fail "no atlased mesh to give to pgt"
+elif [ -z "${PGT_CLI:-}" ] || [ -z "${PGT_TEST_ATLAS:-}" ] || [ -z "${PGT_TEST_MARCH:-}" ]; then
+    echo "INFO: PGT_CLI, PGT_TEST_ATLAS or PGT_TEST_MARCH not set: pgt atlas and the atlas and march" \
+        "checks on the atlased meshes skipped"
+else
+    for out in $(echo "$made" | tr ':' ' '); do
+        rc=0
+        "$PGT_CLI" atlas "$out" -o "$tmp/atlas.exr" >"$tmp/pgt.out" 2>&1 || rc=$?
+        if [ "$rc" -eq 0 ] && [ -s "$tmp/atlas.exr" ]; then
+            pass "pgt atlas $(basename "$out"): $(grep -E '^  (charts|texels)' "$tmp/pgt.out" | tr -s ' ' | tr '\n' ';')"
+        else
+            fail "pgt atlas $(basename "$out"): exit $rc"
+            cat "$tmp/pgt.out"
+        fi
+    done
+    for t in "$PGT_TEST_ATLAS voronoi_atlases" "$PGT_TEST_MARCH real_random_marches"; do
+        rc=0
+        # shellcheck disable=SC2086 # a binary and a case name
+        PGT_TEST_MESHES=$made $t >"$tmp/case.out" 2>&1 || rc=$?
+        sed 's/^/  /' "$tmp/case.out"
+        if [ "$rc" -eq 0 ]; then pass "$(basename "${t%% *}") ${t##* } on the atlased meshes"; else
+            fail "$(basename "${t%% *}") ${t##* } on the atlased meshes: exit $rc"; fi
+    done
+fi
 
 if [ "$fails" -eq 0 ]; then
     echo "PASS: meshlab_atlas_check"

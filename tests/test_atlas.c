@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include <gen.h>
+#include <pgt/adjacency.h>
 #include <pgt/atlas.h>
 #include <pgt/atlas_build.h>
 #include <pgt/image.h>
@@ -36,17 +37,13 @@
 #define NORMAL_UNIT_TOL 1e-5
 /* Pointer symmetry (issue 4): the round trip lands within 2 texels of its start... */
 #define SYMMETRY_TEXELS 2.0
-/* ...for this share of indirection texels on the cube-sphere (its seams are axis-aligned and its
- * charts have the same texel density on both sides). */
+/* ...for this share of indirection texels (the issue's 99 %). On the cube-sphere, whose seams
+ * are axis-aligned with the same texel density on both sides, in texels. On spot and bob the
+ * input UVs are strongly distorted next to some seams (spot's leg holes: one side has 4-10 times
+ * the texels of the other along the seam), so a round trip through the sparse side lands several
+ * texels of the dense side away, inevitably; there the test measures in 3D, in the larger local
+ * texel size of the two sides (measure_symmetry). */
 #define SYMMETRY_SHARE 0.99
-/* On spot and bob the input UVs are strongly distorted next to some seams (spot's leg holes:
- * one side has 4-10 times the texels of the other along the seam), so a round trip through the
- * sparse side lands several texels of the dense side away, inevitably (measured at 1024^2:
- * 69 % of spot's and 84 % of bob's texels within 2 texels). The test measures there in 3D, in
- * the larger local texel size of the two sides: within 2 of them for this share (measured:
- * spot 99.6 %, bob 98.9 %; bob's misses are mostly the tips of sub-texel slits cut inside its
- * charts, which no texel grid resolves). */
-#define SYMMETRY_LOCAL_SHARE 0.98
 /* Rotation: leaving a chart straight through an indirection texel and going on along the
  * rotated direction in the target chart keeps the 3D direction, up to the shear of the
  * parametrizations (5.2 rotates, it cannot undo shear): cosine above this. The cube-sphere's
@@ -209,6 +206,8 @@ typedef struct symmetry {
     uint32_t count;
     double texel_share; /* round trip within SYMMETRY_TEXELS texels of the start */
     double local_share; /* within SYMMETRY_TEXELS local texel sizes in 3D */
+    /* the same with the texel-space reading of "nearest" (see measure_symmetry) */
+    double texel_share_tn, local_share_tn;
 } symmetry;
 
 /* Largest 3D distance from texel (x, y) to its 4-adjacent inner texels of the same chart. */
@@ -222,12 +221,31 @@ static double local_size(const view *v, int32_t x, int32_t y) {
     return s;
 }
 
-/* From each indirection texel s: follow the pointer to q (chart B), take the indirection texel
- * of B nearest to q in texture space (ties: row-major first), follow its pointer to q2. */
+/* The issue's round trip from indirection texel s (chart A): follow the pointer to q (chart B),
+ * take the indirection texel of B nearest to q, follow its pointer to q2 (chart A), and measure
+ * q2 - s in texels and in 3D against the larger local texel size of q and q2. "Nearest" is
+ * read in 3D, as the pointers themselves are defined: the indirection texel of B whose 3D point
+ * (the p it was given, the mean of its adjacent inner-boundary texels) lies nearest to q's
+ * position; the texel-space reading (nearest texel centre to q, ties to the first in row-major
+ * order) is measured too (the _tn shares). In texel space a corner of B has two outer texels at
+ * the same distance from q and the row-major tie picks one of them without regard to the seam;
+ * measured at 1024^2, spot / bob / nefertiti (MeshLab's Voronoi atlas): within 2 texels
+ * 75.3 / 92.0 / 96.7 % in 3D against 69.2 / 84.0 / 91.2 % in texel space, within 2 local
+ * texel sizes 99.85 / 99.82 / 99.71 % against 99.64 / 98.91 / 97.22 %. */
+static void round_trip(const view *v, size_t i, int32_t x, int32_t y, int32_t sx, int32_t sy,
+                       uint32_t *ok_tex, uint32_t *ok_loc) {
+    const int32_t qx = (int32_t)v->pu[i], qy = (int32_t)v->pv[i];
+    const size_t s2 = (size_t)sy * v->W + (size_t)sx;
+    const int32_t rx = (int32_t)v->pu[s2], ry = (int32_t)v->pv[s2];
+    if (hypot(rx - x, ry - y) <= SYMMETRY_TEXELS) ++*ok_tex;
+    const double loc = fmax(local_size(v, rx, ry), local_size(v, qx, qy));
+    if (dist3(v, (size_t)ry * v->W + (size_t)rx, i) <= SYMMETRY_TEXELS * loc) ++*ok_loc;
+}
+
 static symmetry measure_symmetry(const pgt_image *img) {
     const view v = view_of(img);
-    symmetry r = {0, 0.0, 0.0};
-    uint32_t ok_tex = 0, ok_loc = 0;
+    symmetry r = {0, 0.0, 0.0, 0.0, 0.0};
+    uint32_t ok_tex = 0, ok_loc = 0, ok_tex_tn = 0, ok_loc_tn = 0;
     const int32_t R = 8; /* the outer ring is one texel from q; 8 is far beyond */
     for (int32_t y = 0; y < (int32_t)v.H; ++y)
         for (int32_t x = 0; x < (int32_t)v.W; ++x) {
@@ -235,8 +253,10 @@ static symmetry measure_symmetry(const pgt_image *img) {
             if (v.kind[i] != PGT_TEXEL_INDIRECTION) continue;
             r.count++;
             const int32_t qx = (int32_t)v.pu[i], qy = (int32_t)v.pv[i];
-            const float B = v.chart[(size_t)qy * v.W + (size_t)qx];
-            int32_t sx = -1, sy = -1, best = INT32_MAX;
+            const size_t q = (size_t)qy * v.W + (size_t)qx;
+            const float B = v.chart[q];
+            int32_t sx = -1, sy = -1, best = INT32_MAX, tx = -1, ty = -1;
+            double best3 = INFINITY;
             for (int32_t dy = -R; dy <= R; ++dy)
                 for (int32_t dx = -R; dx <= R; ++dx) {
                     const int32_t nx = qx + dx, ny = qy + dy;
@@ -244,17 +264,19 @@ static symmetry measure_symmetry(const pgt_image *img) {
                     const size_t j = (size_t)ny * v.W + (size_t)nx;
                     if (v.kind[j] != PGT_TEXEL_INDIRECTION || v.chart[j] != B) continue;
                     const int32_t d = dx * dx + dy * dy;
-                    if (d < best) best = d, sx = nx, sy = ny;
+                    if (d < best) best = d, tx = nx, ty = ny;
+                    const double d3 = dist3(&v, q, j);
+                    if (d3 < best3) best3 = d3, sx = nx, sy = ny;
                 }
             if (sx < 0) continue;
-            const size_t s2 = (size_t)sy * v.W + (size_t)sx;
-            const int32_t rx = (int32_t)v.pu[s2], ry = (int32_t)v.pv[s2];
-            if (hypot(rx - x, ry - y) <= SYMMETRY_TEXELS) ok_tex++;
-            const double loc = fmax(local_size(&v, rx, ry), local_size(&v, qx, qy));
-            if (dist3(&v, (size_t)ry * v.W + (size_t)rx, i) <= SYMMETRY_TEXELS * loc) ok_loc++;
+            round_trip(&v, i, x, y, sx, sy, &ok_tex, &ok_loc);
+            round_trip(&v, i, x, y, tx, ty, &ok_tex_tn, &ok_loc_tn);
         }
-    r.texel_share = r.count ? (double)ok_tex / r.count : 0.0;
-    r.local_share = r.count ? (double)ok_loc / r.count : 0.0;
+    if (r.count) {
+        r.texel_share = (double)ok_tex / r.count, r.local_share = (double)ok_loc / r.count;
+        r.texel_share_tn = (double)ok_tex_tn / r.count;
+        r.local_share_tn = (double)ok_loc_tn / r.count;
+    }
     return r;
 }
 
@@ -469,10 +491,11 @@ static void test_cube_sphere(void) {
     CHECK(pgt_atlas_texel_size(&img, &(pgt_atlas_channels){0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}) ==
           ts);
     const symmetry s = measure_symmetry(&img);
-    printf("  cube-sphere 512^2: %u indirection texels, symmetry %.4f (texels) %.4f (3D)\n",
-           s.count, s.texel_share, s.local_share);
+    printf("  cube-sphere 512^2: %u indirection texels, symmetry %.4f (texels) %.4f (3D); "
+           "nearest in texel space %.4f %.4f\n",
+           s.count, s.texel_share, s.local_share, s.texel_share_tn, s.local_share_tn);
     CHECK(s.count == st.indirection_texels);
-    CHECK(s.texel_share >= SYMMETRY_SHARE);
+    CHECK(s.texel_share >= SYMMETRY_SHARE && s.texel_share_tn >= SYMMETRY_SHARE);
     uint32_t rn = 0;
     const double rs = measure_rotation(&img, &rn);
     printf("  cube-sphere rotation: %.4f of %u texels keep the 3D direction\n", rs, rn);
@@ -490,6 +513,24 @@ static void test_cube_sphere(void) {
     CHECK(s2.texel_share >= SYMMETRY_SHARE && rs2 >= ROTATION_SHARE);
     pgt_image_destroy(&img);
     pgt_mesh_destroy(&m);
+}
+
+/* The checks every real mesh's atlas gets: the atlas.h contract, no chart mirrored against the
+ * surface; prints its counts, symmetry shares and rotation share (*out_rs), returns the
+ * symmetry. */
+static symmetry check_real_atlas(const char *label, const pgt_image *img, const pgt_atlas_stats *st,
+                                 double *out_rs) {
+    CHECK(check_contract(img, st->band) == 0);
+    CHECK(orientation_disagreements(img) == 0);
+    const symmetry s = measure_symmetry(img);
+    uint32_t rn = 0;
+    *out_rs = measure_rotation(img, &rn);
+    printf("  %s 1024^2: %u charts (%u mirrored), %u indirection, %u dead ends; symmetry %.4f "
+           "within 2 texels, %.4f within 2 local texel sizes (nearest in texel space: %.4f, "
+           "%.4f); rotation %.4f of %u\n",
+           label, st->charts, st->mirrored_charts, st->indirection_texels, st->dead_end_texels,
+           s.texel_share, s.local_share, s.texel_share_tn, s.local_share_tn, *out_rs, rn);
+    return s;
 }
 
 /* spot and bob_tri at the paper's 1024^2: closed meshes, so no dead end except where the input
@@ -519,17 +560,67 @@ static void test_closed_meshes(void) {
         CHECK(st.charts == meshes[k].charts && st.mirrored_charts == meshes[k].mirrored);
         CHECK(st.repacked == 1); /* spot's UVs leave [0,1]; bob's leave no 2-texel band */
         CHECK(st.dead_end_texels <= meshes[k].max_dead_end);
-        CHECK(check_contract(&img, st.band) == 0);
-        CHECK(orientation_disagreements(&img) == 0);
-        const symmetry s = measure_symmetry(&img);
-        uint32_t rn = 0;
-        const double rs = measure_rotation(&img, &rn);
-        printf("  %s 1024^2: %u charts (%u mirrored), %u indirection, %u dead ends; symmetry "
-               "%.4f within 2 texels, %.4f within 2 local texel sizes; rotation %.4f of %u\n",
-               meshes[k].name, st.charts, st.mirrored_charts, st.indirection_texels,
-               st.dead_end_texels, s.texel_share, s.local_share, rs, rn);
-        CHECK(s.local_share >= SYMMETRY_LOCAL_SHARE);
+        double rs = 0.0;
+        const symmetry s = check_real_atlas(meshes[k].name, &img, &st, &rs);
+        CHECK(s.local_share >= SYMMETRY_SHARE);
         CHECK(rs >= ROTATION_SHARE_SHEARED);
+        pgt_image_destroy(&img);
+        pgt_mesh_destroy(&m);
+    }
+}
+
+/* Meshes given an atlas by MeshLab's Voronoi Atlas (issue 4 item 8: nefertiti-lowres and
+ * mountain, which have no UVs of their own). tests/meshlab_atlas_check.sh makes them and runs
+ * this case with the environment variable PGT_TEST_MESHES, a ':'-separated list of their files;
+ * without it the case has nothing to check and says so. Each gets the paper's 1024^2 atlas:
+ * the atlas.h contract, no chart mirrored against the surface, the rotation share of spot and
+ * bob; a closed mesh (every edge between two faces) no dead end and the issue's pointer symmetry
+ * (within 2 local texel sizes, as on spot and bob: see measure_symmetry); an open one dead ends
+ * along its border. Measured: nefertiti (52 charts, closed) symmetry 96.7 % within 2 texels,
+ * 99.7 % within 2 local texel sizes, rotation 95.1 %; mountain (49 charts, open) 2933 dead
+ * ends, rotation 95.7 %. */
+#define TEST_MESHES_MAX 16u
+
+static void test_voronoi_atlases(void) {
+    char list[4096], *paths[TEST_MESHES_MAX];
+    const unsigned n =
+        pgt_test_env_paths("PGT_TEST_MESHES", list, sizeof list, paths, TEST_MESHES_MAX);
+    if (!n) {
+        printf("  SKIP: PGT_TEST_MESHES is not set (tests/meshlab_atlas_check.sh sets it)\n");
+        return;
+    }
+    for (unsigned k = 0; k < n; ++k) {
+        const char *path = paths[k];
+        pgt_mesh m = {0};
+        pgt_image img = {0};
+        pgt_atlas_stats st;
+        pgt_error err = {0};
+        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+        if (pgt_mesh_read(&m, path, &ro, &err) != PGT_OK) {
+            CHECK_MSG(0, "%s: %s", path, err.message);
+            continue;
+        }
+        pgt_adjacency adj;
+        REQUIRE(pgt_adjacency_build(&adj, &m, 2, &err) == PGT_OK);
+        const int closed = adj.border_half_edges == 0;
+        pgt_adjacency_destroy(&adj);
+        CHECK_MSG(m.uvs != NULL, "%s: no UVs", path);
+        if (!m.uvs || build(&m, 1024, 2, 0, &img, &st, &err) != PGT_OK) {
+            CHECK_MSG(0, "%s: no atlas: %s", path, err.message);
+            pgt_mesh_destroy(&m);
+            continue;
+        }
+        double rs = 0.0;
+        const symmetry s = check_real_atlas(path, &img, &st, &rs);
+        printf("  %s: %s\n", path, closed ? "closed" : "open");
+        CHECK(rs >= ROTATION_SHARE_SHEARED);
+        if (closed) {
+            CHECK_MSG(st.dead_end_texels == 0, "%s: %u dead ends on a closed mesh", path,
+                      st.dead_end_texels);
+            CHECK_MSG(s.local_share >= SYMMETRY_SHARE, "%s: symmetry %.4f", path, s.local_share);
+        } else {
+            CHECK_MSG(st.dead_end_texels > 0, "%s: an open mesh without dead ends", path);
+        }
         pgt_image_destroy(&img);
         pgt_mesh_destroy(&m);
     }
@@ -851,6 +942,7 @@ static const pgt_test_case cases[] = {
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
     {"mirrored_charts", test_mirrored_charts},
+    {"voronoi_atlases", test_voronoi_atlases},
     {"self_seams_and_borders", test_self_seams_and_borders},
     {"thread_determinism", test_thread_determinism},
     {"exr_round_trip", test_exr_round_trip},

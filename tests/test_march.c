@@ -1270,19 +1270,33 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
  * degrees. No single angle per texel reaches 10 degrees on spot, whose UVs shear differently
  * on the two sides of its seams: the best one (the rotation nearest to J'^+ T J at each
  * indirection texel, tried while writing atlas_angles.c) gave 11.8. */
+/* The environment variable PGT_TEST_MESHES, a ':'-separated list of mesh files with UVs,
+ * replaces the shared folder's meshes: tests/meshlab_atlas_check.sh runs this case on the
+ * MeshLab Voronoi atlases it makes of the shared meshes without UVs (issue 4 item 8). */
+#define MARCH_MESHES_MAX 16u
+
 static void test_real_random_marches(void) {
+    char list[4096], *paths[MARCH_MESHES_MAX];
+    const uint32_t listed =
+        pgt_test_env_paths("PGT_TEST_MESHES", list, sizeof list, paths, MARCH_MESHES_MAX);
     uint32_t meshes = 0;
-    for (uint32_t k = 0; k < pgt_cli_shared_mesh_count; ++k) {
-        const char *name = pgt_cli_shared_meshes[k];
+    const uint32_t count = listed ? listed : pgt_cli_shared_mesh_count;
+    for (uint32_t k = 0; k < count; ++k) {
         char path[1024];
-        snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, name);
+        if (listed)
+            snprintf(path, sizeof path, "%s", paths[k]);
+        else
+            snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, pgt_cli_shared_meshes[k]);
+        const char *slash = strrchr(path, '/'), *name = slash ? slash + 1 : path;
         pgt_mesh m;
         pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
         if (pgt_mesh_read(&m, path, &ro, NULL) != PGT_OK) {
+            CHECK_MSG(!listed, "%s: cannot read it", path);
             printf("  SKIP %s: cannot read it\n", path);
             continue;
         }
         if (!m.uvs) { /* nefertiti, mountain: no UVs */
+            CHECK_MSG(!listed, "%s: no UVs", path);
             pgt_mesh_destroy(&m);
             continue;
         }
@@ -1338,6 +1352,13 @@ static void test_real_random_marches(void) {
                 CHECK_MSG(r[1].median_turn_jump < fixed.median_turn_jump,
                           "%s: turn median %.2f deg with the atlas's rot, %.2f without rotation",
                           name, r[1].median_turn_jump, fixed.median_turn_jump);
+                /* MeshLab's Voronoi atlases (PGT_TEST_MESHES, harmonic maps: little shear
+                 * across seams) meet the issue's bound with the paper's rot too: measured 3.1
+                 * (mountain) and 3.4 (nefertiti) degrees */
+                if (listed)
+                    CHECK_MSG(r[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG,
+                              "%s: median turn %.2f deg with the atlas's rot", name,
+                              r[1].median_turn_jump);
                 continue;
             }
             CHECK_MSG(r[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG, "%s: median turn %.2f deg",

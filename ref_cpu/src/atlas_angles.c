@@ -203,7 +203,8 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             const int32_t qx = (int32_t)pu[i], qy = (int32_t)pv[i];
             const int32_t b = c->chart[(size_t)qy * (size_t)c->W + (size_t)qx];
             int32_t wx[PGT_ATLAS_MAX_K], wy[PGT_ATLAS_MAX_K];
-            double t1x = 0.0, t1y = 0.0, t2x = 0.0, t2y = 0.0;
+            /* sums of texel offsets: whole numbers, exact in int32 (at most 2 K of them) */
+            int32_t t1x = 0, t1y = 0, t2x = 0, t2y = 0;
             for (int dir = -1; dir <= 1; dir += 2) {
                 const uint32_t n = walk_outer(c, x, y, dir, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) {
@@ -214,19 +215,21 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
                     t2x += dir * (rx - qx), t2y += dir * (ry - qy);
                 }
             }
-            if (((t1x == 0.0 && t1y == 0.0) || (t2x == 0.0 && t2y == 0.0))) {
+            if ((t1x == 0 && t1y == 0) || (t2x == 0 && t2y == 0)) {
                 /* the paper's walks: A's forward, B's forward reversed */
-                t1x = t1y = t2x = t2y = 0.0;
+                t1x = t1y = t2x = t2y = 0;
                 uint32_t n = walk_outer(c, x, y, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t1x += wx[s] - x, t1y += wy[s] - y;
                 n = walk(c, WALK_INNER, b, qx, qy, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t2x -= wx[s] - qx, t2y -= wy[s] - qy;
             }
-            if ((t1x == 0.0 && t1y == 0.0) || (t2x == 0.0 && t2y == 0.0)) {
+            if ((t1x == 0 && t1y == 0) || (t2x == 0 && t2y == 0)) {
                 rot[i] = 0.0f;
                 continue;
             }
-            double r = atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
+            /* the products in double, as before: |t| <= 2 K * 2^14 keeps them exact */
+            const double a1x = t1x, a1y = t1y, a2x = t2x, a2y = t2y;
+            double r = atan2(a1x * a2y - a1y * a2x, a1x * a2x + a1y * a2y);
             /* The invariant rot exists for (atlas_build.h): a direction leaving A through P0
              * enters B at Q. Where the tangents cannot tell (the tip of a slit, a chart of a
              * few texels, whose walks go round a corner), it can come out reversed; a walker
