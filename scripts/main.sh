@@ -67,11 +67,19 @@ if [ ${#quick[@]} -gt 0 ]; then atlas_quick=(--repeat 1 --meshes cube_sphere_8,s
 "$pgt" bench atlas --out "$res/table1.csv" "${atlas_quick[@]}" "${voronoi_add[@]}"
 written+=("$res/table1.csv")
 
-step 7 "figure: spot's atlas with its indirection pointers -> $figs/atlas_pointers.{png,pdf}"
+step 7 "figure: spot's atlas with its indirection pointers -> $figs/atlas_pointers.{png,pdf} (and nefertiti's Voronoi atlas -> atlas_pointers_voronoi)"
 "$pgt" atlas "$spot" -o "$work/spot_atlas.exr" --png "$figs/atlas_spot.png" >/dev/null
 "$py" paper_figs/atlas_pointers.py "$work/spot_atlas.exr" "$figs/atlas_pointers" \
   --title "Indirection geometry image of spot (1024^2), like paper 000 Fig. 2b-c"
 written+=("$figs/atlas_spot.png" "$figs/atlas_pointers.png" "$figs/atlas_pointers.pdf")
+# the same for an automatic atlas (MeshLab's Voronoi atlas of nefertiti-lowres, step 6)
+nef="$work/nefertiti-lowres_voronoi.obj"
+if [ -s "$nef" ]; then
+  "$pgt" atlas "$nef" -o "$work/nefertiti_atlas.exr" >/dev/null
+  "$py" paper_figs/atlas_pointers.py "$work/nefertiti_atlas.exr" "$figs/atlas_pointers_voronoi" \
+    --title "Indirection geometry image of nefertiti-lowres (MeshLab Voronoi atlas, 1024^2)"
+  written+=("$figs/atlas_pointers_voronoi.png" "$figs/atlas_pointers_voronoi.pdf")
+fi
 
 step 8 "benchmark: pgt bench march -> $res/march.csv (marching steps per second per core)"
 march_quick=()
