@@ -610,9 +610,10 @@ static void test_voronoi_atlases(void) {
             pgt_mesh_destroy(&m);
             continue;
         }
+        char label[1100];
+        snprintf(label, sizeof label, "%s (%s)", path, closed ? "closed" : "open");
         double rs = 0.0;
-        const symmetry s = check_real_atlas(path, &img, &st, &rs);
-        printf("  %s: %s\n", path, closed ? "closed" : "open");
+        const symmetry s = check_real_atlas(label, &img, &st, &rs);
         CHECK(rs >= ROTATION_SHARE_SHEARED);
         if (closed) {
             CHECK_MSG(st.dead_end_texels == 0, "%s: %u dead ends on a closed mesh", path,

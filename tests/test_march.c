@@ -1269,10 +1269,10 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
  * lower than with no rotation at all; its values are printed: 6.7 (bob) to 19.2 (spot)
  * degrees. No single angle per texel reaches 10 degrees on spot, whose UVs shear differently
  * on the two sides of its seams: the best one (the rotation nearest to J'^+ T J at each
- * indirection texel, tried while writing atlas_angles.c) gave 11.8. */
-/* The environment variable PGT_TEST_MESHES, a ':'-separated list of mesh files with UVs,
- * replaces the shared folder's meshes: tests/meshlab_atlas_check.sh runs this case on the
- * MeshLab Voronoi atlases it makes of the shared meshes without UVs (issue 4 item 8). */
+ * indirection texel, tried while writing atlas_angles.c) gave 11.8. The environment variable
+ * PGT_TEST_MESHES, a ':'-separated list of mesh files with UVs, replaces the shared folder's
+ * meshes: tests/meshlab_atlas_check.sh runs this case on the MeshLab Voronoi atlases it makes of
+ * the shared meshes without UVs (issue 4 item 8). */
 #define MARCH_MESHES_MAX 16u
 
 static void test_real_random_marches(void) {
@@ -1287,7 +1287,7 @@ static void test_real_random_marches(void) {
             snprintf(path, sizeof path, "%s", paths[k]);
         else
             snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, pgt_cli_shared_meshes[k]);
-        const char *slash = strrchr(path, '/'), *name = slash ? slash + 1 : path;
+        const char *name = pgt_cli_mesh_label(path);
         pgt_mesh m;
         pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
         if (pgt_mesh_read(&m, path, &ro, NULL) != PGT_OK) {

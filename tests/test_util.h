@@ -18,37 +18,38 @@ typedef struct pgt_test_case {
 
 static int pgt_test_failures_in_case;
 
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "  %s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);             \
-            pgt_test_failures_in_case++;                                                           \
-        }                                                                                          \
+#define CHECK(cond)                                                                            \
+    do {                                                                                       \
+        if (!(cond)) {                                                                         \
+            fprintf(stderr, "  %s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);         \
+            pgt_test_failures_in_case++;                                                       \
+        }                                                                                      \
     } while (0)
 
-#define CHECK_MSG(cond, ...)                                                                       \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "  %s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);             \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fputc('\n', stderr);                                                                   \
-            pgt_test_failures_in_case++;                                                           \
-        }                                                                                          \
+#define CHECK_MSG(cond, ...)                                                                   \
+    do {                                                                                       \
+        if (!(cond)) {                                                                         \
+            fprintf(stderr, "  %s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);         \
+            fprintf(stderr, __VA_ARGS__);                                                      \
+            fputc('\n', stderr);                                                               \
+            pgt_test_failures_in_case++;                                                       \
+        }                                                                                      \
     } while (0)
 
 /* For preconditions of a case: stop the case on failure. */
-#define REQUIRE(cond)                                                                              \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "  %s:%d: REQUIRE failed: %s\n", __FILE__, __LINE__, #cond);           \
-            pgt_test_failures_in_case++;                                                           \
-            return;                                                                                \
-        }                                                                                          \
+#define REQUIRE(cond)                                                                          \
+    do {                                                                                       \
+        if (!(cond)) {                                                                         \
+            fprintf(stderr, "  %s:%d: REQUIRE failed: %s\n", __FILE__, __LINE__, #cond);       \
+            pgt_test_failures_in_case++;                                                       \
+            return;                                                                            \
+        }                                                                                      \
     } while (0)
 
 /* The ':'-separated paths of environment variable `var` (tests/meshlab_atlas_check.sh passes the
  * meshes it makes to test_atlas and test_march in PGT_TEST_MESHES): copied into buf, at most max
- * of them stored in out (pointing into buf); returns how many (0 when unset or empty). */
+ * of them stored in out (pointing into buf); returns how many: 0 when unset, empty or longer
+ * than buf (the caller then does what it does without a list). */
 static inline unsigned pgt_test_env_paths(const char *var, char *buf, size_t size, char **out,
                                           unsigned max) {
     const char *env = getenv(var);
@@ -84,9 +85,9 @@ static inline int pgt_test_main(int argc, char **argv, const pgt_test_case *case
     return failed == 0 && passed > 0 ? 0 : 1;
 }
 
-#define PGT_TEST_MAIN(table)                                                                       \
-    int main(int argc, char **argv) {                                                              \
-        return pgt_test_main(argc, argv, table, (int)(sizeof(table) / sizeof(table[0])));          \
+#define PGT_TEST_MAIN(table)                                                                   \
+    int main(int argc, char **argv) {                                                          \
+        return pgt_test_main(argc, argv, table, (int)(sizeof(table) / sizeof(table[0])));      \
     }
 
 #endif
