@@ -203,5 +203,5 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     if (pgt_cli_table_close(csv, tmp_csv, out_path, "bench")) return PGT_EXIT_USAGE;
     fprintf(stderr, "pgt bench atlas: wrote %s (%u meshes x %u thread counts)%s\n", out_path,
             n_meshes, n_threads, failures ? " with failures (see above)" : "");
-    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+    return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

@@ -281,5 +281,5 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     if (pgt_cli_table_close(csv, tmp, out_path, verb)) failures++;
     fprintf(stderr, "pgt bench facade: wrote %s%s\n", out_path,
             failures ? " (with failures, see above)" : "");
-    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+    return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

@@ -350,5 +350,5 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
     if (pgt_cli_table_close(f11, tmp, fig11_path, "bench")) failures++;
     fprintf(stderr, "pgt bench ivy: wrote %s and %s%s\n", out_path, fig11_path,
             failures ? " (with failures, see above)" : "");
-    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+    return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

@@ -178,5 +178,5 @@ int pgt_cmd_bench_woven(int argc, char **argv) {
     if (pgt_cli_table_close(csv, tmp, out_path, "bench")) failures++;
     fprintf(stderr, "pgt bench woven: wrote %s%s\n", out_path,
             failures ? " (with failures, see above)" : "");
-    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+    return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

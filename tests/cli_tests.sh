@@ -103,6 +103,12 @@ sys.exit(0 if s==list(range(1,len(r)+1)) and 1<=len(r)<=50 and {x["event"] for x
 expect march_with_start 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p0.csv --with-start
 sed -n 2p p0.csv | grep -q "^0,20.5,20.5,.*,start$" && [ "$(tail -n +3 p0.csv)" = "$(tail -n +2 p.csv)" ] \
   && ok march_with_start_row_0 || bad march_with_start_row_0 "$(sed -n 2p p0.csv)"
+# a bench whose mesh cannot be read: the other rows are written, exit 2 naming the file
+expect bench_atlas_missing_mesh 2 "$pgt" bench atlas --meshes no_such_mesh.obj --threads 1 --repeat 1 --out res/t1.csv
+grep -q "no_such_mesh.obj" err.txt && grep -q "^paper,Hebe" res/t1.csv && ok bench_atlas_missing_mesh_named \
+  || bad bench_atlas_missing_mesh_named "$(cat err.txt)"
+expect bench_march_missing_mesh 2 "$pgt" bench march --meshes no_such_mesh.obj --threads 1 --out res/m.csv
+grep -q "no_such_mesh.obj" err.txt && ok bench_march_missing_mesh_named || bad bench_march_missing_mesh_named "$(cat err.txt)"
 
 # pgt ivy (the algorithms are test_expand, test_bezier, test_terminals, test_ivy)
 expect ivy_help 0 "$pgt" ivy --help
