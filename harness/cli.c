@@ -119,7 +119,10 @@ void pgt_cli_commit(char *buf, size_t size) {
         if (*line) snprintf(buf, size, "%s", line);
     }
     pclose(p);
-    p = popen("git -C '" PGT_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null",
+    /* "-dirty": a tracked file differs from HEAD, other than the tables and figures the main
+     * job writes as it goes (results/, paper_figs/out/), which would mark every later table */
+    p = popen("git -C '" PGT_SOURCE_DIR "' status --porcelain --untracked-files=no -- . "
+              "':(exclude)results' ':(exclude)paper_figs/out' 2>/dev/null",
               "r");
     if (!p) return;
     if (fgets(line, sizeof line, p) && strcmp(buf, "unknown") != 0) {

@@ -39,7 +39,8 @@ uint32_t pgt_cli_cpu_count(void);
 void pgt_cli_json_string(FILE *f, const char *s);
 
 /* "CPU model, N cores, M GiB" of this machine; "git short hash[-dirty]" of the source tree or
- * "unknown"; UTC date-time in ISO 8601. Each writes into buf. */
+ * "unknown" (-dirty: a tracked file differs from HEAD; results/ and paper_figs/out/, which the
+ * main job rewrites, do not count); UTC date-time in ISO 8601. Each writes into buf. */
 void pgt_cli_machine(char *buf, size_t size);
 void pgt_cli_commit(char *buf, size_t size);
 void pgt_cli_date(char *buf, size_t size);
