@@ -1261,15 +1261,26 @@ static int random_walks(const pgt_march_atlas *v, const pgt_image *img, const pg
                               res);
 }
 
+/* The shared meshes on which the median turn at jumps with the atlas's rot stays above
+ * JUMP_TURN_MEDIAN_DEG (issue 4, a shortfall the README states): their UVs shear differently
+ * on the two sides of their seams, and no single angle per texel reaches the bound there (spot
+ * 19.2 degrees, pizza 14.6; the best per-texel angles tried 12.6 and 12.7). The Jacobian
+ * rotation meets it on them (2.9 and 7.5). */
+static const char *const ROT_TURN_SHEARED[] = {"spot.obj", "pizza.obj"};
+
+static int rot_turn_sheared(const char *name) {
+    for (size_t i = 0; i < sizeof ROT_TURN_SHEARED / sizeof ROT_TURN_SHEARED[0]; ++i)
+        if (!strcmp(name, ROT_TURN_SHEARED[i])) return 1;
+    return 0;
+}
+
 /* Every UV mesh of the shared folder, thousands of seeded random marches: no step leaves the
  * image or stands off an inner texel of its chart; jump steps keep their 3D length (see
  * JUMP_LENGTH_MIN_FRACTION); with the Jacobian rotation the median turn at jumps is under 10
  * degrees, and where best-pointer selection picks another texel the turn is lower than without
  * it. With the atlas's rot (the paper's 5.2, the default) the median turn at jumps must be
- * lower than with no rotation at all; its values are printed: 6.7 (bob) to 19.2 (spot)
- * degrees. No single angle per texel reaches 10 degrees on spot, whose UVs shear differently
- * on the two sides of its seams: the best one (the rotation nearest to J'^+ T J at each
- * indirection texel, tried while writing atlas_angles.c) gave 11.8. The environment variable
+ * lower than with no rotation at all, and under 10 degrees except on ROT_TURN_SHEARED (6.7 for
+ * bob to 19.2 for spot). The environment variable
  * PGT_TEST_MESHES, a ':'-separated list of mesh files with UVs, replaces the shared folder's
  * meshes: tests/meshlab_atlas_check.sh runs this case on the MeshLab Voronoi atlases it makes of
  * the shared meshes without UVs (issue 4 item 8). */
@@ -1352,13 +1363,19 @@ static void test_real_random_marches(void) {
                 CHECK_MSG(r[1].median_turn_jump < fixed.median_turn_jump,
                           "%s: turn median %.2f deg with the atlas's rot, %.2f without rotation",
                           name, r[1].median_turn_jump, fixed.median_turn_jump);
-                /* MeshLab's Voronoi atlases (PGT_TEST_MESHES, harmonic maps: little shear
-                 * across seams) meet the issue's bound with the paper's rot too: measured 3.1
-                 * (mountain) and 3.4 (nefertiti) degrees */
-                if (listed)
+                /* The issue's bound with the paper's rot too, except where no single angle per
+                 * texel can meet it (ROT_TURN_SHEARED); measured 3.1 (mountain's Voronoi atlas),
+                 * 3.4 (nefertiti's), 6.7 (bob), 8.6 (human) degrees. A listed mesh that comes
+                 * under the bound fails too, so that the list and the README stay true. */
+                if (!rot_turn_sheared(name))
                     CHECK_MSG(r[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG,
                               "%s: median turn %.2f deg with the atlas's rot", name,
                               r[1].median_turn_jump);
+                else
+                    CHECK_MSG(r[1].median_turn_jump >= JUMP_TURN_MEDIAN_DEG,
+                              "%s: median turn %.2f deg with the atlas's rot, under the bound: "
+                              "take it off ROT_TURN_SHEARED and the README's shortfalls",
+                              name, r[1].median_turn_jump);
                 continue;
             }
             CHECK_MSG(r[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG, "%s: median turn %.2f deg",
