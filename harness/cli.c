@@ -61,6 +61,13 @@ const char *pgt_cli_value(const char *verb, int argc, char **argv, int *i) {
     return argv[++*i];
 }
 
+int pgt_cli_push(const char *verb, const char *flag, const char *value, const char **list,
+                 uint32_t *count, uint32_t max) {
+    if (*count >= max) return pgt_cli_fail(verb, "%s given more than %u times", flag, max);
+    list[(*count)++] = value;
+    return 0;
+}
+
 double pgt_cli_now_ms(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -111,6 +111,14 @@ void pgt_cli_print_float(float x);
 int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint32_t w, uint32_t h,
                       float **out);
 
+/* Most --param flags of one command: more than any grammar's params would need on one line. */
+#define PGT_CLI_MAX_PARAM_FLAGS 256u
+
+/* Appends `value` of a repeatable flag to list[*count]: 0, or "FLAG given more than MAX times"
+ * and PGT_EXIT_USAGE when the list holds `max` already. */
+int pgt_cli_push(const char *verb, const char *flag, const char *value, const char **list,
+                 uint32_t *count, uint32_t max);
+
 /* Sets grammar params from `count` overrides "NAME=VALUE" (--param): 0 on success, else prints
  * "pgt VERB: --param NAME=VALUE: why" and returns nonzero. */
 int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *overrides,

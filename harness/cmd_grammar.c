@@ -23,13 +23,11 @@ static const char *grammar_usage =
     "Exit 0 on success, 2 on a bad flag or grammar (one line FILE:LINE:COL: what was found,\n"
     "what was expected).\n";
 
-/* At most this many --param flags: more than any grammar's params would need on one line. */
-#define GRAMMAR_MAX_PARAM_FLAGS 256
-
 int pgt_cmd_grammar(int argc, char **argv) {
     const char *verb = "grammar", *path = NULL;
-    const char *overrides[GRAMMAR_MAX_PARAM_FLAGS];
-    int override_count = 0, dump = 0;
+    const char *overrides[PGT_CLI_MAX_PARAM_FLAGS];
+    uint32_t override_count = 0;
+    int dump = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -38,10 +36,9 @@ int pgt_cmd_grammar(int argc, char **argv) {
         } else if (!strcmp(a, "--dump")) {
             dump = 1;
         } else if (!strcmp(a, "--param")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
-            if (override_count == GRAMMAR_MAX_PARAM_FLAGS)
-                return pgt_cli_fail(verb, "more than %d --param flags", GRAMMAR_MAX_PARAM_FLAGS);
-            overrides[override_count++] = v;
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_push(verb, a, v, overrides, &override_count, PGT_CLI_MAX_PARAM_FLAGS))
+                return PGT_EXIT_USAGE;
         } else if (a[0] == '-' && a[1] != '\0') {
             return pgt_cli_fail(verb, "unknown flag '%s' (see pgt grammar --help)", a);
         } else if (!path) {
@@ -59,7 +56,7 @@ int pgt_cmd_grammar(int argc, char **argv) {
         return pgt_cli_fail(verb, "%s", err.message);
     }
     int rc = PGT_EXIT_USAGE;
-    if (pgt_cli_grammar_params(verb, &g, overrides, (uint32_t)override_count)) goto done;
+    if (pgt_cli_grammar_params(verb, &g, overrides, override_count)) goto done;
     if (dump) {
         pgt_grammar_dump(&g, stdout);
     } else {

@@ -19,9 +19,6 @@
  * the paper's 64 and bounds a typo's memory. */
 #define IVY_MAX_SEEDS (1u << 20)
 
-/* Most --param flags. */
-#define IVY_MAX_PARAM_FLAGS 64
-
 /* A 3D point of a seed or stroke file farther than this from the nearest inner texel (in median
  * texel sizes) is an error: it is not on the surface (a typo, or another mesh's coordinates),
  * while a point picked on the mesh lies within a texel of one. */
@@ -420,7 +417,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const char *seed_file = NULL, *mask_path = NULL, *paint_path = NULL, *curves_path = NULL;
     const char *forbid_path = NULL, *mask_mesh = NULL;
     const char *mask_out = NULL;
-    const char *params[IVY_MAX_PARAM_FLAGS + 1];
+    const char *params[PGT_CLI_MAX_PARAM_FLAGS + 1u]; /* + --no-secondary's */
     uint32_t param_count = 0, seeds = 0, threads = pgt_cli_cpu_count(), res = 1024, seed = 1;
     float brush = 0.0f;
     int have_seeds = 0, no_leaves = 0, no_secondary = 0;
@@ -441,10 +438,9 @@ int pgt_cmd_ivy(int argc, char **argv) {
         } else if (!strcmp(a, "--grammar")) {
             if (!(grammar_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--param")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
-            if (param_count == IVY_MAX_PARAM_FLAGS)
-                return pgt_cli_fail(verb, "more than %d --param flags", IVY_MAX_PARAM_FLAGS);
-            params[param_count++] = v;
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_push(verb, a, v, params, &param_count, PGT_CLI_MAX_PARAM_FLAGS))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--seed-file")) {
             if (!(seed_file = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--mask")) {
@@ -509,11 +505,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
                     return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
                                         outputs[o]);
     }
-    if (no_secondary) {
-        if (param_count == IVY_MAX_PARAM_FLAGS)
-            return pgt_cli_fail(verb, "more than %d --param flags", IVY_MAX_PARAM_FLAGS);
-        params[param_count++] = "secondaryBranches=0";
-    }
+    if (no_secondary) params[param_count++] = "secondaryBranches=0"; /* the array's last slot */
 
     pgt_ivy_scene s;
     pgt_ivy_output out;

@@ -174,6 +174,11 @@ expect grammar_param 0 "$pgt" grammar "$src/grammars/ivy.grammar" --param maxMai
 grep -q "maxMainSteps=20" out.txt && ok grammar_param_applied || bad grammar_param_applied "$(cat out.txt)"
 expect grammar_unknown_param 2 "$pgt" grammar "$src/grammars/ivy.grammar" --param nope=1
 one_line grammar_unknown_param_one_line "nope"
+many=(); for i in $(seq 257); do many+=(--param maxMainSteps=$i); done
+expect grammar_too_many_params 2 "$pgt" grammar "$src/grammars/ivy.grammar" "${many[@]}"
+one_line grammar_too_many_params_one_line "\-\-param given more than 256 times"
+expect ivy_too_many_params 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply "${many[@]}"
+one_line ivy_too_many_params_one_line "\-\-param given more than 256 times"
 printf 'A --> Marching(1, 0, 1) { B }\nB --> NIL\n' >bad.grammar
 expect grammar_bad 2 "$pgt" grammar bad.grammar
 one_line grammar_bad_names_file_line_col "bad.grammar:1:"
