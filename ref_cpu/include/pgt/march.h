@@ -190,7 +190,9 @@ pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, 
 void pgt_march_atlas_destroy(pgt_march_atlas *a);
 
 /* External-context condition evaluated at a step's destination (after every jump); return
- * nonzero to accept the step. */
+ * nonzero to accept the step. A condition that fails (an expression error) returns 0, so the
+ * step stops as rejected, and keeps its error in ctx for the caller to check after the step
+ * (expand.c's grammar conditions do). */
 typedef int (*pgt_march_condition_fn)(void *ctx, float x, float y, uint32_t chart);
 
 /* Where the turn of the direction at a jump comes from. */
