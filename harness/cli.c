@@ -300,8 +300,8 @@ int pgt_cli_ends_with_ci(const char *s, const char *suffix) {
     return 1;
 }
 
-int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint32_t w, uint32_t h,
-                      float **out) {
+int pgt_cli_read_context(const char *verb, const char *flag, const char *path, const char *channel,
+                         uint32_t w, uint32_t h, float **out) {
     pgt_error err = {0};
     *out = NULL;
     uint32_t iw = 0, ih = 0;
@@ -318,15 +318,15 @@ int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint
         pgt_image img = {0};
         if (pgt_image_read_exr(&img, path, &err) != PGT_OK)
             return pgt_cli_fail(verb, "%s %s", flag, err.message), -1;
-        int32_t c = pgt_image_find_channel(&img, "mask");
+        int32_t c = pgt_image_find_channel(&img, channel);
         if (c < 0) c = pgt_image_find_channel(&img, "Y");
         if (c < 0) c = pgt_image_find_channel(&img, "R");
         if (c < 0 && img.channel_count == 1) c = 0;
         if (c < 0) {
             pgt_image_destroy(&img);
             return pgt_cli_fail(verb,
-                                "%s %s: no channel 'mask', 'Y' or 'R' (and more than one channel)",
-                                flag, path),
+                                "%s %s: no channel '%s', 'Y' or 'R' (and more than one channel)",
+                                flag, path, channel),
                    -1;
         }
         iw = img.width, ih = img.height;
@@ -339,6 +339,13 @@ int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint
                             w, h),
                -1;
     if (!m) return pgt_cli_fail(verb, "out of memory"), -1;
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        if (!isfinite(m[i])) {
+            pgt_cli_fail(verb, "%s %s: pixel (%u, %u) is %g, not a finite number", flag, path,
+                         (uint32_t)(i % w), (uint32_t)(i / w), (double)m[i]);
+            free(m);
+            return -1;
+        }
     *out = m;
     return 0;
 }

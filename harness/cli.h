@@ -104,12 +104,13 @@ int pgt_cli_ends_with_ci(const char *s, const char *suffix);
  * --camera values a user can paste back). */
 void pgt_cli_print_float(float x);
 
-/* Reads a mask image of w x h pixels into w * h floats (malloc'd): PNG, the first channel (gray,
- * or red), 0..255 as 0..1; EXR, the channel 'mask', else 'Y', else 'R', else the only one. On
- * failure prints "pgt VERB: FLAG PATH: ..." (a wrong size names both sizes) and returns
- * nonzero. */
-int pgt_cli_read_mask(const char *verb, const char *flag, const char *path, uint32_t w, uint32_t h,
-                      float **out);
+/* Reads an external-context image (a mask, a density) of w x h pixels into w * h floats
+ * (malloc'd): PNG, the first channel (gray, or red), 0..255 as 0..1; EXR, the channel named
+ * `channel` ("mask", "density"), else 'Y', else 'R', else the only one; every value must be
+ * finite (an EXR may hold NaN or infinity). On failure prints "pgt VERB: FLAG PATH: ..." (a wrong
+ * size names both sizes, a non-finite value its pixel) and returns nonzero. */
+int pgt_cli_read_context(const char *verb, const char *flag, const char *path, const char *channel,
+                         uint32_t w, uint32_t h, float **out);
 
 /* Most --param flags of one command: more than any grammar's params would need on one line. */
 #define PGT_CLI_MAX_PARAM_FLAGS 256u

@@ -41,7 +41,7 @@ static const char *ivy_usage =
     "               [--seed-file FILE] [--mask FILE] [--paint FILE] [--brush R] [--no-leaves]\n"
     "               [--no-secondary] [--threads N] [--curves CURVES.csv] [--res N] [--seed S]\n"
     "               [--rotation atlas|jacobian] [--mask-out MASK.png] [--forbid FILE]\n"
-    "               [--mask-mesh PAINT.ply]\n"
+    "               [--mask-mesh PAINT.ply] [--density FILE]\n"
     "\n"
     "Grows ivy over a mesh (paper 000 sections 5-8): the grammar's rules expand per seed on the\n"
     "mesh's geometry-image atlas by marching, the marched polylines become G1 cubic Bezier\n"
@@ -67,6 +67,11 @@ static const char *ivy_usage2 =
     "                  (PNG: first channel; EXR: 'mask', 'Y', 'R' or the only channel); a texel\n"
     "                  >= 0.5 is forbidden. Applied to every march as its external context and\n"
     "                  readable by the grammar as context.mask(texCoord)\n"
+    "  --density FILE  a density (paper 000 sec. 3: a spatially varying parameter) for the\n"
+    "                  grammar's context.density(texCoord): an image like --mask (EXR channel\n"
+    "                  'density', else 'Y', 'R' or the only one; PNG 0..255 as 0..1); without\n"
+    "                  it context.density reads 0. The grammar decides what it does, e.g. a\n"
+    "                  marching condition rand(0, 1) < context.density(texCoord)\n"
     "  --paint FILE    painted paths (paper Fig. 10c): growth only within the brush of the\n"
     "                  strokes (texels farther are forbidden, combined with --mask). Lines:\n"
     "                  'stroke' starts a stroke, then 'texel U V' or 'point X Y Z' lines list\n"
@@ -416,7 +421,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const char *verb = "ivy", *in_path = NULL, *out_path = NULL, *grammar_path = NULL;
     const char *seed_file = NULL, *mask_path = NULL, *paint_path = NULL, *curves_path = NULL;
     const char *forbid_path = NULL, *mask_mesh = NULL;
-    const char *mask_out = NULL;
+    const char *mask_out = NULL, *density_path = NULL;
     const char *params[PGT_CLI_MAX_PARAM_FLAGS + 1u]; /* + --no-secondary's */
     uint32_t param_count = 0, seeds = 0, threads = pgt_cli_cpu_count(), res = 1024, seed = 1;
     float brush = 0.0f;
@@ -445,6 +450,8 @@ int pgt_cmd_ivy(int argc, char **argv) {
             if (!(seed_file = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--mask")) {
             if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--density")) {
+            if (!(density_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--paint")) {
             if (!(paint_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--forbid")) {
@@ -496,11 +503,11 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o IVY.ply");
     if (!grammar_path) grammar_path = PGT_IVY_DEFAULT_GRAMMAR;
     {
-        const char *inputs[6] = {in_path,   grammar_path, seed_file,
-                                 mask_path, paint_path,   forbid_path};
+        const char *inputs[7] = {in_path,    grammar_path, seed_file,   mask_path,
+                                 paint_path, forbid_path,  density_path};
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
         for (int o = 0; o < 4; ++o)
-            for (int k = 0; k < 6; ++k)
+            for (int k = 0; k < 7; ++k)
                 if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
                     return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
                                         outputs[o]);
@@ -518,7 +525,11 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) return PGT_EXIT_USAGE;
     if (pgt_ivy_scene_grammar(&s, verb, grammar_path, params, param_count)) goto done;
     const pgt_march_atlas *a = &s.atlas;
-    if (mask_path && pgt_cli_read_mask(verb, "--mask", mask_path, a->width, a->height, &s.mask))
+    if (mask_path &&
+        pgt_cli_read_context(verb, "--mask", mask_path, "mask", a->width, a->height, &s.mask))
+        goto done;
+    if (density_path && pgt_cli_read_context(verb, "--density", density_path, "density", a->width,
+                                             a->height, &s.density))
         goto done;
     uint64_t painted = 0, forbidden = 0;
     if (paint_path || forbid_path)

@@ -26,8 +26,9 @@
 
 static const char *march_usage =
     "usage: pgt march ATLAS.exr --from U,V --dir DU,DV --step S --steps N -o PATH.csv\n"
-    "                 [--mask MASK] [--no-best-pointer] [--no-rotation]\n"
-    "                 [--rotation atlas|jacobian] [--dump PREFIX] [--with-start]\n"
+    "                 [--mask MASK] [--density DENSITY] [--seed S] [--no-best-pointer]\n"
+    "                 [--no-rotation] [--rotation atlas|jacobian] [--dump PREFIX]\n"
+    "                 [--with-start]\n"
     "\n"
     "Marches one walker over an atlas written by pgt atlas (paper 000, sec. 5): N steps of S\n"
     "texels, jumping across charts through the indirection texels (the four cases of Fig. 3,\n"
@@ -47,15 +48,22 @@ static const char *march_usage =
     "                   event: inner (stayed in its chart), jump (jumped through an\n"
     "                   indirection texel it landed on), search (found one by binary search:\n"
     "                   background or another chart at the destination; a step that did both\n"
-    "                   is search), stop (dead end, no\n"
-    "                   indirection texel found, or rejected by the mask: the walker does not\n"
-    "                   move and the march ends).\n"
+    "                   is search), stop (dead end, no indirection texel found, or rejected\n"
+    "                   by the mask or the density: the walker does not move and the march\n"
+    "                   ends).\n"
     "  --with-start     also a row 0 before the steps: the start, with event start\n"
     "                   (for drawing the whole path; paper_figs/march_path.py)\n"
     "  --mask MASK      external context (a PNG or EXR image of the atlas's size): a step\n"
     "                   whose destination texel has mask value >= 0.5 is rejected (event stop).\n"
     "                   PNG: the first channel (gray, or red), 0..255 as 0..1. EXR: the\n"
     "                   channel 'mask', else 'Y', else 'R', else the only channel.\n"
+    "  --density DENSITY  external context (an image like --mask; EXR channel 'density',\n"
+    "                   else 'Y', 'R' or the only one): the density d of a step's destination\n"
+    "                   texel is the probability that the walker goes on (paper 000 sec. 9,\n"
+    "                   'a space occupancy probability'): d <= 0 always stops it, d >= 1 never;\n"
+    "                   in between, step k stops when the random number of (seed S, stream 0,\n"
+    "                   counter k - 1) in [0, 1) is >= d (event stop)\n"
+    "  --seed S         seed id of --density's random numbers, 0 to 4294967295 (default 1)\n"
     "  --no-best-pointer  jump through the indirection texel found, without the 5.1 search\n"
     "                   of its neighbourhood\n"
     "  --no-rotation    do not rotate the direction at jumps (5.2 off)\n"
@@ -155,6 +163,8 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
 
 int pgt_cmd_march(int argc, char **argv) {
     const char *verb = "march", *in_path = NULL, *out_path = NULL, *mask_path = NULL, *dump = NULL;
+    const char *density_path = NULL;
+    uint32_t seed = 1;
     float from[2] = {0, 0}, dir[2] = {0, 0}, step = 0;
     uint32_t steps = 0;
     int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0, with_start = 0;
@@ -188,6 +198,12 @@ int pgt_cmd_march(int argc, char **argv) {
             if (!(out_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--mask")) {
             if (!(mask_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--density")) {
+            if (!(density_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--seed")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, UINT32_MAX, &seed))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--dump")) {
             if (!(dump = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--with-start")) {
@@ -218,25 +234,35 @@ int pgt_cmd_march(int argc, char **argv) {
     if (!have_step) return pgt_cli_fail(verb, "no step length: give --step S (texels)");
     if (!have_steps) return pgt_cli_fail(verb, "no step count: give --steps N");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
-    if (pgt_cli_same_file(in_path, out_path))
-        return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input",
-                            out_path);
+    {
+        const char *inputs[3] = {in_path, mask_path, density_path};
+        for (int k = 0; k < 3; ++k)
+            if (inputs[k] && pgt_cli_same_file(inputs[k], out_path))
+                return pgt_cli_fail(verb, "-o %s is an input file; pgt never overwrites an input",
+                                    out_path);
+    }
 
     const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];
     const double t0 = pgt_cli_now_ms();
     pgt_error err = {0};
     pgt_image img = {0};
     pgt_march_atlas atlas = {0};
-    float *mask = NULL;
+    float *mask = NULL, *density = NULL;
     int rc = PGT_EXIT_USAGE;
     if (pgt_image_read_exr(&img, in_path, &err) != PGT_OK ||
         pgt_march_atlas_create(&atlas, &img, in_path, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
-    if (mask_path && pgt_cli_read_mask(verb, "--mask", mask_path, atlas.width, atlas.height, &mask))
+    if (mask_path &&
+        pgt_cli_read_context(verb, "--mask", mask_path, "mask", atlas.width, atlas.height, &mask))
         goto done;
     opts.mask = mask;
+    if (density_path && pgt_cli_read_context(verb, "--density", density_path, "density",
+                                             atlas.width, atlas.height, &density))
+        goto done;
+    pgt_march_density dens = {density, atlas.width, atlas.height, seed, 0, 0};
+    if (density) opts.condition = pgt_march_density_condition, opts.condition_ctx = &dens;
     pgt_march_state s;
     if (pgt_march_start(&atlas, ux, uy, dx, dy, &s, &err) != PGT_OK) {
         pgt_cli_fail(verb, "--from %g,%g --dir %g,%g: %s: %s", (double)ux, (double)uy, (double)dx,
@@ -286,6 +312,7 @@ int pgt_cmd_march(int argc, char **argv) {
     rc = PGT_EXIT_OK;
 done:
     free(mask);
+    free(density);
     pgt_march_atlas_destroy(&atlas);
     pgt_image_destroy(&img);
     return rc;

@@ -70,6 +70,7 @@ void pgt_ivy_scene_input(const pgt_ivy_scene *s, pgt_expand_input *in) {
     in->normal[1] = pgt_image_plane(&s->img, s->ch.ny);
     in->normal[2] = pgt_image_plane(&s->img, s->ch.nz);
     in->mask = s->mask;
+    in->density = s->density;
     in->seeds = s->seeds;
     in->seed_count = s->seed_count;
 }
@@ -80,6 +81,7 @@ void pgt_ivy_scene_free(pgt_ivy_scene *s) {
     pgt_march_atlas_destroy(&s->atlas);
     pgt_image_destroy(&s->img);
     free(s->mask);
+    free(s->density);
     free(s->brushed);
     free(s->seeds);
     memset(s, 0, sizeof(*s));

@@ -30,6 +30,7 @@ typedef struct pgt_ivy_scene {
     double ms_atlas;   /* building or reading the atlas, and the view */
     pgt_grammar grammar;
     float *mask;      /* width * height, or NULL: the grammar's context.mask and the march mask */
+    float *density;   /* width * height, or NULL: the grammar's context.density */
     uint8_t *brushed; /* width * height, or NULL: 1 where a stroke's brush reached (figures) */
     pgt_expand_seed *seeds;
     uint32_t seed_count;

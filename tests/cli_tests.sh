@@ -83,7 +83,7 @@ for flag in -o --res --band --k --png --dead-end --threads --json; do
   grep -q -- "$flag" out.txt && ok "atlas_help_documents_$flag" || bad "atlas_help_documents_$flag" "missing"
 done
 expect march_help 0 "$pgt" march --help
-for flag in --from --dir --step --steps --mask --no-best-pointer --no-rotation -o; do
+for flag in --from --dir --step --steps --mask --density --seed --no-best-pointer --no-rotation -o; do
   grep -q -- "$flag" out.txt && ok "march_help_documents_$flag" || bad "march_help_documents_$flag" "missing"
 done
 expect atlas_no_uvs 2 "$pgt" atlas "$ico" -o a.exr
@@ -103,6 +103,29 @@ sys.exit(0 if s==list(range(1,len(r)+1)) and 1<=len(r)<=50 and {x["event"] for x
 expect march_with_start 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p0.csv --with-start
 sed -n 2p p0.csv | grep -q "^0,20.5,20.5,.*,start$" && [ "$(tail -n +3 p0.csv)" = "$(tail -n +2 p.csv)" ] \
   && ok march_with_start_row_0 || bad march_with_start_row_0 "$(sed -n 2p p0.csv)"
+# --density: constant 8-bit grey PNGs of the atlas's size (0, 128 and 255 of 255) and a smaller one
+png() { /usr/bin/python3 -c 'import sys,zlib,struct
+w,h,v=int(sys.argv[2]),int(sys.argv[3]),int(sys.argv[4])
+c=lambda t,d: struct.pack(">I",len(d))+t+d+struct.pack(">I",zlib.crc32(t+d))
+raw=b"".join(b"\0"+bytes([v])*w for _ in range(h))
+open(sys.argv[1],"wb").write(b"\x89PNG\r\n\x1a\n"+c(b"IHDR",struct.pack(">IIBBBBB",w,h,8,0,0,0,0))+c(b"IDAT",zlib.compress(raw))+c(b"IEND",b""))' "$@"; }
+png d0.png 128 128 0 && png d128.png 128 128 128 && png d255.png 128 128 255 && png d_small.png 64 64 255
+march=(march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50)
+expect march_density_zero 0 "$pgt" "${march[@]}" -o pd0.csv --density d0.png
+grep -q "0 of 50 steps.*stopped at step 1 (rejected)" out.txt && [ "$(wc -l <pd0.csv)" -eq 2 ] \
+  && ok march_density_zero_stops_at_once || bad march_density_zero_stops_at_once "$(cat out.txt)"
+expect march_density_one 0 "$pgt" "${march[@]}" -o pd1.csv --density d255.png
+cmp -s pd1.csv p.csv && ok march_density_one_never_stops || bad march_density_one_never_stops "$(cat out.txt)"
+expect march_density_seed_a 0 "$pgt" "${march[@]}" -o pa.csv --density d128.png --seed 7
+expect march_density_seed_b 0 "$pgt" "${march[@]}" -o pb.csv --density d128.png --seed 7
+cmp -s pa.csv pb.csv && ok march_density_same_seed_same_bytes || bad march_density_same_seed_same_bytes "differ"
+expect march_density_wrong_size 2 "$pgt" "${march[@]}" -o px.csv --density d_small.png
+one_line march_density_wrong_size_one_line "\-\-density d_small.png: 64 x 64 pixels, the atlas is 128 x 128"
+expect march_density_atlas_channels 2 "$pgt" "${march[@]}" -o px.csv --density cs.exr
+one_line march_density_atlas_channels_one_line "no channel 'density', 'Y' or 'R'"
+expect march_density_overwrite 2 "$pgt" "${march[@]}" -o d128.png --density d128.png
+one_line march_density_overwrite_one_line "never overwrites an input"
+expect march_bad_seed 2 "$pgt" "${march[@]}" -o px.csv --density d128.png --seed -1
 # a bench whose mesh cannot be read: the other rows are written, exit 2 naming the file
 expect bench_atlas_missing_mesh 2 "$pgt" bench atlas --meshes no_such_mesh.obj --threads 1 --repeat 1 --out res/t1.csv
 grep -q "no_such_mesh.obj" err.txt && grep -q "^paper,Hebe" res/t1.csv && ok bench_atlas_missing_mesh_named \
@@ -112,7 +135,7 @@ grep -q "no_such_mesh.obj" err.txt && ok bench_march_missing_mesh_named || bad b
 
 # pgt ivy (the algorithms are test_expand, test_bezier, test_terminals, test_ivy)
 expect ivy_help 0 "$pgt" ivy --help
-for flag in --grammar --seeds --seed-file --mask --paint --no-leaves --no-secondary --threads -o --curves --brush --param; do
+for flag in --grammar --seeds --seed-file --mask --density --paint --no-leaves --no-secondary --threads -o --curves --brush --param; do
   grep -q -- "$flag" out.txt && ok "ivy_help_documents_$flag" || bad "ivy_help_documents_$flag" "missing"
 done
 short=(--param maxMainSteps=30)
@@ -162,6 +185,19 @@ one_line ivy_stroke_in_seed_file_one_line "strokes.txt:1: 'stroke' belongs in a 
 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o small.exr --res 64 --png small.png >/dev/null 2>&1
 expect ivy_mask_wrong_size 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --mask small.png
 one_line ivy_mask_wrong_size_one_line "small.png: 64 x 64 pixels, the atlas is 128 x 128"
+
+# --density feeds the grammar's context.density(texCoord): 20 steps per seed where it reads
+# more than 0.5 (128 / 255 = 0.502 too), none where it reads 0 or without --density
+printf 'A --> B(0)\nB(n) --> Marching(2, 0, n < 20 && context.density(texCoord) > 0.5) { B(n + 1), NIL }\n' >dens.grammar
+for d in d255 d128 d0 none; do
+  if [ $d = none ]; then dens=(); else dens=(--density $d.png); fi
+  expect "ivy_density_$d" 0 "$pgt" ivy cs.exr --seeds 3 -o x.ply --grammar dens.grammar "${dens[@]}"
+  want=60; case $d in d0 | none) want=0 ;; esac
+  grep -q "  $((want + 3)) points, $want segments" out.txt && ok "ivy_density_${d}_segments" \
+    || bad "ivy_density_${d}_segments" "$(sed -n 2p out.txt)"
+done
+expect ivy_density_wrong_size 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar dens.grammar --density d_small.png
+one_line ivy_density_wrong_size_one_line "\-\-density d_small.png: 64 x 64 pixels"
 
 # pgt grammar (the language is test_grammar's)
 expect grammar_help 0 "$pgt" grammar --help

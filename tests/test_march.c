@@ -24,6 +24,7 @@
 #include "pgt/march.h"
 #include "pgt/mesh_io.h"
 #include "pgt/rng.h"
+#include "test_scratch.h"
 #include "test_util.h"
 
 #define PI_F 3.14159265358979f
@@ -1400,6 +1401,186 @@ static void test_real_random_marches(void) {
     if (!meshes) printf("  SKIP: no UV mesh in %s\n", PGT_SHARED_MESH_DIR);
 }
 
+/* ---- the density context (march.h pgt_march_density) ------------------------------------ */
+
+/* A random inner texel centre and a random direction of walker i (stream 3 of seed `seed`). */
+static void random_start(const pgt_march_atlas *v, uint32_t seed, uint32_t i, pgt_march_state *s) {
+    for (uint64_t c = (uint64_t)i << 32;; c += 3u) {
+        const uint32_t x = (uint32_t)(pgt_rng_float(seed, 3, c) * (float)v->width),
+                       y = (uint32_t)(pgt_rng_float(seed, 3, c + 1u) * (float)v->height);
+        const float a = 2.0f * PI_F * pgt_rng_float(seed, 3, c + 2u);
+        if ((v->codes[(size_t)y * v->width + x] & 3u) != PGT_TEXEL_INNER) continue;
+        if (pgt_march_start(v, (float)x + 0.5f, (float)y + 0.5f, cosf(a), sinf(a), s, NULL) ==
+            PGT_OK)
+            return;
+    }
+}
+
+/* Walker w of a density test: its condition draws from (seed, stream w), it starts at
+ * random_start(seed + 6, w). */
+static void density_walker(const pgt_march_atlas *v, const float *d, uint32_t seed, uint32_t w,
+                           pgt_march_density *ctx, pgt_march_options *o, pgt_march_state *s) {
+    const pgt_march_density c = {d, v->width, v->height, seed, w, 0};
+    *ctx = c;
+    memset(o, 0, sizeof *o);
+    o->condition = pgt_march_density_condition, o->condition_ctx = ctx;
+    random_start(v, seed + 6u, w, s);
+}
+
+/* Walkers per density of the statistical part: the standard error of the mean of K (below) is
+ * sd / sqrt(DENSITY_WALKERS), 0.004 texel steps at p = 0.25 and 0.025 at p = 0.75. */
+#define DENSITY_WALKERS 20000u
+/* A sample statistic may deviate from its expectation by this many standard errors: with two
+ * statistics at two densities, a correct implementation fails with probability ~2e-6. */
+#define DENSITY_SIGMAS 5.0
+
+/* Two checks on cube_sphere_8's 256^2 atlas (no dead ends; no walker stops on its own):
+ * 1. A density of 1 on the texels x < W/2 and 0 elsewhere: every step is the step without a
+ *    context (same event, same state, byte for byte) when that step's destination has x < W/2,
+ *    and a rejection with the state unchanged when it has x >= W/2; one draw per such step.
+ * 2. A constant density p: each walker (its own stream) goes on with probability p at every
+ *    step, so K, the steps it takes before the first rejection, is geometric: P(K = 0) = 1 - p,
+ *    E[K] = p / (1 - p), sd(K) = sqrt(p) / (1 - p). Both sample values lie within
+ *    DENSITY_SIGMAS standard errors. */
+static void test_density_context(void) {
+    pgt_mesh m;
+    REQUIRE(pgt_gen_cube_sphere(&m, 8, NULL) == PGT_OK);
+    pgt_atlas_options ao = {0};
+    ao.width = ao.height = 256;
+    ao.threads = 2;
+    pgt_image img;
+    pgt_march_atlas v;
+    REQUIRE(pgt_atlas_build(&img, &m, &ao, NULL, NULL) == PGT_OK);
+    REQUIRE(pgt_march_atlas_create(&v, &img, "cube_sphere_8", NULL) == PGT_OK);
+    const size_t n = (size_t)v.width * v.height;
+    float *d = malloc(n * sizeof(float));
+    REQUIRE(d);
+    for (size_t i = 0; i < n; ++i) d[i] = i % v.width < v.width / 2u ? 1.0f : 0.0f;
+    uint32_t same = 0, rejected = 0, other = 0, stops = 0;
+    for (uint32_t w = 0; w < 400u; ++w) {
+        pgt_march_density ctx;
+        pgt_march_options o;
+        pgt_march_state s;
+        density_walker(&v, d, 5, w, &ctx, &o, &s);
+        uint64_t evaluated = 0;
+        for (uint32_t k = 0; k < 200u; ++k) {
+            pgt_march_state ref = s, before = s;
+            pgt_march_info info;
+            const pgt_march_event e_ref = pgt_march_step(&v, NULL, &ref, 2.0f, 0.0f, NULL);
+            const pgt_march_event e = pgt_march_step(&v, &o, &s, 2.0f, 0.0f, &info);
+            if (e_ref == PGT_MARCH_STOP) {
+                stops++;
+                other += e != PGT_MARCH_STOP;
+                break;
+            }
+            evaluated++;
+            if ((uint32_t)ref.x < v.width / 2u) {
+                const int ok = e == e_ref && memcmp(&s, &ref, sizeof s) == 0;
+                same += ok, other += !ok;
+            } else {
+                const int ok = e == PGT_MARCH_STOP && info.stop == PGT_MARCH_STOP_REJECTED &&
+                               memcmp(&s, &before, sizeof s) == 0;
+                rejected += ok, other += !ok;
+                break;
+            }
+        }
+        other += ctx.draws != evaluated;
+    }
+    printf("  binary density: %u steps as without a context, %u rejected where the density is "
+           "0, %u otherwise, %u stops of their own\n",
+           same, rejected, other, stops);
+    CHECK(other == 0 && stops == 0 && same > 1000u && rejected > 100u);
+
+    static const float ps[2] = {0.25f, 0.75f};
+    for (int k = 0; k < 2; ++k) {
+        const double p = ps[k];
+        for (size_t i = 0; i < n; ++i) d[i] = ps[k];
+        uint64_t sum = 0, zeros = 0, own_stops = 0, censored = 0;
+        for (uint32_t w = 0; w < DENSITY_WALKERS; ++w) {
+            pgt_march_density ctx;
+            pgt_march_options o;
+            pgt_march_state s;
+            density_walker(&v, d, 9, w, &ctx, &o, &s);
+            uint32_t steps = 0;
+            for (;; ++steps) {
+                if (steps == 256u) { /* p^256 < 1e-31: never */
+                    censored++;
+                    break;
+                }
+                pgt_march_info info;
+                if (pgt_march_step(&v, &o, &s, 2.0f, 0.0f, &info) == PGT_MARCH_STOP) {
+                    own_stops += info.stop != PGT_MARCH_STOP_REJECTED;
+                    break;
+                }
+            }
+            sum += steps, zeros += steps == 0;
+        }
+        const double mean = (double)sum / DENSITY_WALKERS, p0 = (double)zeros / DENSITY_WALKERS;
+        const double e_mean = p / (1.0 - p), se_mean = sqrt(p) / (1.0 - p) / sqrt(DENSITY_WALKERS);
+        const double se_p0 = sqrt(p * (1.0 - p) / DENSITY_WALKERS);
+        printf("  density %.2f, %u walkers: mean steps %.4f (expected %.4f +- %.4f), P(K = 0) "
+               "%.4f (expected %.4f +- %.4f)\n",
+               p, DENSITY_WALKERS, mean, e_mean, se_mean, p0, 1.0 - p, se_p0);
+        CHECK(own_stops == 0 && censored == 0);
+        CHECK_MSG(fabs(mean - e_mean) <= DENSITY_SIGMAS * se_mean, "mean %.4f", mean);
+        CHECK_MSG(fabs(p0 - (1.0 - p)) <= DENSITY_SIGMAS * se_p0, "P(K = 0) %.4f", p0);
+    }
+    /* outside the image: rejected without a draw */
+    pgt_march_density ctx = {d, v.width, v.height, 1, 0, 0};
+    CHECK(!pgt_march_density_condition(&ctx, -0.5f, 3.0f, 0) && ctx.draws == 0);
+    CHECK(!pgt_march_density_condition(&ctx, 3.0f, (float)v.height, 0) && ctx.draws == 0);
+    free(d);
+    pgt_march_atlas_destroy(&v);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
+/* pgt_cli_read_context (pgt march / pgt ivy --mask, --density): the named channel first, then
+ * Y; the values as written; a NaN or an infinity, a wrong size or no usable channel is an error
+ * (nonzero, one line on stderr). */
+static int write_context_exr(const char *path, const char *const *names, uint32_t channels,
+                             float fill, uint32_t bad_x, float bad) {
+    pgt_image img;
+    if (pgt_image_create(&img, 6, 4, channels, names, NULL) != PGT_OK) return 0;
+    for (uint32_t c = 0; c < channels; ++c)
+        for (uint32_t i = 0; i < 24u; ++i) pgt_image_plane(&img, c)[i] = fill + (float)c;
+    pgt_image_plane(&img, 0)[2u * 6u + bad_x] = bad;
+    const int ok = pgt_image_write_exr(&img, path, NULL) == PGT_OK;
+    pgt_image_destroy(&img);
+    return ok;
+}
+
+static void test_read_context(void) {
+    scratch_make_for("march_context");
+    REQUIRE(scratch[0]);
+    static const char *const yd[2] = {"Y", "density"}, *const ab[2] = {"A", "B"};
+    float *out = NULL;
+    /* 'density' (plane 1: 0.25 + 1) before 'Y' (plane 0) */
+    REQUIRE(write_context_exr(scratch_path("yd.exr"), yd, 2, 0.25f, 3, 0.5f));
+    CHECK(pgt_cli_read_context("test", "--density", scratch_path("yd.exr"), "density", 6, 4,
+                               &out) == 0);
+    CHECK(out && out[0] == 1.25f && out[23] == 1.25f);
+    free(out), out = NULL;
+    CHECK(pgt_cli_read_context("test", "--mask", scratch_path("yd.exr"), "mask", 6, 4, &out) == 0);
+    CHECK(out && out[0] == 0.25f && out[2u * 6u + 3u] == 0.5f); /* 'Y' */
+    free(out), out = NULL;
+    const float bad[3] = {NAN, INFINITY, -INFINITY};
+    for (int k = 0; k < 3; ++k) {
+        REQUIRE(write_context_exr(scratch_path("nan.exr"), yd + 1, 1, 0.5f, 3, bad[k]));
+        CHECK(pgt_cli_read_context("test", "--density", scratch_path("nan.exr"), "density", 6, 4,
+                                   &out) != 0 &&
+              !out);
+    }
+    CHECK(pgt_cli_read_context("test", "--density", scratch_path("yd.exr"), "density", 6, 5,
+                               &out) != 0 &&
+          !out);
+    REQUIRE(write_context_exr(scratch_path("ab.exr"), ab, 2, 0.5f, 0, 0.5f));
+    CHECK(pgt_cli_read_context("test", "--density", scratch_path("ab.exr"), "density", 6, 4,
+                               &out) != 0 &&
+          !out);
+    scratch_remove();
+}
+
 static const pgt_test_case cases[] = {
     {"view_and_start", test_view_and_start},
     {"case1_inner", test_case1_inner},
@@ -1414,6 +1595,8 @@ static const pgt_test_case cases[] = {
     {"rotation_keeps_3d_direction", test_rotation_keeps_3d_direction},
     {"cylinder_self_seam", test_cylinder_self_seam},
     {"mask_and_condition", test_mask_and_condition},
+    {"density_context", test_density_context},
+    {"read_context", test_read_context},
     {"too_many_jumps", test_too_many_jumps},
     {"bounce_pair", test_bounce_pair},
     {"bounce_across_steps", test_bounce_across_steps},

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "pgt/parallel.h"
+#include "pgt/rng.h"
 #include "vec3_internal.h"
 
 #define MARCH_NONE UINT32_MAX
@@ -68,6 +69,14 @@ const char *pgt_march_stop_name(pgt_march_stop s) {
         return "bounce";
     }
     return "?";
+}
+
+int pgt_march_density_condition(void *ctx, float x, float y, uint32_t chart) {
+    pgt_march_density *d = ctx;
+    (void)chart;
+    if (!(x >= 0.0f && y >= 0.0f && x < (float)d->width && y < (float)d->height)) return 0;
+    const float v = d->density[(size_t)(uint32_t)y * d->width + (uint32_t)x];
+    return pgt_rng_float(d->seed, d->stream, d->draws++) < v; /* a NaN compares false */
 }
 
 /* ---- the atlas view ---------------------------------------------------------------------- */

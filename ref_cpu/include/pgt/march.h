@@ -71,8 +71,9 @@
  * The walker never leaves the image and never stands on anything but an inner texel: a dead-end
  * texel, a search that finds no indirection texel of the current chart, more than
  * PGT_MARCH_MAX_JUMPS jumps in one step, one bounce more than PGT_MARCH_MAX_BOUNCES, or a
- * destination the condition rejects (external contexts: a mask image or a callback, sampled at the
- * destination) end the march with event STOP and the state unchanged.
+ * destination the condition rejects (external contexts: a mask image, a callback such as
+ * pgt_march_density_condition, sampled at the destination) end the march with event STOP and the
+ * state unchanged.
  *
  * Rotation convention (atlas.h: "the angle, counter-clockwise in texel space"; atlas_build.h):
  * a direction (dx, dy) becomes (dx cos a - dy sin a, dx sin a + dy cos a) in texel coordinates,
@@ -194,6 +195,25 @@ void pgt_march_atlas_destroy(pgt_march_atlas *a);
  * step stops as rejected, and keeps its error in ctx for the caller to check after the step
  * (expand.c's grammar conditions do). */
 typedef int (*pgt_march_condition_fn)(void *ctx, float x, float y, uint32_t chart);
+
+/* A density context as a condition (paper 000 section 9: "a scalar valued texture controlling
+ * the density as a space occupancy probability"): a step whose destination texel has density d
+ * goes on with probability d and is rejected otherwise (d <= 0: always rejected, d >= 1: never;
+ * a NaN never goes on). The draw is pgt_rng_float(seed, stream, draws) < d, and `draws` counts
+ * up by one per evaluation, so one walker's k-th evaluated step draws counter k - 1 whatever the
+ * thread order: give each walker its own stream (or seed). Usage:
+ *   pgt_march_density ctx = {density, atlas.width, atlas.height, seed, stream, 0};
+ *   opts.condition = pgt_march_density_condition, opts.condition_ctx = &ctx; */
+typedef struct pgt_march_density {
+    const float *density; /* width * height floats (row-major, like an image plane) */
+    uint32_t width, height;
+    uint32_t seed, stream;
+    uint64_t draws; /* evaluations so far: the next draw's counter */
+} pgt_march_density;
+
+/* The condition of a pgt_march_density (ctx) at texel-space (x, y), a step's destination; a
+ * point outside the image is rejected (no draw). */
+int pgt_march_density_condition(void *ctx, float x, float y, uint32_t chart);
 
 /* Where the turn of the direction at a jump comes from. */
 typedef enum pgt_march_rotation {
