@@ -50,6 +50,9 @@ HIDDEN_COS = -0.05
 # Positions on the atlas picture's background allowed before the inputs are called mismatched
 # (none are on the atlas the march was made on: the walker stands on inner texels only).
 MAX_OFF_ATLAS = 0.01
+# Magnification of the 3D panel: matplotlib leaves a wide margin around a 3D box; 1.8 makes the
+# mesh's bounding cube (its largest side, from any view) fill the panel without clipping it.
+SURFACE_ZOOM = 1.8
 
 
 def die(msg):
@@ -209,7 +212,7 @@ def draw_surface(ax, cloud, normals, path, events, elev, azim):
     ax.set_xlim(mid[0] - half, mid[0] + half)
     ax.set_ylim(mid[1] - half, mid[1] + half)
     ax.set_zlim(mid[2] - half, mid[2] + half)
-    ax.set_box_aspect((1, 1, 1), zoom=1.35)
+    ax.set_box_aspect((1, 1, 1), zoom=SURFACE_ZOOM)
     ax.view_init(elev=elev, azim=azim)
     ax.set_axis_off()
     ax.set_title("surface", fontsize=9)
@@ -251,7 +254,8 @@ def main(argv):
     fig.text(0.01, 0.01, note, fontsize=7, color="0.35")
     if args.title:
         fig.suptitle(args.title, fontsize=11)
-    fig.tight_layout(rect=(0, 0.03, 1, 0.97 if args.title else 1))
+    # the top margin keeps the panel titles whole (tight_layout does not see the 3D axes' titles)
+    fig.tight_layout(rect=(0, 0.03, 1, 0.94 if args.title else 0.97))
     out_dir = os.path.dirname(args.out_prefix)
     if out_dir:
         os.makedirs(out_dir, exist_ok=True)
