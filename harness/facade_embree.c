@@ -179,8 +179,11 @@ static void trace_packets(void *ctx_, uint32_t begin, uint32_t end, uint32_t wor
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    /* Embree's 16-wide kernels read the packet and the valid mask with aligned 64-byte loads:
+     * RTCRayHit16 carries that alignment, the int array needs it spelled out (without it the
+     * AVX-512 kernels fault where the stack puts it elsewhere, as ASan's layout did) */
     struct RTCRayHit16 rh;
-    int valid[16];
+    _Alignas(64) int valid[16];
     for (uint32_t ty = begin; ty < end; ++ty)
         for (uint32_t tx = 0; tx < job->tiles_x; ++tx) {
             for (uint32_t i = 0; i < 16u; ++i) {
