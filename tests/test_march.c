@@ -957,6 +957,145 @@ static int walker_ok(const pgt_march_atlas *v, const pgt_march_state *st) {
            PGT_MARCH_CODE(PGT_TEXEL_INNER, st->chart);
 }
 
+/* Hostile atlases: cube_sphere_8's 64^2 atlas with 1-12 channel values overwritten at random
+ * texels (chart, kind, pointers, rot, positions; NaN, infinity, 1e30, out-of-range and
+ * neighbours' values, sometimes a run along the row). pgt_march_atlas_create refuses most of
+ * them; on every one it accepts (pointer cycles, pointers into far charts, arbitrary rot, holes
+ * and islands), random walkers with random options, lengths up to PGT_MARCH_MAX_LENGTH, turns
+ * and a random mask must keep march.h's contract: a STOP leaves the state unchanged, any other
+ * step ends inside an inner texel of the walker's chart with a finite unit direction, and the
+ * 3D position there is finite. (The sanitizer build runs this too: no out-of-bounds read.) */
+#define HOSTILE_ATLASES 6000u
+#define HOSTILE_WALKERS 24u
+#define HOSTILE_STEPS 48u
+/* |d|^2 - 1 of a walker's direction: renormalised after every jump in float32 */
+#define HOSTILE_UNIT_TOL 1e-4f
+
+/* The test's random numbers, one counter in sequence (each call its own statement or
+ * initialiser, so the order is defined). */
+static uint64_t hostile_counter;
+static float hostile_u(void) { return pgt_rng_float(21, 0, hostile_counter++); }
+static uint32_t hostile_r(uint32_t k) { return (uint32_t)(hostile_u() * (float)k) % k; }
+
+/* The res x res atlas of the generated cube_sphere_8 (six charts, input UVs kept). */
+static int cube_sphere_8_atlas(uint32_t res, pgt_image *img) {
+    pgt_mesh m;
+    if (pgt_gen_cube_sphere(&m, 8, NULL) != PGT_OK) return 0;
+    pgt_atlas_options ao = {0};
+    ao.width = ao.height = res;
+    ao.threads = 2;
+    const int ok = pgt_atlas_build(img, &m, &ao, NULL, NULL) == PGT_OK;
+    pgt_mesh_destroy(&m);
+    return ok;
+}
+
+static void test_hostile_atlases(void) {
+    pgt_image base;
+    REQUIRE(cube_sphere_8_atlas(64, &base));
+    const uint32_t W = base.width, H = base.height, n = W * H, C = base.channel_count;
+    static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
+    float *mask = malloc(n * sizeof(float));
+    REQUIRE(mask);
+    uint64_t valid = 0, steps = 0, stops = 0, bad = 0;
+    hostile_counter = 0;
+    for (uint32_t i = 0; i < n; ++i) mask[i] = hostile_u() < 0.02f ? 1.0f : 0.0f;
+    for (uint32_t a = 0; a < HOSTILE_ATLASES; ++a) {
+        pgt_image img;
+        REQUIRE(pgt_image_create(&img, W, H, C, names, NULL) == PGT_OK);
+        memcpy(img.data, base.data, (size_t)n * C * sizeof(float));
+        const uint32_t edits = 1u + hostile_r(12u);
+        for (uint32_t e = 0; e < edits; ++e) {
+            float *pl = pgt_image_plane(&img, hostile_r(C));
+            const uint32_t t = hostile_r(n);
+            float val;
+            switch (hostile_r(9u)) {
+            case 0:
+                val = (float)hostile_r(W + 2u) - 1.0f;
+                break; /* -1 .. W */
+            case 1:
+                val = NAN;
+                break;
+            case 2:
+                val = INFINITY;
+                break;
+            case 3:
+                val = (hostile_u() - 0.5f) * 1e30f;
+                break;
+            case 4:
+                val = (float)hostile_r(5u);
+                break; /* kinds, small charts */
+            case 5:
+                val = pl[hostile_r(n)];
+                break; /* another texel's value */
+            case 6:
+                val = hostile_u() * 7.0f - 3.5f;
+                break;
+            case 7:
+                val = (float)PGT_TEXEL_INDIRECTION;
+                break;
+            default:
+                val = (float)(W - 1u);
+                break;
+            }
+            const uint32_t run = hostile_r(4u) == 0 ? hostile_r(10u) : 1u;
+            for (uint32_t j = 0; j < run && t + j < n; ++j) pl[t + j] = val;
+        }
+        pgt_march_atlas v;
+        if (pgt_march_atlas_create(&v, &img, "hostile", NULL) != PGT_OK) {
+            pgt_image_destroy(&img);
+            continue;
+        }
+        valid++;
+        for (uint32_t w = 0; w < HOSTILE_WALKERS; ++w) {
+            uint32_t t = hostile_r(n), tries = 0;
+            while ((v.codes[t] & 3u) != PGT_TEXEL_INNER && ++tries < 1000u) t = hostile_r(n);
+            const float ang = 2.0f * PI_F * hostile_u();
+            const float fx = hostile_u(), fy = hostile_u();
+            pgt_march_state s;
+            if ((v.codes[t] & 3u) != PGT_TEXEL_INNER ||
+                pgt_march_start(&v, (float)(t % W) + fx, (float)(t / W) + fy, cosf(ang), sinf(ang),
+                                &s, NULL) != PGT_OK)
+                continue;
+            pgt_march_options o = {0};
+            o.no_best_pointer = (int)hostile_r(2u);
+            o.no_rotation = hostile_r(4u) == 0;
+            o.rotation = hostile_r(2u) ? PGT_MARCH_ROTATION_JACOBIAN : PGT_MARCH_ROTATION_ATLAS;
+            if (hostile_r(4u) == 0) o.mask = mask;
+            for (uint32_t k = 0; k < HOSTILE_STEPS; ++k) {
+                const float len =
+                    hostile_r(20u) == 0
+                        ? fminf(hostile_u() * PGT_MARCH_MAX_LENGTH + 1e-3f, PGT_MARCH_MAX_LENGTH)
+                        : 0.01f + 20.0f * hostile_u();
+                const float turn = hostile_r(3u) == 0 ? 4.0f * (hostile_u() - 0.5f) : 0.0f;
+                const pgt_march_state before = s;
+                steps++;
+                if (pgt_march_step(&v, &o, &s, len, turn, NULL) == PGT_MARCH_STOP) {
+                    stops++;
+                    bad += memcmp(&s, &before, sizeof s) != 0;
+                    break;
+                }
+                float p[3] = {0.0f, 0.0f, 0.0f};
+                const int ok = walker_ok(&v, &s) && isfinite(s.dx) && isfinite(s.dy) &&
+                               fabsf(s.dx * s.dx + s.dy * s.dy - 1.0f) <= HOSTILE_UNIT_TOL;
+                if (ok) pgt_march_position(&v, s.x, s.y, p);
+                if (!ok || !isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+                    bad++;
+                    break;
+                }
+            }
+        }
+        pgt_march_atlas_destroy(&v);
+        pgt_image_destroy(&img);
+    }
+    printf("  %u hostile atlases, %llu accepted by the view: %llu steps, %llu stops, %llu breaking "
+           "the contract\n",
+           HOSTILE_ATLASES, (unsigned long long)valid, (unsigned long long)steps,
+           (unsigned long long)stops, (unsigned long long)bad);
+    CHECK(bad == 0 && valid > HOSTILE_ATLASES / 10u && stops > 0 && steps > 100000u);
+    free(mask);
+    pgt_image_destroy(&base);
+}
+
 /* Cube-sphere: the great circle z = 0 runs along texel rows/columns through the charts of +x,
  * +y, -x, -y (gen.c's cube_faces: u = y on +x, v = x on +y, v = y on -x, u = x on -y). Its
  * texel length is the sum of the four charts' extents along it, 2 (1/3 - 2 g) W + 2 (1/2 - 2 g)
@@ -1443,14 +1582,9 @@ static void density_walker(const pgt_march_atlas *v, const float *d, uint32_t se
  *    E[K] = p / (1 - p), sd(K) = sqrt(p) / (1 - p). Both sample values lie within
  *    DENSITY_SIGMAS standard errors. */
 static void test_density_context(void) {
-    pgt_mesh m;
-    REQUIRE(pgt_gen_cube_sphere(&m, 8, NULL) == PGT_OK);
-    pgt_atlas_options ao = {0};
-    ao.width = ao.height = 256;
-    ao.threads = 2;
     pgt_image img;
     pgt_march_atlas v;
-    REQUIRE(pgt_atlas_build(&img, &m, &ao, NULL, NULL) == PGT_OK);
+    REQUIRE(cube_sphere_8_atlas(256, &img));
     REQUIRE(pgt_march_atlas_create(&v, &img, "cube_sphere_8", NULL) == PGT_OK);
     const size_t n = (size_t)v.width * v.height;
     float *d = malloc(n * sizeof(float));
@@ -1532,7 +1666,6 @@ static void test_density_context(void) {
     free(d);
     pgt_march_atlas_destroy(&v);
     pgt_image_destroy(&img);
-    pgt_mesh_destroy(&m);
 }
 
 /* pgt_cli_read_context (pgt march / pgt ivy --mask, --density): the named channel first, then
@@ -1602,6 +1735,7 @@ static const pgt_test_case cases[] = {
     {"bounce_across_steps", test_bounce_across_steps},
     {"invalid_atlases", test_invalid_atlases},
     {"random_walks_synthetic", test_random_walks_synthetic},
+    {"hostile_atlases", test_hostile_atlases},
     {"real_cube_sphere_great_circle", test_real_cube_sphere_great_circle},
     {"real_random_marches", test_real_random_marches},
 };
