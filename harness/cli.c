@@ -153,6 +153,16 @@ int pgt_cli_same_file(const char *a, const char *b) {
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
+                             const char *const *outputs, int n_out) {
+    for (int o = 0; o < n_out; ++o)
+        for (int k = 0; k < n_in; ++k)
+            if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
+                return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
+                                    outputs[o]);
+    return 0;
+}
+
 static int cmp_double(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
@@ -330,8 +340,16 @@ int pgt_cli_read_context(const char *verb, const char *flag, const char *path, c
                    -1;
         }
         iw = img.width, ih = img.height;
+        const float *plane = pgt_image_plane(&img, (uint32_t)c);
+        for (size_t i = 0; iw == w && ih == h && i < (size_t)w * h; ++i)
+            if (!isfinite(plane[i])) { /* a PNG's values are finite by construction */
+                pgt_cli_fail(verb, "%s %s: pixel (%u, %u) is %g, not a finite number", flag, path,
+                             (uint32_t)(i % w), (uint32_t)(i / w), (double)plane[i]);
+                pgt_image_destroy(&img);
+                return -1;
+            }
         if (iw == w && ih == h && (m = malloc((size_t)w * h * sizeof(float))))
-            memcpy(m, pgt_image_plane(&img, (uint32_t)c), (size_t)w * h * sizeof(float));
+            memcpy(m, plane, (size_t)w * h * sizeof(float));
         pgt_image_destroy(&img);
     }
     if (iw != w || ih != h)
@@ -339,13 +357,6 @@ int pgt_cli_read_context(const char *verb, const char *flag, const char *path, c
                             w, h),
                -1;
     if (!m) return pgt_cli_fail(verb, "out of memory"), -1;
-    for (size_t i = 0; i < (size_t)w * h; ++i)
-        if (!isfinite(m[i])) {
-            pgt_cli_fail(verb, "%s %s: pixel (%u, %u) is %g, not a finite number", flag, path,
-                         (uint32_t)(i % w), (uint32_t)(i / w), (double)m[i]);
-            free(m);
-            return -1;
-        }
     *out = m;
     return 0;
 }

@@ -48,6 +48,12 @@ void pgt_cli_date(char *buf, size_t size);
 /* Nonzero when a and b name the same existing file (device and inode). */
 int pgt_cli_same_file(const char *a, const char *b);
 
+/* 0 when none of the n_out outputs is one of the n_in inputs (NULL entries are skipped); else
+ * prints "pgt VERB: OUTPUT is an input file; pgt never overwrites an input" and returns
+ * PGT_EXIT_USAGE. */
+int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
+                             const char *const *outputs, int n_out);
+
 /* Median and minimum of n values (sorts a copy). */
 double pgt_cli_median(const double *v, uint32_t n);
 double pgt_cli_min(const double *v, uint32_t n);

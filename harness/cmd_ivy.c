@@ -506,11 +506,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
         const char *inputs[7] = {in_path,    grammar_path, seed_file,   mask_path,
                                  paint_path, forbid_path,  density_path};
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
-        for (int o = 0; o < 4; ++o)
-            for (int k = 0; k < 7; ++k)
-                if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
-                    return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
-                                        outputs[o]);
+        if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4)) return PGT_EXIT_USAGE;
     }
     if (no_secondary) params[param_count++] = "secondaryBranches=0"; /* the array's last slot */
 

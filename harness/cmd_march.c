@@ -236,10 +236,7 @@ int pgt_cmd_march(int argc, char **argv) {
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
     {
         const char *inputs[3] = {in_path, mask_path, density_path};
-        for (int k = 0; k < 3; ++k)
-            if (inputs[k] && pgt_cli_same_file(inputs[k], out_path))
-                return pgt_cli_fail(verb, "-o %s is an input file; pgt never overwrites an input",
-                                    out_path);
+        if (pgt_cli_refuse_overwrite(verb, inputs, 3, &out_path, 1)) return PGT_EXIT_USAGE;
     }
 
     const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];

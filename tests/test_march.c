@@ -977,6 +977,22 @@ static uint64_t hostile_counter;
 static float hostile_u(void) { return pgt_rng_float(21, 0, hostile_counter++); }
 static uint32_t hostile_r(uint32_t k) { return (uint32_t)(hostile_u() * (float)k) % k; }
 
+/* Walker i's start: a random point and heading (seed, stream; counters 3 (i * 100000 + try)),
+ * retried until pgt_march_start accepts it (the point lies in an inner texel), at most 100000
+ * times. 1 on success. */
+#define START_TRIES 100000u
+static int random_walker_start(const pgt_march_atlas *v, uint32_t seed, uint32_t stream, uint32_t i,
+                               pgt_march_state *st) {
+    for (uint32_t tries = 0; tries < START_TRIES; ++tries) {
+        const uint64_t c = 3ull * ((uint64_t)i * START_TRIES + tries);
+        const float rx = pgt_rng_float(seed, stream, c) * (float)v->width,
+                    ry = pgt_rng_float(seed, stream, c + 1) * (float)v->height,
+                    a = 2.0f * PI_F * pgt_rng_float(seed, stream, c + 2);
+        if (pgt_march_start(v, rx, ry, cosf(a), sinf(a), st, NULL) == PGT_OK) return 1;
+    }
+    return 0;
+}
+
 /* The res x res atlas of the generated cube_sphere_8 (six charts, input UVs kept). */
 static int cube_sphere_8_atlas(uint32_t res, pgt_image *img) {
     pgt_mesh m;
@@ -1047,15 +1063,8 @@ static void test_hostile_atlases(void) {
         }
         valid++;
         for (uint32_t w = 0; w < HOSTILE_WALKERS; ++w) {
-            uint32_t t = hostile_r(n), tries = 0;
-            while ((v.codes[t] & 3u) != PGT_TEXEL_INNER && ++tries < 1000u) t = hostile_r(n);
-            const float ang = 2.0f * PI_F * hostile_u();
-            const float fx = hostile_u(), fy = hostile_u();
             pgt_march_state s;
-            if ((v.codes[t] & 3u) != PGT_TEXEL_INNER ||
-                pgt_march_start(&v, (float)(t % W) + fx, (float)(t / W) + fy, cosf(ang), sinf(ang),
-                                &s, NULL) != PGT_OK)
-                continue;
+            if (!random_walker_start(&v, 22, a, w, &s)) continue;
             pgt_march_options o = {0};
             o.no_best_pointer = (int)hostile_r(2u);
             o.no_rotation = hostile_r(4u) == 0;
@@ -1294,15 +1303,7 @@ static int random_walks_sized(const pgt_march_atlas *v, const pgt_image *img,
     uint32_t inner_count = 0;
     for (uint32_t m = 0; ok && m < marches; ++m) {
         pgt_march_state st;
-        uint32_t tries = 0;
-        for (; tries < 100000; ++tries) {
-            const uint64_t c = 3ull * ((uint64_t)m * 100000u + tries);
-            const float rx = pgt_rng_float(seed, 1, c) * (float)v->width,
-                        ry = pgt_rng_float(seed, 1, c + 1) * (float)v->height,
-                        a = 2.0f * PI_F * pgt_rng_float(seed, 1, c + 2);
-            if (pgt_march_start(v, rx, ry, cosf(a), sinf(a), &st, NULL) == PGT_OK) break;
-        }
-        if (tries == 100000) continue;
+        if (!random_walker_start(v, seed, 1, m, &st)) continue;
         res->marches++;
         uint32_t n = 0;
         float q[3];
@@ -1542,28 +1543,15 @@ static void test_real_random_marches(void) {
 
 /* ---- the density context (march.h pgt_march_density) ------------------------------------ */
 
-/* A random inner texel centre and a random direction of walker i (stream 3 of seed `seed`). */
-static void random_start(const pgt_march_atlas *v, uint32_t seed, uint32_t i, pgt_march_state *s) {
-    for (uint64_t c = (uint64_t)i << 32;; c += 3u) {
-        const uint32_t x = (uint32_t)(pgt_rng_float(seed, 3, c) * (float)v->width),
-                       y = (uint32_t)(pgt_rng_float(seed, 3, c + 1u) * (float)v->height);
-        const float a = 2.0f * PI_F * pgt_rng_float(seed, 3, c + 2u);
-        if ((v->codes[(size_t)y * v->width + x] & 3u) != PGT_TEXEL_INNER) continue;
-        if (pgt_march_start(v, (float)x + 0.5f, (float)y + 0.5f, cosf(a), sinf(a), s, NULL) ==
-            PGT_OK)
-            return;
-    }
-}
-
 /* Walker w of a density test: its condition draws from (seed, stream w), it starts at
- * random_start(seed + 6, w). */
-static void density_walker(const pgt_march_atlas *v, const float *d, uint32_t seed, uint32_t w,
-                           pgt_march_density *ctx, pgt_march_options *o, pgt_march_state *s) {
+ * random_walker_start(seed, stream 3, w). 1 on success. */
+static int density_walker(const pgt_march_atlas *v, const float *d, uint32_t seed, uint32_t w,
+                          pgt_march_density *ctx, pgt_march_options *o, pgt_march_state *s) {
     const pgt_march_density c = {d, v->width, v->height, seed, w, 0};
     *ctx = c;
     memset(o, 0, sizeof *o);
     o->condition = pgt_march_density_condition, o->condition_ctx = ctx;
-    random_start(v, seed + 6u, w, s);
+    return random_walker_start(v, seed, 3, w, s);
 }
 
 /* Walkers per density of the statistical part: the standard error of the mean of K (below) is
@@ -1595,7 +1583,7 @@ static void test_density_context(void) {
         pgt_march_density ctx;
         pgt_march_options o;
         pgt_march_state s;
-        density_walker(&v, d, 5, w, &ctx, &o, &s);
+        REQUIRE(density_walker(&v, d, 5, w, &ctx, &o, &s));
         uint64_t evaluated = 0;
         for (uint32_t k = 0; k < 200u; ++k) {
             pgt_march_state ref = s, before = s;
@@ -1634,7 +1622,7 @@ static void test_density_context(void) {
             pgt_march_density ctx;
             pgt_march_options o;
             pgt_march_state s;
-            density_walker(&v, d, 9, w, &ctx, &o, &s);
+            REQUIRE(density_walker(&v, d, 9, w, &ctx, &o, &s));
             uint32_t steps = 0;
             for (;; ++steps) {
                 if (steps == 256u) { /* p^256 < 1e-31: never */
