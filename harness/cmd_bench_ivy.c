@@ -336,9 +336,10 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
                 failures++;
                 break;
             }
-            fprintf(f11, "%s,%u,%u,%u,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n", sc ? "full" : "main", n,
-                    out.expand.point_count, out.segments, (unsigned long long)out.polygons,
-                    t.expand, t.bezier, t.terminals, t.total, t.best, threads);
+            fprintf(f11, "%s,%u,%u,%u,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n",
+                    sc ? "full" : "main", n, out.expand.point_count, out.segments,
+                    (unsigned long long)out.polygons, t.expand, t.bezier, t.terminals, t.total,
+                    t.best, t.cold, threads);
             fflush(f11);
             fprintf(stderr, "\rpgt bench ivy: figure 11, %s, %u seeds: %.1f ms   ",
                     sc ? "full" : "main", n, t.total);

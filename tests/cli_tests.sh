@@ -21,6 +21,12 @@ one_line() {
   if [ "$n" -eq 1 ] && grep -q -- "$2" err.txt; then ok "$1"; else bad "$1" "stderr: $(cat err.txt)"; fi
 }
 
+# fields_match NAME CSV: every line that is not a '#' comment has as many fields as the header
+fields_match() {
+  local counts; counts=$(grep -v '^#' "$2" | awk -F, '{print NF}' | sort -u | tr '\n' ' ')
+  case $counts in *" "?*) bad "$1" "field counts in $2: $counts" ;; "") bad "$1" "$2: no lines" ;; *) ok "$1" ;; esac
+}
+
 "$gen" "$work/data" >/dev/null || { echo "cannot generate datasets"; exit 1; }
 "$gen" "$work/data" --only cube_sphere_8 --format ply >/dev/null
 ico="$work/data/icosphere_l1.off"
@@ -130,6 +136,7 @@ expect march_bad_seed 2 "$pgt" "${march[@]}" -o px.csv --density d128.png --seed
 expect bench_atlas_missing_mesh 2 "$pgt" bench atlas --meshes no_such_mesh.obj --threads 1 --repeat 1 --out res/t1.csv
 grep -q "no_such_mesh.obj" err.txt && grep -q "^paper,Hebe" res/t1.csv && ok bench_atlas_missing_mesh_named \
   || bad bench_atlas_missing_mesh_named "$(cat err.txt)"
+fields_match bench_atlas_fields res/t1.csv
 expect bench_march_missing_mesh 2 "$pgt" bench march --meshes no_such_mesh.obj --threads 1 --out res/m.csv
 grep -q "no_such_mesh.obj" err.txt && ok bench_march_missing_mesh_named || bad bench_march_missing_mesh_named "$(cat err.txt)"
 
@@ -359,6 +366,7 @@ for r in rows:
     assert None not in r and all(r.values()), r
     assert abs(float(r["luna_ratio"]) * float(r["median_ms"]) - float(r["paper_luna_ms"])) < 0.01 * float(r["paper_luna_ms"]), r' \
   && ok bench_woven_rows || bad bench_woven_rows "$(cat res/woven.csv)"
+fields_match bench_woven_fields res/woven.csv
 
 # pgt facade, pgt bench facade (the algorithms are test_facade, the Embree check test_facade_embree)
 expect facade_help 0 "$pgt" facade --help
@@ -505,6 +513,25 @@ for r in rows[1:]:
     assert f("best_over_embree") > 0, r
     assert abs(f("packet_speedup") - f("single_trace_ms") / f("trace_ms")) <= 1e-2 * f("packet_speedup") + 2e-3, r' \
   && ok bench_facade_rows || bad bench_facade_rows "$(cat res/facade.csv)"
+fields_match bench_facade_fields res/facade.csv
+
+# pgt bench ivy --quick: Table 2's three scenes and Figure 11 at 1, 2, 4, ... 64 seeds
+expect bench_ivy 0 "$pgt" bench ivy --quick --threads 2 --out res/table2.csv --fig11 res/fig11.csv
+fields_match bench_ivy_table2_fields res/table2.csv
+fields_match bench_ivy_fig11_fields res/fig11.csv
+/usr/bin/python3 -c '
+import csv
+rd = lambda p: list(csv.DictReader(l for l in open(p) if not l.startswith("#")))
+t2, f11 = rd("res/table2.csv"), rd("res/fig11.csv")
+assert [r["scene"] for r in t2] == ["fig1b", "fig10c", "fig1a"], t2
+assert [(r["scenario"], r["seeds"]) for r in f11] == [(s, str(1 << k)) for s in ("main", "full") for k in range(7)], f11
+for r in t2 + f11:
+    assert None not in r and all(r.values()), r
+    assert r["threads"] == "2", r
+    assert float(r["cold_ms"]) > 0 and 0 < float(r["best_ms"]) <= float(r["total_ms"]), r
+    assert all(float(r[k]) >= 0 for k in ("expand_ms", "bezier_ms", "terminals_ms")), r
+    assert int(r["polygons"]) > 0, r' \
+  && ok bench_ivy_rows || bad bench_ivy_rows "$(head -c 600 res/fig11.csv)"
 
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
@@ -553,8 +580,7 @@ expect bench_bad_backends 2 "$pgt" bench subdiv --backends cuda
 expect bench_quick 0 "$pgt" bench subdiv --quick --no-oracles --backends none --meshes icosphere_l2,grid_16x16 --threads 1,2 --out res/subdiv.csv
 grep -q "^# machine: " res/subdiv.csv && grep -q "^# commit: " res/subdiv.csv && grep -q "^# date: " res/subdiv.csv \
   && ok bench_header || bad bench_header "$(head -5 res/subdiv.csv)"
-fields=$(grep -v '^#' res/subdiv.csv | awk -F, '{print NF}' | sort -u | tr '\n' ' ')
-[ "$fields" = "19 " ] && ok bench_rows_match_header || bad bench_rows_match_header "field counts: $fields"
+fields_match bench_rows_match_header res/subdiv.csv
 rows=$(grep -vc '^#' res/subdiv.csv)
 [ "$rows" -eq $((1 + 2 * 2 * 2)) ] && ok bench_rows || bad bench_rows "$rows lines"
 
