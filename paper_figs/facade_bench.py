@@ -15,7 +15,6 @@ is dashed. Footnote: machine, commit and date of the CSV's header. Writes OUT_PR
 input is a message on stderr and exit status 2.
 """
 
-import csv
 import math
 import os
 import sys
@@ -27,6 +26,9 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_csv  # noqa: E402
+
 REQUIRED = ("source", "facades", "width", "height", "ms", "ours_mrays", "embree_mrays",
             "procedural_bytes", "embree_bytes", "explicit_bytes")
 # The issue's frame-time target for the 10K-facade city at 1280x720 on 2 cores (the paper's
@@ -36,8 +38,7 @@ COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown")
 
 
 def die(msg):
-    print(f"facade_bench: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+    results_csv.die("facade_bench", msg)
 
 
 def num(row, key, path, line):
@@ -52,25 +53,9 @@ def num(row, key, path, line):
 
 
 def read(path):
-    meta, lines = {}, []
-    try:
-        with open(path, newline="") as fh:
-            for ln, line in enumerate(fh, 1):
-                if line.startswith("#"):
-                    k, _, v = line[1:].partition(":")
-                    meta.setdefault(k.strip(), v.strip())
-                elif line.strip():
-                    lines.append((ln, line))
-    except OSError as e:
-        die(f"{path}: {e.strerror}")
-    if not lines:
-        die(f"{path}: no CSV rows")
-    reader = csv.DictReader([l for _, l in lines])
-    missing = [c for c in REQUIRED if c not in (reader.fieldnames or [])]
-    if missing:
-        die(f"{path}: no column {missing[0]} (is it pgt bench facade's CSV?)")
+    meta, _, rows = results_csv.read(path, "facade_bench", REQUIRED)
     ours, paper = [], []
-    for (ln, _), row in zip(lines[1:], reader):
+    for ln, row in rows:
         r = {"line": ln, "source": row["source"].strip(),
              "res": f"{row['width'].strip()}x{row['height'].strip()}"}
         for k in REQUIRED[1:]:
@@ -152,8 +137,8 @@ def main(argv):
         a.legend(fontsize=7, loc="lower right" if a is a_ms else "best")
     fig.suptitle("Per-pixel procedural facades (paper 003 sec. 9) vs Embree on the explicit "
                  "geometry, generated cities", fontsize=11)
-    fig.text(0.01, 0.01, f"machine: {meta.get('machine', '?')}; commit {meta.get('commit', '?')}; "
-             f"{meta.get('date', '?')}; pgt bench facade ({path})", fontsize=7, color="0.3")
+    fig.text(0.01, 0.01, "; ".join(results_csv.footnote(meta) + [f"pgt bench facade ({path})"]),
+             fontsize=7, color="0.3")
     fig.tight_layout(rect=(0, 0.03, 1, 0.95))
     try:
         fig.savefig(out + ".png", dpi=200)

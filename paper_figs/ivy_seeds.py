@@ -12,7 +12,6 @@ and prints the growth of time with seeds (ms per added seed, least squares) to s
 or malformed file is an error (exit 2).
 """
 
-import csv
 import os
 import sys
 import tempfile
@@ -23,6 +22,9 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_csv  # noqa: E402
+
 # Okabe-Ito, colour-blind safe
 COLOURS = {"main": "#0072B2", "full": "#D55E00", "paper": "#999999"}
 LABELS = {"main": "main branch only (painted guidance)",
@@ -30,23 +32,12 @@ LABELS = {"main": "main branch only (painted guidance)",
 
 
 def die(msg):
-    print(f"ivy_seeds: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+    results_csv.die("ivy_seeds", msg)
 
 
 def read_rows(path, required):
-    try:
-        with open(path, newline="") as f:
-            lines = [line for line in f if not line.startswith("#")]
-    except OSError as e:
-        die(f"{path}: {e.strerror}")
-    rows = list(csv.DictReader(lines))
-    if not rows:
-        die(f"{path}: no data rows")
-    for col in required:
-        if col not in rows[0]:
-            die(f"{path}: no column '{col}'")
-    return rows
+    meta, _, rows = results_csv.read(path, "ivy_seeds", required)
+    return meta, [r for _, r in rows]
 
 
 def fnum(row, col, path):
@@ -67,9 +58,9 @@ def main():
     if len(sys.argv) != 4:
         die("usage: ivy_seeds.py FIG11_CSV TABLE2_CSV OUT_PREFIX")
     f11, t2, out = sys.argv[1:]
-    rows = read_rows(f11, ("scenario", "seeds", "total_ms", "polygons"))
-    table = read_rows(t2, ("scene", "mesh", "seeds", "polygons", "paper_polygons", "total_ms",
-                           "paper_ms"))
+    meta, rows = read_rows(f11, ("scenario", "seeds", "total_ms", "polygons", "threads"))
+    _, table = read_rows(t2, ("scene", "mesh", "seeds", "polygons", "paper_polygons", "total_ms",
+                              "paper_ms", "threads"))
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [3, 2]})
     ax2 = ax.twinx()
     for sc in ("main", "full"):
@@ -82,7 +73,7 @@ def main():
         ax2.plot(xs, [p / 1e6 for p in ps], ":", color=COLOURS[sc], lw=1)
         print(f"ivy_seeds: {sc}: {slope(xs, ts):.2f} ms per added seed "
               f"({ts[0]:.1f} ms at {xs[0]:.0f} seed(s), {ts[-1]:.1f} ms at {xs[-1]:.0f})")
-    threads = rows[0].get("threads", "?")
+    threads = rows[0]["threads"]
     ax.set_xlabel("number of seeds")
     ax.set_ylabel(f"generation time (ms, median, {threads} CPU threads)")
     ax2.set_ylabel("output polygons (millions, dotted)")
@@ -100,7 +91,7 @@ def main():
     w = 0.38
     bx.bar([i - w / 2 for i in x], paper, w, color=COLOURS["paper"], label="paper (GTX 480)")
     bx.bar([i + w / 2 for i in x], ours, w, color=COLOURS["full"],
-           label=f"ours ({table[0].get('threads', '?')} CPU threads)")
+           label=f"ours ({table[0]['threads']} CPU threads)")
     for i, r in enumerate(table):
         bx.text(i + w / 2, ours[i], f"{fnum(r, 'polygons', t2) / 1e6:.2f}M", ha="center",
                 va="bottom", fontsize=7)
@@ -111,7 +102,10 @@ def main():
     bx.set_ylabel("generation time (ms)")
     bx.legend(fontsize=8, frameon=False)
     bx.set_title("Table 2 (labels: output polygons)", fontsize=10)
-    fig.tight_layout()
+    foot = results_csv.footnote(meta)
+    if foot:
+        fig.text(0.01, 0.01, ", ".join(foot), fontsize=6, color="#555555")
+    fig.tight_layout(rect=(0, 0.03 if foot else 0, 1, 1))
     for ext in ("png", "pdf"):
         fig.savefig(f"{out}.{ext}", dpi=200)
     print(f"ivy_seeds: wrote {out}.png and {out}.pdf")

@@ -10,7 +10,6 @@ largest output to stdout. Missing optional columns and empty cells are skipped w
 on stderr; an empty or malformed file is an error (exit 2).
 """
 
-import csv
 import math
 import os
 import sys
@@ -24,6 +23,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_csv  # noqa: E402
+
 REQUIRED = ("mesh", "faces_out", "threads", "ours_median_ms")
 ORACLES = (("cgal_median_ms", "CGAL"), ("openmesh_median_ms", "OpenMesh"))
 # the GPU backends, whole call (upload, kernels, download) as a user sees it; optional columns
@@ -36,8 +38,7 @@ MARKERS = "osD^v<>pPX*h"
 
 
 def die(msg):
-    print(f"subdiv_time: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+    results_csv.die("subdiv_time", msg)
 
 
 def warn(msg):
@@ -46,37 +47,7 @@ def warn(msg):
 
 def read_results(path):
     """Returns (meta dict from '# key: value' lines, header list, list of (line, row dict))."""
-    try:
-        with open(path, newline="", encoding="utf-8", errors="replace") as fh:
-            lines = fh.read().splitlines()
-    except OSError as e:
-        die(f"{path}: {e.strerror}")
-    meta, body = {}, []
-    for ln, line in enumerate(lines, 1):
-        s = line.strip()
-        if s.startswith("#"):
-            key, sep, val = s[1:].partition(":")
-            if sep:
-                meta.setdefault(key.strip().lower(), val.strip())
-        elif s:
-            body.append((ln, line))
-    if not body:
-        die(f"{path}: no CSV header or rows (empty file, or only '#' comments)")
-    hdr_ln, hdr_line = body[0]
-    header = [h.strip() for h in next(csv.reader([hdr_line]))]
-    missing = [c for c in REQUIRED if c not in header]
-    if missing:
-        die(f"{path}: line {hdr_ln}: CSV header lacks required column(s) {', '.join(missing)}")
-    rows = []
-    for ln, line in body[1:]:
-        cells = next(csv.reader([line]))
-        if len(cells) != len(header):
-            warn(f"{path}: line {ln}: {len(cells)} fields, header has {len(header)}; skipped")
-            continue
-        rows.append((ln, {h: c.strip() for h, c in zip(header, cells)}))
-    if not rows:
-        die(f"{path}: CSV header but no data rows")
-    return meta, header, rows
+    return results_csv.read(path, "subdiv_time", REQUIRED)
 
 
 def num(row, col, ln, path, empty, positive=True):
@@ -196,7 +167,7 @@ def plot(series, tmax, meta, out_prefix):
               title_fontsize=8.5, frameon=True, framealpha=0.9, borderaxespad=0.0)
 
     fig.tight_layout()
-    foot = [f"{k.capitalize()}: {meta[k]}" for k in ("machine", "commit", "date") if k in meta]
+    foot = [f[0].upper() + f[1:] for f in results_csv.footnote(meta)]
     if foot:
         # one line per field, placed just under the x label (bbox_inches="tight" keeps it)
         lines = [textwrap.fill(foot[0], 100)] + (["    ".join(foot[1:])] if foot[1:] else [])

@@ -13,7 +13,6 @@ ours (our median at the largest thread count, and at 1 thread) per resolution to
 missing, empty or malformed file is an error (exit 2).
 """
 
-import csv
 import os
 import sys
 import tempfile
@@ -23,6 +22,9 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import results_csv  # noqa: E402
 
 REQUIRED = ("res", "vertices", "threads", "median_ms", "min_ms", "paper_baseline_ms",
             "paper_houdini_naive_ms", "paper_houdini_suggested_ms", "paper_luna_ms")
@@ -39,31 +41,13 @@ COLOURS = {"ours1": "#56B4E9", "oursN": "#0072B2", "paper_baseline_ms": "#999999
 
 
 def die(msg):
-    print(f"woven_bars: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+    results_csv.die("woven_bars", msg)
 
 
 def read_rows(path):
-    """Returns (meta dict from '# key: value' lines, list of row dicts)."""
-    try:
-        with open(path, newline="", encoding="utf-8", errors="replace") as f:
-            lines = f.read().splitlines()
-    except OSError as e:
-        die(f"{path}: {e.strerror}")
-    meta, body = {}, []
-    for line in lines:
-        if line.startswith("#"):
-            key, sep, val = line[1:].partition(":")
-            if sep:
-                meta.setdefault(key.strip().lower(), val.strip())
-        elif line.strip():
-            body.append(line)
-    rows = list(csv.DictReader(body))
-    if not rows:
-        die(f"{path}: no data rows")
-    for col in REQUIRED:
-        if col not in rows[0]:
-            die(f"{path}: no column '{col}'")
+    """Returns (meta dict from '# key: value' lines, list of row dicts, numbers as floats)."""
+    meta, _, lines = results_csv.read(path, "woven_bars", REQUIRED)
+    rows = [r for _, r in lines]
     for r in rows:
         for col in REQUIRED[1:]:
             try:
@@ -129,7 +113,7 @@ def main():
     ax.grid(axis="y", which="both", alpha=0.3)
     ax.legend(fontsize=7, frameon=False, ncol=2, loc="upper left")
     ax.set_ylim(top=ax.get_ylim()[1] * 3)
-    foot = ", ".join(f"{k}: {meta[k]}" for k in ("machine", "commit", "date") if k in meta)
+    foot = ", ".join(results_csv.footnote(meta))
     if foot:
         fig.text(0.01, 0.01, foot, fontsize=6, color="#555555")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
