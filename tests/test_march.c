@@ -1576,6 +1576,8 @@ static void test_real_random_marches(void) {
         CHECK_MSG(lw.stuck <= STUCK_MAX_SHARE * lw.steps,
                   "%s: %u of %u steps of long marches stuck bouncing between pointers", name,
                   lw.stuck, lw.steps);
+        CHECK_MSG(lw.bad == 0, "%s: %u steps of long marches off an inner texel of their chart",
+                  name, lw.bad);
         pgt_march_atlas_destroy(&v);
         pgt_image_destroy(&img);
     }
