@@ -1345,7 +1345,8 @@ static int random_walks_sized(const pgt_march_atlas *v, const pgt_image *img,
                 if (tb >= 0.0 && tw >= 0.0) {
                     pair_best[res->pairs] = tb, pair_without[res->pairs] = tw;
                     res->pairs++;
-                    res->pairs_lower += tb<tw, res->pairs_higher += tb> tw;
+                    res->pairs_lower += tb < tw;
+                    res->pairs_higher += tb > tw;
                     if (pointer_chart(v, info.last_pointer) != pointer_chart(v, info.last_p0)) {
                         chart_best[res->chart_pairs] = tb, chart_without[res->chart_pairs] = tw;
                         res->chart_pairs++;
