@@ -404,9 +404,93 @@ static pgt_result make_tube(pgt_mesh *m, uint32_t nu, uint32_t nv, int torus, pg
 
 /* ---- cases ---- */
 
-static int accept_odd(const void *ctx, uint32_t id) {
-    (void)ctx;
+typedef struct accept_odd_ctx {
+    const pgt_kdtree *tree;
+    uint32_t *bad_slots;
+} accept_odd_ctx;
+
+/* The nearest point to p among xyz[0, n) within max_d2 by brute force, ties to the smallest
+ * id (pgt_kdtree_nearest's contract), odd ids only when `odd`; PGT_NONE when none. */
+static uint32_t brute_nearest(const float *xyz, uint32_t n, const float p[3], float max_d2, int odd,
+                              float *out_d2) {
+    uint32_t best = PGT_NONE;
+    float bd = max_d2;
+    for (uint32_t i = 0; i < n; ++i) {
+        if (odd && i % 2u == 0) continue;
+        const float dx = xyz[3u * i] - p[0], dy = xyz[3u * i + 1u] - p[1],
+                    dz = xyz[3u * i + 2u] - p[2];
+        const float d = dx * dx + dy * dy + dz * dz;
+        if (d < bd || (d == bd && i < best)) bd = d, best = i;
+    }
+    *out_d2 = bd;
+    return best;
+}
+
+/* Depth of the deepest leaf (the root at depth 0), by an explicit stack. */
+static uint32_t kdtree_depth(const pgt_kdtree *t) {
+    uint32_t stack[2u * PGT_KDTREE_MAX_DEPTH + 4u][2], top = 0, deepest = 0;
+    stack[top][0] = 0, stack[top++][1] = 0;
+    while (top) {
+        --top;
+        const uint32_t node = stack[top][0], d = stack[top][1];
+        if (d > deepest) deepest = d;
+        const pgt_kdtree_node *n = &t->nodes[node];
+        if (n->axis == PGT_KDTREE_LEAF || d >= PGT_KDTREE_MAX_DEPTH + 1u) continue;
+        stack[top][0] = n->a, stack[top++][1] = d + 1u;
+        stack[top][0] = n->b, stack[top++][1] = d + 1u;
+    }
+    return deepest;
+}
+
+/* Accepts odd ids; counts calls whose slot does not name the id in the tree. */
+static int accept_odd(const void *ctx, uint32_t id, uint32_t slot) {
+    const accept_odd_ctx *a = ctx;
+    if (slot >= a->tree->point_count || a->tree->ids[slot] != id) (*a->bad_slots)++;
     return (int)(id % 2u);
+}
+
+/* Point sets a split at the middle of the bounding box handles badly: every point at one place
+ * (no middle splits anything), and points at x = 2^-k (each middle split cuts off one point, a
+ * chain 100 deep unless the builder falls back to the median). Answers against brute force,
+ * and the depth the header promises. */
+static void test_kdtree_degenerate(void) {
+    const uint32_t n = 1200;
+    float *xyz = malloc(sizeof(float) * 3u * n);
+    REQUIRE(xyz);
+    for (int set = 0; set < 2; ++set) {
+        for (uint32_t i = 0; i < n; ++i) {
+            const float x = set == 0 ? 1.0f : ldexpf(1.0f, -(int)(i % 100u));
+            xyz[3u * i] = x, xyz[3u * i + 1u] = set == 0 ? 2.0f : 0.0f, xyz[3u * i + 2u] = 3.0f;
+        }
+        pgt_kdtree t;
+        pgt_error err = {0};
+        REQUIRE(pgt_kdtree_build(&t, xyz, n, 2, &err) == PGT_OK);
+        /* kdtree.h: middle splits down to depth 24, median splits below: 1200 points in
+         * leaves of 8 need ceil(log2(1200 / 8)) = 8 more levels */
+        CHECK(kdtree_depth(&t) <= 24u + 8u);
+        uint32_t mismatches = 0, bad_slots = 0;
+        const accept_odd_ctx actx = {&t, &bad_slots};
+        for (uint32_t q = 0; q < 200; ++q) {
+            const float p[3] = {ldexpf(1.0f, -(int)(q % 110u)) * (q % 3u == 0 ? 1.5f : 1.0f),
+                                (float)(q % 5u) * 0.5f, 3.0f};
+            const int odd = (int)(q % 2u);
+            float bd, got_d = -1.0f;
+            const uint32_t best = brute_nearest(xyz, n, p, 1e30f, odd, &bd);
+            const uint32_t got =
+                pgt_kdtree_nearest(&t, p, 1e30f, odd ? accept_odd : NULL, &actx, &got_d);
+            if (got != best || got_d != bd) mismatches++;
+        }
+        CHECK(mismatches == 0);
+        CHECK(bad_slots == 0);
+        if (set == 0) { /* one place: the smallest (accepted) id, whatever the query */
+            float d;
+            const float p[3] = {0.0f, 0.0f, 0.0f};
+            CHECK(pgt_kdtree_nearest(&t, p, 1e30f, NULL, NULL, &d) == 0u);
+            CHECK(pgt_kdtree_nearest(&t, p, 1e30f, accept_odd, &actx, &d) == 1u);
+        }
+        pgt_kdtree_destroy(&t);
+    }
+    free(xyz);
 }
 
 static void test_kdtree_brute_force(void) {
@@ -426,28 +510,24 @@ static void test_kdtree_brute_force(void) {
           !memcmp(t.ids, t1.ids, sizeof(uint32_t) * n) &&
           !memcmp(t.xyz, t1.xyz, sizeof(float) * 3u * n));
     pgt_kdtree_destroy(&t1);
-    uint32_t mismatches = 0, found = 0;
+    uint32_t mismatches = 0, found = 0, bad_slots = 0;
+    const accept_odd_ctx actx = {&t, &bad_slots};
     for (uint32_t q = 0; q < queries; ++q) {
         float p[3];
         for (uint32_t k = 0; k < 3; ++k)
             p[k] = (float)(pgt_rng_u64(7, 2, 3u * q + k) % 80u) / 10.0f;
         const float maxd = q % 3u == 0 ? 0.05f : 100.0f;
         const int odd = (int)(q % 2u);
-        uint32_t best = PGT_NONE;
-        float bd = maxd;
-        for (uint32_t i = 0; i < n; ++i) {
-            if (odd && i % 2u == 0) continue;
-            const float dx = xyz[3u * i] - p[0], dy = xyz[3u * i + 1u] - p[1],
-                        dz = xyz[3u * i + 2u] - p[2];
-            const float d = dx * dx + dy * dy + dz * dz;
-            if (d < bd || (d == bd && i < best)) bd = d, best = i;
-        }
+        float bd;
+        const uint32_t best = brute_nearest(xyz, n, p, maxd, odd, &bd);
         float got_d = -1.0f;
-        const uint32_t got = pgt_kdtree_nearest(&t, p, maxd, odd ? accept_odd : NULL, NULL, &got_d);
+        const uint32_t got =
+            pgt_kdtree_nearest(&t, p, maxd, odd ? accept_odd : NULL, &actx, &got_d);
         if (got != best || (got != PGT_NONE && got_d != bd)) mismatches++;
         found += got != PGT_NONE;
     }
     CHECK(mismatches == 0);
+    CHECK(bad_slots == 0);
     CHECK(found > queries / 2u && found < queries); /* both outcomes were exercised */
     pgt_kdtree_destroy(&t);
     /* an empty tree answers nothing */
@@ -940,6 +1020,7 @@ static void test_hostile_inputs(void) {
 
 static const pgt_test_case cases[] = {
     {"kdtree_brute_force", test_kdtree_brute_force},
+    {"kdtree_degenerate", test_kdtree_degenerate},
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
     {"mirrored_charts", test_mirrored_charts},

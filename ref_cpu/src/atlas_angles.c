@@ -58,10 +58,10 @@ typedef struct angle_ctx {
     int32_t W, H;
     uint32_t k;
     /* outer-boundary texels only (step_rows): */
-    uint16_t *outer_hits; /* bit j set when scan position j holds a path texel whose
-                           * predecessor in the scan is empty: forward scan in the low byte,
-                           * backward in the high byte */
-    int32_t *ptr_chart;   /* the chart the pointer points into, -1 for a dead end */
+    uint16_t *outer_hits;     /* bit j set when scan position j holds a path texel whose
+                               * predecessor in the scan is empty: forward scan in the low byte,
+                               * backward in the high byte */
+    const int32_t *ptr_chart; /* the chart the pointer points into, -1 for a dead end */
 } angle_ctx;
 
 enum { WALK_OUTER = 0, WALK_INNER = 1 };
@@ -143,35 +143,51 @@ static uint32_t walk_outer(const angle_ctx *c, int32_t x0, int32_t y0, int dir, 
     return n;
 }
 
-/* outer_hits and ptr_chart of the outer-boundary texels of rows [y0, y1). */
+/* An 8-bit mask rotated left by one scan position. */
+static uint32_t rotl8(uint32_t m) { return (m << 1 | m >> 7) & 0xFFu; }
+
+/* An 8-bit mask of ring positions in backward scan order: bit j <- bit -j (mod 8). */
+static uint32_t reverse_scan8(uint32_t m) {
+    return (m & 0x11u) | (m & 0x02u) << 6 | (m & 0x80u) >> 6 | (m & 0x04u) << 4 | (m & 0x40u) >> 4 |
+           (m & 0x08u) << 2 | (m & 0x20u) >> 2;
+}
+
+/* outer_hits of the outer-boundary texels of rows [y0, y1). The classes of the
+ * 8 neighbours relative to the texel's own outer chart a (the only chart an outer walk through
+ * it can have; texel_class, WALK_OUTER) as two masks: the chart plane holds a exactly at the
+ * inner texels of a and at its outer-boundary texels (dead ends too), so a neighbour is a path
+ * texel when the plane holds a and it is not inner, empty when the plane does not hold a (or it
+ * lies outside the image). A hit is a path texel whose predecessor in the scan is empty: forward
+ * scan position j is ring j, backward ring -j (mod 8), so the backward masks are the forward
+ * ones reversed. */
 static void step_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     angle_ctx *c = vctx;
     (void)worker;
-    const float *kind_plane = pgt_image_plane(c->atlas, 7);
-    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
+    const float *plane = c->outer_chart;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y)
         for (int32_t x = 0; x < c->W; ++x) {
             const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
             const uint8_t k = c->kind[i] & (uint8_t)~ATLAS_KIND_BOUNDARY_BIT;
             if (k != PGT_TEXEL_INDIRECTION && k != PGT_TEXEL_DEAD_END) continue;
-            c->ptr_chart[i] = kind_plane[i] == (float)PGT_TEXEL_INDIRECTION
-                                  ? c->chart[(size_t)pv[i] * (size_t)c->W + (size_t)pu[i]]
-                                  : -1;
-            /* the classes relative to the texel's own outer chart: the only chart an outer
-             * walk through it can have */
-            const int32_t a = (int32_t)c->outer_chart[i];
-            int cls[8];
-            for (int r = 0; r < 8; ++r)
-                cls[r] = texel_class(c, WALK_OUTER, a, x + ring[r][0], y + ring[r][1]);
-            /* hits in scan order: scan j is ring j forward, ring -j (mod 8) backward; a hit is
-             * a path texel whose predecessor in the scan is empty */
-            uint32_t hits = 0;
-            for (uint32_t j = 0; j < 8; ++j) {
-                const uint32_t b = (8u - j) & 7u;
-                if (cls[j] == 1 && cls[(j + 7u) & 7u] == 0) hits |= 1u << j;
-                if (cls[b] == 1 && cls[(b + 1u) & 7u] == 0) hits |= 0x100u << j;
+            const float a = plane[i];
+            uint32_t path = 0, empty = 0;
+            const int interior = x > 0 && y > 0 && x + 1 < c->W && y + 1 < c->H;
+            for (uint32_t r = 0; r < 8; ++r) {
+                const int32_t nx = x + ring[r][0], ny = y + ring[r][1];
+                if (!interior && (nx < 0 || ny < 0 || nx >= c->W || ny >= c->H)) {
+                    empty |= 1u << r;
+                    continue;
+                }
+                const size_t j = (size_t)ny * (size_t)c->W + (size_t)nx;
+                const uint32_t in_a = plane[j] == a,
+                               inner = (c->kind[j] & (uint8_t)~ATLAS_KIND_BOUNDARY_BIT) ==
+                                       PGT_TEXEL_INNER;
+                empty |= (in_a ^ 1u) << r;
+                path |= (in_a & (inner ^ 1u)) << r;
             }
-            c->outer_hits[i] = (uint16_t)hits;
+            const uint32_t fwd = path & rotl8(empty),
+                           bwd = reverse_scan8(path) & rotl8(reverse_scan8(empty));
+            c->outer_hits[i] = (uint16_t)(fwd | bwd << 8);
         }
 }
 
@@ -201,7 +217,7 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
             if (kind_plane[i] != (float)PGT_TEXEL_INDIRECTION) continue; /* not a dead end */
             const int32_t qx = (int32_t)pu[i], qy = (int32_t)pv[i];
-            const int32_t b = c->chart[(size_t)qy * (size_t)c->W + (size_t)qx];
+            const int32_t b = c->ptr_chart[i];
             int32_t wx[PGT_ATLAS_MAX_K], wy[PGT_ATLAS_MAX_K];
             /* sums of texel offsets: whole numbers, exact in int32 (at most 2 K of them) */
             int32_t t1x = 0, t1y = 0, t2x = 0, t2y = 0;
@@ -229,7 +245,8 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             }
             /* the products in double, as before: |t| <= 2 K * 2^14 keeps them exact */
             const double a1x = t1x, a1y = t1y, a2x = t2x, a2y = t2y;
-            double r = atan2(a1x * a2y - a1y * a2x, a1x * a2x + a1y * a2y);
+            const double cross = a1x * a2y - a1y * a2x, dot = a1x * a2x + a1y * a2y;
+            double r = atan2(cross, dot);
             /* The invariant rot exists for (atlas_build.h): a direction leaving A through P0
              * enters B at Q. Where the tangents cannot tell (the tip of a slit, a chart of a
              * few texels, whose walks go round a corner), it can come out reversed; a walker
@@ -246,9 +263,10 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
                 ox += ring[k][0], oy += ring[k][1];
             }
             if (ox != 0.0 || oy != 0.0) {
-                const double len = sqrt(ox * ox + oy * oy);
-                const double ex = (cos(r) * ox - sin(r) * oy) / len,
-                             ey = (sin(r) * ox + cos(r) * oy) / len;
+                /* cos r and sin r are dot and cross over |t1| |t2| */
+                const double len = sqrt(ox * ox + oy * oy) *
+                                   sqrt((a1x * a1x + a1y * a1y) * (a2x * a2x + a2y * a2y));
+                const double ex = (dot * ox - cross * oy) / len, ey = (cross * ox + dot * oy) / len;
                 if (!enters(c, b, qx, qy, ex, ey) && enters(c, b, qx, qy, -ex, -ey))
                     r = r > 0.0 ? r - PGT_ATLAS_PI : r + PGT_ATLAS_PI;
             }
@@ -257,7 +275,7 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
 }
 
 pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
-                        uint32_t k, uint32_t threads, pgt_error *err) {
+                        const int32_t *dest_chart, uint32_t k, uint32_t threads, pgt_error *err) {
     angle_ctx c = {atlas,
                    texel_chart,
                    kind,
@@ -266,15 +284,14 @@ pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint
                    (int32_t)atlas->height,
                    k,
                    malloc(sizeof(uint16_t) * (size_t)atlas->width * atlas->height),
-                   malloc(sizeof(int32_t) * (size_t)atlas->width * atlas->height)};
+                   dest_chart};
     pgt_result r = PGT_OK;
-    if (c.outer_hits && c.ptr_chart) {
+    if (c.outer_hits) {
         atlas_parallel_rows(atlas->height, atlas->width, threads, step_rows, &c);
         atlas_parallel_rows(atlas->height, atlas->width, threads, angle_rows, &c);
     } else {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (angles)");
     }
     free(c.outer_hits);
-    free(c.ptr_chart);
     return r;
 }

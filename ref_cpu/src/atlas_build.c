@@ -80,6 +80,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     memset(&layout, 0, sizeof(layout));
     int32_t *texel_chart = NULL;
     uint8_t *kind = NULL;
+    int32_t *dest_chart = NULL; /* per outer-boundary texel: its pointer's chart */
     float *normals = NULL;
     double t = pgt_now_ms();
     pgt_result r = atlas_charts_build(&charts, mesh, threads, what, err);
@@ -92,7 +93,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
 
     texel_chart = malloc(sizeof(int32_t) * (size_t)W * H);
     kind = malloc((size_t)W * H);
-    if (!texel_chart || !kind) {
+    dest_chart = malloc(sizeof(int32_t) * (size_t)W * H);
+    if (!texel_chart || !kind || !dest_chart) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%ux%u atlas)", what, W,
                           H);
         goto done;
@@ -118,7 +120,9 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
 
     t = pgt_now_ms();
     static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
-    r = pgt_image_create(out, W, H, PGT_ATLAS_CHANNEL_COUNT, names, err);
+    /* every value is written below: channels P, N, chart and kind by atlas_raster (background
+     * texels too), ptr.u, ptr.v and rot by atlas_pointers */
+    r = pgt_image_create_unset(out, W, H, PGT_ATLAS_CHANNEL_COUNT, names, err);
     if (r != PGT_OK) goto done;
     r = atlas_vertex_normals(mesh, &normals, err);
     if (r != PGT_OK) goto done;
@@ -145,7 +149,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
 
     t = pgt_now_ms();
     atlas_pointer_counts pc;
-    r = atlas_pointers(out, texel_chart, kind, dead_end, threads, &pc, err);
+    r = atlas_pointers(out, texel_chart, kind, dest_chart, dead_end, threads, &pc, err);
     if (r != PGT_OK) goto done;
     st.inner_boundary_texels = pc.inner_boundary;
     st.indirection_texels = pc.indirection;
@@ -155,12 +159,13 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.ms_pointers = pgt_now_ms() - t;
 
     t = pgt_now_ms();
-    r = atlas_angles(out, texel_chart, kind, k, threads, err);
+    r = atlas_angles(out, texel_chart, kind, dest_chart, k, threads, err);
     if (r != PGT_OK) goto done;
     st.ms_angles = pgt_now_ms() - t;
 done:
     free(texel_chart);
     free(kind);
+    free(dest_chart);
     free(normals);
     atlas_layout_destroy(&layout);
     atlas_charts_destroy(&charts);

@@ -75,7 +75,9 @@ uint32_t atlas_band_violations(const int32_t *texel_chart, uint32_t width, uint3
 /* Step 4 (atlas_pointers.c): classifies texels into `kind` (width * height bytes: INNER,
  * INDIRECTION for every outer-boundary texel, BACKGROUND; bit 0x80 marks an inner-boundary
  * texel), fills the planes of the outer-boundary texels (P, chart, kind: indirection or dead
- * end, ptr) and ptr/rot of all others, and measures the texel size. */
+ * end, ptr) and ptr/rot of all others, and measures the texel size. dest_chart (width * height)
+ * gets, at every outer-boundary texel, the chart its pointer points into (-1 for a dead end);
+ * other texels are left as they are. */
 typedef struct atlas_pointer_counts {
     uint32_t inner_boundary, indirection, dead_end, self_seam;
     double texel_size;
@@ -84,12 +86,13 @@ typedef struct atlas_pointer_counts {
 #define ATLAS_KIND_BOUNDARY_BIT 0x80u
 
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          float dead_end, uint32_t threads, atlas_pointer_counts *out,
-                          pgt_error *err);
+                          int32_t *dest_chart, float dead_end, uint32_t threads,
+                          atlas_pointer_counts *out, pgt_error *err);
 
-/* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2). */
+/* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2), from atlas_pointers'
+ * kind and dest_chart. */
 pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
-                        uint32_t k, uint32_t threads, pgt_error *err);
+                        const int32_t *dest_chart, uint32_t k, uint32_t threads, pgt_error *err);
 
 /* Runs fn over the rows [0, rows) of a width-wide grid in parallel (pgt_parallel_for_items
  * with a row weighing `width` texels); callers pass other items with their weight too (raster

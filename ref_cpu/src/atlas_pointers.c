@@ -18,6 +18,7 @@
 
 #include "atlas_internal.h"
 #include "pgt/kdtree.h"
+#include "pgt/parallel.h"
 
 static const int32_t nb8[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                   {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -26,6 +27,7 @@ typedef struct ptr_ctx {
     pgt_image *atlas;
     const int32_t *chart;
     uint8_t *kind;
+    int32_t *dest_chart;
     uint32_t W, H;
     /* inner-boundary texels in row-major order */
     uint32_t *row_boundary; /* H + 1: per-row counts, then prefix sums */
@@ -33,9 +35,11 @@ typedef struct ptr_ctx {
     int32_t *b_chart;
     float *b_xyz;
     pgt_kdtree tree;
-    const float *P[3]; /* the position planes */
+    int32_t *leaf_chart; /* b_chart in the tree's leaf order */
+    const float *P[3];   /* the position planes */
     double texel_size, dead_end;
     uint32_t *row_counts; /* 4 per row: indirection, dead end, self seam, outer */
+    double *local_rows;   /* per worker: local_step of rows y - 1, y, y + 1 (row r at r % 3) */
 } ptr_ctx;
 
 static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
@@ -178,10 +182,10 @@ static double local_step(const ptr_ctx *c, int32_t x, int32_t y, int32_t chart) 
  * and the path several. */
 #define ATLAS_SELF_SEAM_PATH_RATIO 2.0
 
-static int accept_candidate(const void *vctx, uint32_t id) {
+static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
     const accept_ctx *a = vctx;
     const ptr_ctx *c = a->c;
-    if (c->b_chart[id] != a->chart) return 1;
+    if (c->leaf_chart[slot] != a->chart) return 1;
     const uint32_t t = c->b_texel[id];
     const int32_t qx = (int32_t)(t % c->W), qy = (int32_t)(t / c->W);
     uint32_t best = 0;
@@ -238,17 +242,31 @@ static int accept_candidate(const void *vctx, uint32_t id) {
  * full search. */
 #define ATLAS_POINTER_NEAR_REACH 0.4
 
+/* local_step of every inner-boundary texel of row y, into the worker's ring of rows. */
+static void local_row(const ptr_ctx *c, double *ring, int32_t y) {
+    double *out = &ring[(size_t)(y % 3) * c->W];
+    for (int32_t x = 0; x < (int32_t)c->W; ++x) {
+        const size_t idx = (size_t)y * c->W + (size_t)x;
+        if (c->kind[idx] & ATLAS_KIND_BOUNDARY_BIT) out[x] = local_step(c, x, y, c->chart[idx]);
+    }
+}
+
 static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
-    (void)worker;
     const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    /* an inner-boundary texel starts the pointers of about three outer texels: its local step
+     * is computed once per row in a ring of the three rows around y */
+    double *ring = &c->local_rows[(size_t)worker * 3u * c->W];
+    if (y0 > 0) local_row(c, ring, (int32_t)y0 - 1);
     float *P[3], *N[3];
     for (uint32_t k = 0; k < 3; ++k)
         P[k] = pgt_image_plane(c->atlas, k), N[k] = pgt_image_plane(c->atlas, 3u + k);
     float *chart_plane = pgt_image_plane(c->atlas, 6), *kind_plane = pgt_image_plane(c->atlas, 7);
     float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9),
           *rot = pgt_image_plane(c->atlas, 10);
+    if (y0 < y1) local_row(c, ring, (int32_t)y0);
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
+        if (y + 1 < H) local_row(c, ring, y + 1);
         uint32_t *cnt = &c->row_counts[4u * (uint32_t)y];
         cnt[0] = cnt[1] = cnt[2] = cnt[3] = 0;
         for (int32_t x = 0; x < W; ++x) {
@@ -282,7 +300,7 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
              * several median sizes long, and its seam partner lies that far */
             double local = 0.0;
             for (uint32_t s = 0; s < n; ++s) {
-                a.local[s] = local_step(c, a.sx[s], a.sy[s], chart);
+                a.local[s] = ring[(size_t)(a.sy[s] % 3) * c->W + (size_t)a.sx[s]];
                 if (a.local[s] > local) local = a.local[s];
             }
             const double reach = c->dead_end * fmax(c->texel_size, local);
@@ -298,12 +316,14 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             chart_plane[idx] = (float)chart;
             for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
             if (hit == PGT_NONE) { /* the kind buffer keeps INDIRECTION for every outer texel */
+                c->dest_chart[idx] = -1;
                 kind_plane[idx] = (float)PGT_TEXEL_DEAD_END;
                 for (uint32_t k = 0; k < 3; ++k) P[k][idx] = 0.0f;
                 cnt[1]++;
                 continue;
             }
             const uint32_t t = c->b_texel[hit];
+            c->dest_chart[idx] = c->b_chart[hit];
             kind_plane[idx] = (float)PGT_TEXEL_INDIRECTION;
             for (uint32_t k = 0; k < 3; ++k) P[k][idx] = q[k];
             pu[idx] = (float)(t % c->W);
@@ -418,17 +438,22 @@ double pgt_atlas_texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch
 }
 
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          float dead_end, uint32_t threads, atlas_pointer_counts *out,
-                          pgt_error *err) {
+                          int32_t *dest_chart, float dead_end, uint32_t threads,
+                          atlas_pointer_counts *out, pgt_error *err) {
     const uint32_t W = atlas->width, H = atlas->height;
     ptr_ctx c = {0};
-    c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.W = W, c.H = H;
+    c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.dest_chart = dest_chart, c.W = W,
+    c.H = H;
     for (uint32_t k = 0; k < 3; ++k) c.P[k] = pgt_image_plane(atlas, k);
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
+    const uint32_t workers = threads == 0                ? 1u
+                             : threads < PGT_MAX_THREADS ? threads
+                                                         : PGT_MAX_THREADS;
+    c.local_rows = malloc(sizeof(double) * 3u * W * workers);
     pgt_result r = PGT_OK;
     memset(out, 0, sizeof(*out));
-    if (!c.row_boundary || !c.row_counts) {
+    if (!c.row_boundary || !c.row_counts || !c.local_rows) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
         goto done;
     }
@@ -445,6 +470,12 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     atlas_parallel_rows(H, W, threads, gather_rows, &c);
     r = pgt_kdtree_build(&c.tree, c.b_xyz, nb, threads, err);
     if (r != PGT_OK) goto done;
+    c.leaf_chart = malloc(sizeof(int32_t) * (nb + 1u));
+    if (!c.leaf_chart) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
+        goto done;
+    }
+    for (uint32_t i = 0; i < nb; ++i) c.leaf_chart[i] = c.b_chart[c.tree.ids[i]];
     const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
     out->texel_size = texel_size(atlas, &order, threads, texel_chart);
     c.texel_size = out->texel_size;
@@ -459,9 +490,11 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
 done:
     free(c.row_boundary);
     free(c.row_counts);
+    free(c.local_rows);
     free(c.b_texel);
     free(c.b_chart);
     free(c.b_xyz);
+    free(c.leaf_chart);
     pgt_kdtree_destroy(&c.tree);
     return r;
 }

@@ -46,8 +46,9 @@ pgt_result pgt_image_check_names(const char *const *names, uint32_t count, const
     return PGT_OK;
 }
 
-pgt_result pgt_image_create(pgt_image *out, uint32_t width, uint32_t height, uint32_t channel_count,
-                            const char *const *names, pgt_error *err) {
+static pgt_result image_create(pgt_image *out, uint32_t width, uint32_t height,
+                               uint32_t channel_count, const char *const *names, int zeroed,
+                               pgt_error *err) {
     memset(out, 0, sizeof(*out));
     pgt_result r = pgt_image_check_size(width, height, channel_count, "image create", err);
     if (r != PGT_OK) return r;
@@ -55,7 +56,8 @@ pgt_result pgt_image_create(pgt_image *out, uint32_t width, uint32_t height, uin
         return r;
     /* calloc: masks and accumulation targets start at 0.0f (all-zero bits) for free. */
     out->names = calloc(channel_count, sizeof(*out->names));
-    out->data = calloc((size_t)width * height * channel_count, sizeof(float));
+    const size_t values = (size_t)width * height * channel_count;
+    out->data = zeroed ? calloc(values, sizeof(float)) : malloc(values * sizeof(float));
     if (!out->names || !out->data) {
         pgt_image_destroy(out);
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
@@ -69,6 +71,17 @@ pgt_result pgt_image_create(pgt_image *out, uint32_t width, uint32_t height, uin
     out->height = height;
     out->channel_count = channel_count;
     return PGT_OK;
+}
+
+pgt_result pgt_image_create(pgt_image *out, uint32_t width, uint32_t height, uint32_t channel_count,
+                            const char *const *names, pgt_error *err) {
+    return image_create(out, width, height, channel_count, names, 1, err);
+}
+
+pgt_result pgt_image_create_unset(pgt_image *out, uint32_t width, uint32_t height,
+                                  uint32_t channel_count, const char *const *names,
+                                  pgt_error *err) {
+    return image_create(out, width, height, channel_count, names, 0, err);
 }
 
 void pgt_image_destroy(pgt_image *img) {

@@ -1,8 +1,13 @@
 /* pgt: flat-array 3D kd-tree with explicit stacks (see kdtree.h).
  *
  * This work is based on: J. L. Bentley, "Multidimensional binary search trees used for
- * associative searching", CACM 18(9), 1975 (median splits, nearest neighbour with plane
- * pruning); used as paper 000 section 4 proposes for the indirection pointers. */
+ * associative searching", CACM 18(9), 1975 (nearest neighbour with plane pruning), and
+ * S. Maneewongvatana and D. M. Mount, "It's okay to be skinny, if your friends are fat", 1999
+ * (splits at the middle of the cell rather than at the median; here without their sliding, with
+ * the median where the middle leaves a side empty); used as paper 000 section 4 proposes for the
+ * indirection pointers. On pizza.obj's 110k inner-boundary texels the middle splits build in
+ * two thirds of the instructions of median splits (one partition pass a level instead of a
+ * quickselect) and the atlas's 178k queries run in two thirds as well (callgrind). */
 #include "pgt/kdtree.h"
 
 #include <stdlib.h>
@@ -66,8 +71,28 @@ typedef struct kd_build_item {
 
 /* Depth of the serial top of the tree: its (at most) 2^KD_SERIAL_DEPTH subtrees below are built
  * in parallel. Fixed, so the tree is the same for any thread count; 16 subtrees balance a few
- * threads, and the 4 serial levels are under a third of a 100k-point build (14 levels). */
+ * threads, and a level costs two passes over its points. */
 #define KD_SERIAL_DEPTH 4u
+
+/* Nodes above this depth split at the middle of their bounding box's widest side (one partition
+ * pass, and the tree follows the density of the points); deeper nodes split at the median, so
+ * any point set stays within PGT_KDTREE_MAX_DEPTH: 24 + log2(2^30 / PGT_KDTREE_LEAF_SIZE) = 51.
+ * Surface samples of 10^5 to 10^6 points reach their leaves by depth 20 or so. */
+#define KD_MIDPOINT_DEPTH 24u
+
+/* Partitions v[b, e) into the points below `split` along `axis` and the rest (Hoare's two
+ * pointers, deterministic); returns the index of the first of the rest. */
+static uint32_t partition_below(kd_point *v, uint32_t b, uint32_t e, uint32_t axis, float split) {
+    uint32_t i = b, j = e;
+    for (;;) {
+        while (i < j && v[i].p[axis] < split) ++i;
+        while (i < j && !(v[j - 1u].p[axis] < split)) --j;
+        if (i >= j) return i;
+        swap_points(&v[i], &v[j - 1u]);
+        ++i;
+        --j;
+    }
+}
 
 /* Builds the subtree of points v[begin, end) at nodes[root] (depth `depth`), numbering new nodes
  * from *next in pairs. With `pending`, a node at depth KD_SERIAL_DEPTH that would split is left
@@ -81,7 +106,8 @@ static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root,
         const kd_build_item it = stack[--top];
         pgt_kdtree_node *n = &nodes[it.node];
         const uint32_t b = it.begin, e = it.end;
-        if (e - b <= PGT_KDTREE_LEAF_SIZE || top + 2u > PGT_KDTREE_MAX_DEPTH) {
+        if (e - b <= PGT_KDTREE_LEAF_SIZE || it.depth + 1u >= PGT_KDTREE_MAX_DEPTH ||
+            top + 2u > PGT_KDTREE_MAX_DEPTH) {
             *n = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, b, e};
             continue;
         }
@@ -99,11 +125,18 @@ static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root,
         uint32_t axis = 0;
         for (uint32_t k = 1; k < 3; ++k)
             if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
-        const uint32_t mid = b + (e - b) / 2u;
-        select_kth(v, b, e, mid, axis);
+        /* left: coordinates <= split, right: >= split (the search's contract) */
+        float split = lo[axis] + 0.5f * (hi[axis] - lo[axis]);
+        uint32_t mid = b;
+        if (it.depth < KD_MIDPOINT_DEPTH) mid = partition_below(v, b, e, axis, split);
+        if (mid == b || mid == e) { /* deep, or the middle leaves a side empty: the median */
+            mid = b + (e - b) / 2u;
+            select_kth(v, b, e, mid, axis);
+            split = v[mid].p[axis];
+        }
         const uint32_t left = *next, right = *next + 1u;
         *next += 2u;
-        *n = (pgt_kdtree_node){v[mid].p[axis], axis, left, right};
+        *n = (pgt_kdtree_node){split, axis, left, right};
         stack[top++] = (kd_build_item){right, mid, e, it.depth + 1u};
         stack[top++] = (kd_build_item){left, b, mid, it.depth + 1u};
     }
@@ -138,7 +171,7 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, u
     memset(out, 0, sizeof(*out));
     if (count > PGT_MESH_MAX_ELEMENTS)
         return pgt_error_set(err, PGT_ERROR_LIMIT, "pgt_kdtree_build: %u points", count);
-    /* median splits: at most 2 * ceil(count / (LEAF/2)) nodes; 2 * count + 1 bounds it simply */
+    /* every split leaves both sides non-empty: at most count leaves, 2 * count - 1 nodes */
     const uint32_t max_nodes = 2u * count + 1u;
     out->nodes = malloc(sizeof(pgt_kdtree_node) * max_nodes);
     out->ids = malloc(sizeof(uint32_t) * (count ? count : 1u));
@@ -218,17 +251,18 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
         --top;
         const float bound = stack[top].bound;
         if (bound > best) continue;
-        /* down to a leaf along the near sides, the far sides on the stack */
+        /* down to a leaf along the near sides, the far sides on the stack; without branches on
+         * the side (half of them would be mispredicted): the children are a pair, b == a + 1 */
         const pgt_kdtree_node *n = &tree->nodes[stack[top].node];
         while (n->axis != PGT_KDTREE_LEAF) {
             const float diff = q[n->axis] - n->split, plane = diff * diff;
             const float far_bound = plane > bound ? plane : bound;
+            const uint32_t right = diff > 0.0f;
+            stack[top].node = n->a + (right ^ 1u);
+            stack[top].bound = far_bound;
             /* a far side beyond the best distance so far would only be popped and skipped */
-            if (far_bound <= best) {
-                stack[top].node = diff <= 0.0f ? n->b : n->a;
-                stack[top++].bound = far_bound;
-            }
-            n = &tree->nodes[diff <= 0.0f ? n->a : n->b];
+            top += far_bound <= best;
+            n = &tree->nodes[n->a + right];
         }
         for (uint32_t i = n->a; i < n->b; ++i) {
             const float dx = tree->xyz[3u * i] - q[0], dy = tree->xyz[3u * i + 1u] - q[1],
@@ -236,7 +270,7 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
             const float d2 = dx * dx + dy * dy + dz * dz;
             const uint32_t id = tree->ids[i];
             if (d2 > best || (d2 == best && id >= best_id)) continue;
-            if (accept && !accept(ctx, id)) continue;
+            if (accept && !accept(ctx, id, i)) continue;
             best = d2;
             best_id = id;
         }

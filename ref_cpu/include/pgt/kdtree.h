@@ -4,8 +4,10 @@
  *
  * Nodes live in one array and name their children by index; a leaf names a range of the point
  * permutation. Building and searching use explicit stacks (no recursion), so a GPU kernel can
- * walk the same arrays. Splits are at the median of the widest axis of the node's points, so the
- * depth is at most ceil(log2(count / PGT_KDTREE_LEAF_SIZE)) + 1. */
+ * walk the same arrays. A node splits its points at the middle of their bounding box's widest
+ * side (at the median instead when the middle leaves a side empty, and below depth 24, which
+ * bounds the depth for any point set). The shape of the tree never changes an answer (ties go to
+ * the smallest id). */
 #ifndef PGT_KDTREE_H
 #define PGT_KDTREE_H
 
@@ -20,10 +22,11 @@ extern "C" {
 /* Points per leaf at most (a leaf scan of 8 beats two more levels of plane tests). */
 #define PGT_KDTREE_LEAF_SIZE 8u
 
-/* Deepest tree (and search stack) supported: 2^40 leaves is far beyond any point count. */
-#define PGT_KDTREE_MAX_DEPTH 48u
+/* Deepest tree (and search stack) supported: 24 middle splits, then median splits of up to
+ * 2^30 points into leaves, fit with room to spare. */
+#define PGT_KDTREE_MAX_DEPTH 64u
 
-/* Node: axis 0..2 with children `a` (coordinates <= split) and `b` (>= split), or a leaf
+/* Node: axis 0..2 with children `a` (coordinates <= split) and `b` = a + 1 (>= split), or a leaf
  * (axis == PGT_KDTREE_LEAF) holding permuted points [a, b). */
 #define PGT_KDTREE_LEAF 3u
 typedef struct pgt_kdtree_node {
@@ -48,8 +51,10 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, u
 /* Frees and zeroes; NULL or zeroed is a no-op. */
 void pgt_kdtree_destroy(pgt_kdtree *tree);
 
-/* accept(ctx, id): nonzero when point `id` (the caller's index) may be returned. */
-typedef int (*pgt_kdtree_accept_fn)(const void *ctx, uint32_t id);
+/* accept(ctx, id, slot): nonzero when point `id` (the caller's index) may be returned. slot is
+ * the point's place in leaf order (tree->ids[slot] == id): a caller that keeps per-point data in
+ * leaf order reads it next to the coordinates the search just read, not at a random id. */
+typedef int (*pgt_kdtree_accept_fn)(const void *ctx, uint32_t id, uint32_t slot);
 
 /* The accepted point nearest to q with squared distance <= max_dist2 (float, computed as
  * dx*dx + dy*dy + dz*dz); ties go to the smallest id, so the answer does not depend on the
