@@ -39,9 +39,9 @@
  *
  * Speed: every outer-boundary texel is a step of about 2 K walks, so its hits for each
  * direction (from the classes of its 8 neighbours relative to its own chart, the only chart an
- * outer walk through it can have) and the chart its pointer points into are computed once; an
- * outer walk step is a few bit operations, and the rarer inner walks classify on the fly. Same
- * walks, same texels. */
+ * outer walk through it can have) are computed once (step_rows), and the chart its pointer
+ * points into comes from atlas_pointers (dest_chart); an outer walk step is a few bit
+ * operations, and the rarer inner walks classify on the fly. Same walks, same texels. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -64,27 +64,20 @@ typedef struct angle_ctx {
     const int32_t *ptr_chart; /* the chart the pointer points into, -1 for a dead end */
 } angle_ctx;
 
-enum { WALK_OUTER = 0, WALK_INNER = 1 };
-
-/* 1: path texel, 0: empty, -1: neither (an inner texel that is not a path texel). */
-static int texel_class(const angle_ctx *c, int mode, int32_t chart, int32_t x, int32_t y) {
+/* A texel's class in a walk over the inner-boundary texels of `chart`: 1 a path texel (an
+ * inner-boundary texel of the chart), 0 empty (not an inner texel of the chart, or outside the
+ * image), -1 neither (an inner texel of the chart off its boundary). */
+static int inner_class(const angle_ctx *c, int32_t chart, int32_t x, int32_t y) {
     if (x < 0 || y < 0 || x >= c->W || y >= c->H) return 0;
     const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
-    const uint8_t k = c->kind[i] & (uint8_t)~ATLAS_KIND_BOUNDARY_BIT;
-    if (mode == WALK_OUTER) {
-        if ((k == PGT_TEXEL_INDIRECTION || k == PGT_TEXEL_DEAD_END) &&
-            c->outer_chart[i] == (float)chart)
-            return 1;
-        return c->chart[i] == chart ? -1 : 0;
-    }
     if (c->chart[i] != chart) return 0;
     return (c->kind[i] & ATLAS_KIND_BOUNDARY_BIT) ? 1 : -1;
 }
 
-/* Follows up to k texels of a boundary from (x0, y0), forward (dir = +1, clockwise ring
- * scan) or backward (dir = -1); stores them in (px, py) and returns how many. */
-static uint32_t walk(const angle_ctx *c, int mode, int32_t chart, int32_t x0, int32_t y0, int dir,
-                     int32_t *px, int32_t *py) {
+/* Follows up to k inner-boundary texels of `chart` from (x0, y0), forward (dir = +1, clockwise
+ * ring scan) or backward (dir = -1); stores them in (px, py) and returns how many. */
+static uint32_t walk_inner(const angle_ctx *c, int32_t chart, int32_t x0, int32_t y0, int dir,
+                           int32_t *px, int32_t *py) {
     int32_t x = x0, y = y0;
     int back = -1; /* ring position, in scan order, of the texel the walk came from */
     uint32_t n = 0;
@@ -93,11 +86,11 @@ static uint32_t walk(const angle_ctx *c, int mode, int32_t chart, int32_t x0, in
         const int start = back < 0 ? 0 : back + 1;
         /* scan position j -> ring index: the same order forward, mirrored backward */
 #define RING_AT(j) (dir > 0 ? (j) % 8 : (8 - (j) % 8) % 8)
-        int prev_class = texel_class(c, mode, chart, x + ring[RING_AT(start + 7)][0],
-                                     y + ring[RING_AT(start + 7)][1]);
+        int prev_class =
+            inner_class(c, chart, x + ring[RING_AT(start + 7)][0], y + ring[RING_AT(start + 7)][1]);
         for (int j = 0; j < 8; ++j) {
             const int i = RING_AT(start + j);
-            const int cls = texel_class(c, mode, chart, x + ring[i][0], y + ring[i][1]);
+            const int cls = inner_class(c, chart, x + ring[i][0], y + ring[i][1]);
             if (cls == 1 && prev_class == 0) {
                 found = (start + j) % 8;
                 break;
@@ -121,7 +114,9 @@ static uint32_t lowest_bit8(uint32_t m) {
     return index[((m & (0u - m)) * 0x17u) >> 5 & 7u];
 }
 
-/* walk(c, WALK_OUTER, ...) through outer_hits: the same scan, the same texels. */
+/* The same walk over the outer-boundary texels of the chart of (x0, y0) (path texels: its
+ * indirection and dead-end texels; empty: any texel that is neither a path texel nor an inner
+ * texel of the chart), read from outer_hits, which step_rows filled with each texel's hits. */
 static uint32_t walk_outer(const angle_ctx *c, int32_t x0, int32_t y0, int dir, int32_t *px,
                            int32_t *py) {
     int32_t x = x0, y = y0;
@@ -154,7 +149,7 @@ static uint32_t reverse_scan8(uint32_t m) {
 
 /* outer_hits of the outer-boundary texels of rows [y0, y1). The classes of the
  * 8 neighbours relative to the texel's own outer chart a (the only chart an outer walk through
- * it can have; texel_class, WALK_OUTER) as two masks: the chart plane holds a exactly at the
+ * it can have; walk_outer) as two masks: the chart plane holds a exactly at the
  * inner texels of a and at its outer-boundary texels (dead ends too), so a neighbour is a path
  * texel when the plane holds a and it is not inner, empty when the plane does not hold a (or it
  * lies outside the image). A hit is a path texel whose predecessor in the scan is empty: forward
@@ -236,7 +231,7 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
                 t1x = t1y = t2x = t2y = 0;
                 uint32_t n = walk_outer(c, x, y, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t1x += wx[s] - x, t1y += wy[s] - y;
-                n = walk(c, WALK_INNER, b, qx, qy, 1, wx, wy);
+                n = walk_inner(c, b, qx, qy, 1, wx, wy);
                 for (uint32_t s = 0; s < n; ++s) t2x -= wx[s] - qx, t2y -= wy[s] - qy;
             }
             if ((t1x == 0 && t1y == 0) || (t2x == 0 && t2y == 0)) {
