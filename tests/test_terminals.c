@@ -641,6 +641,18 @@ static void test_determinism(void) {
     pgt_terminals_destroy(&one), pgt_terminals_destroy(&two), pgt_terminals_destroy(&five);
     pgt_terminals_destroy(&other);
     scene_free(s);
+    /* The tree's 24 segments weigh 24 x 216 bark quads, under pgt_parallel_for's 4096 elements a
+     * thread: one thread whatever was asked. A chain of 300 (64,800) runs on 2 and on 5. */
+    scene *c = chain_scene(300, PGT_BEZIER_C1);
+    REQUIRE(c);
+    for (uint32_t i = 1; i < c->n; ++i) add_terminal(c, i, LEAVES, 3.5f, 0.03f, 0);
+    pgt_terminals_input cin = scene_input(c, 9);
+    REQUIRE(build(&one, &cin, 1, 0));
+    REQUIRE(build(&two, &cin, 2, 0));
+    REQUIRE(build(&five, &cin, 5, 0));
+    CHECK(same_bytes(&one, &two) && same_bytes(&one, &five));
+    pgt_terminals_destroy(&one), pgt_terminals_destroy(&two), pgt_terminals_destroy(&five);
+    scene_free(c);
 }
 
 static void expect_error(scene *s, pgt_result code, const char *needle,
