@@ -191,8 +191,7 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
                         pgt_error *err) {
     const uint32_t F = mesh->face_count;
     const uint32_t tiles = (H + ATLAS_RASTER_TILE_ROWS - 1u) / ATLAS_RASTER_TILE_ROWS;
-    if (threads == 0) threads = 1;
-    if (threads > PGT_MAX_THREADS) threads = PGT_MAX_THREADS;
+    threads = pgt_parallel_workers(threads);
     int32_t *rows = malloc(sizeof(int32_t) * 4u * (F ? F : 1u));
     uint32_t *bin_begin = calloc((size_t)tiles + 1u, sizeof(uint32_t));
     atlas_raster_counts *tile_counts = calloc(tiles, sizeof(atlas_raster_counts));

@@ -583,8 +583,7 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
     c.tile_first = calloc((size_t)tiles + 1u, sizeof *c.tile_first);
     c.wstats = calloc(PGT_MAX_THREADS, sizeof *c.wstats);
     c.wcovered = calloc(PGT_MAX_THREADS, sizeof *c.wcovered);
-    const uint32_t workers =
-        threads == 0 ? 1u : (threads > PGT_MAX_THREADS ? PGT_MAX_THREADS : threads);
+    const uint32_t workers = pgt_parallel_workers(threads);
     c.caches = malloc(workers * sizeof *c.caches);
     c.packets = calloc(workers, sizeof *c.packets);
     int packets_ok = c.packets != NULL;

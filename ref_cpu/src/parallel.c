@@ -30,8 +30,7 @@ static void *pgt_parallel_run(void *arg) {
 }
 
 void pgt_parallel_for(uint32_t count, uint32_t threads, pgt_range_fn fn, void *ctx) {
-    if (threads == 0) threads = 1;
-    if (threads > PGT_MAX_THREADS) threads = PGT_MAX_THREADS;
+    threads = pgt_parallel_workers(threads);
     /* Below this many elements a thread costs more than it saves (pthread_create is ~20 us). */
     const uint32_t min_per_thread = 4096;
     if (count / min_per_thread < threads)

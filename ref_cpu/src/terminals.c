@@ -490,9 +490,7 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
     c.child_first[0] = 0;
 
     /* Count per segment (parallel), then prefix sums and v along the branches. */
-    const uint32_t threads = o->threads == 0                ? 1u
-                             : o->threads > PGT_MAX_THREADS ? PGT_MAX_THREADS
-                                                            : o->threads;
+    const uint32_t threads = pgt_parallel_workers(o->threads);
     pgt_parallel_for(n, threads, count_range, &c);
     uint64_t vtotal = 0, ttotal = 0;
     for (uint32_t i = 0; i < n; ++i) {

@@ -18,6 +18,12 @@ extern "C" {
 /* Blocks per thread a loop is cut into (dynamic balance vs. per-block overhead). */
 #define PGT_PARALLEL_BLOCKS_PER_THREAD 16u
 
+/* The workers a call asked for `threads` may use: 0 means 1, at most PGT_MAX_THREADS (what
+ * per-worker scratch is sized for; worker < this). */
+static inline uint32_t pgt_parallel_workers(uint32_t threads) {
+    return threads == 0 ? 1u : threads < PGT_MAX_THREADS ? threads : PGT_MAX_THREADS;
+}
+
 typedef void (*pgt_range_fn)(void *ctx, uint32_t begin, uint32_t end, uint32_t worker);
 
 /* Calls fn(ctx, begin, end, worker) on disjoint chunks covering [0, count), on up to `threads`
