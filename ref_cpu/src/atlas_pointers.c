@@ -38,70 +38,84 @@ typedef struct ptr_ctx {
     int32_t *leaf_chart; /* b_chart in the tree's leaf order */
     const float *P[3];   /* the position planes */
     double texel_size, dead_end;
-    uint32_t *row_counts; /* 4 per row: indirection, dead end, self seam, outer */
-    double *local_rows;   /* per worker: local_step of rows y - 1, y, y + 1 (row r at r % 3) */
+    uint32_t *row_counts;   /* 4 per row: indirection, dead end, self seam, outer */
+    double *local_rows;     /* per worker: local_step of rows y - 1, y, y + 1 (row r at r % 3) */
+    int32_t *classify_cols; /* per worker: 2 W (classify_rows) */
 } ptr_ctx;
+
+/* The border texels of the image (first and last row and column): the tests of classify_rows
+ * with the image-border checks. */
+static uint8_t classify_border(const ptr_ctx *c, int32_t x, int32_t y, uint32_t *boundary) {
+    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    const int32_t own = c->chart[(size_t)y * (size_t)W + (size_t)x];
+    if (own >= 0) {
+        for (uint32_t i = 0; i < 8; i += 2) { /* the 4-neighbours */
+            const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+            if (nx < 0 || ny < 0 || nx >= W || ny >= H ||
+                c->chart[(size_t)ny * (size_t)W + (size_t)nx] != own) {
+                (*boundary)++;
+                return PGT_TEXEL_INNER | ATLAS_KIND_BOUNDARY_BIT;
+            }
+        }
+        return PGT_TEXEL_INNER;
+    }
+    int32_t lo = INT32_MAX, hi = -1;
+    for (uint32_t i = 0; i < 8; ++i) {
+        const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+        if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+        const int32_t o = c->chart[(size_t)ny * (size_t)W + (size_t)nx];
+        if (o < 0) continue;
+        if (o < lo) lo = o;
+        if (o > hi) hi = o;
+    }
+    /* touching two charts breaks the band contract: left as background */
+    return hi >= 0 && lo == hi ? PGT_TEXEL_INDIRECTION : PGT_TEXEL_BACKGROUND;
+}
 
 static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
-    (void)worker;
     const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    /* per column x of the three rows y - 1 .. y + 1: the largest chart id (-1 when none) and
+     * the smallest (INT32_MAX when none); the 3 x 3 block of a texel is three such columns.
+     * A background texel's own -1 changes neither, so the block can include it. Branch-free
+     * loops over whole rows: the compiler vectorizes them. */
+    int32_t *col_hi = &c->classify_cols[(size_t)worker * 2u * (size_t)W], *col_lo = col_hi + W;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
         uint32_t boundary = 0;
         const int32_t *row = &c->chart[(size_t)y * (size_t)W];
-        for (int32_t x = 0; x < W; ++x) {
-            const size_t idx = (size_t)y * (size_t)W + (size_t)x;
-            const int32_t own = c->chart[idx];
-            uint8_t k = PGT_TEXEL_BACKGROUND;
-            if (y > 0 && y + 1 < H && x > 0 && x + 1 < W) {
-                /* inside the image: the same tests without the image-border checks */
-                const int32_t *up = row - W, *down = row + W;
-                if (own >= 0) {
-                    k = PGT_TEXEL_INNER;
-                    if (row[x + 1] != own || down[x] != own || row[x - 1] != own || up[x] != own) {
-                        k |= ATLAS_KIND_BOUNDARY_BIT;
-                        boundary++;
-                    }
-                } else {
-                    const int32_t o[8] = {row[x + 1], down[x + 1], down[x], down[x - 1],
-                                          row[x - 1], up[x - 1],   up[x],   up[x + 1]};
-                    int32_t lo = INT32_MAX, hi = -1;
-                    for (uint32_t i = 0; i < 8; ++i) {
-                        if (o[i] < 0) continue;
-                        if (o[i] < lo) lo = o[i];
-                        if (o[i] > hi) hi = o[i];
-                    }
-                    if (hi >= 0 && lo == hi) k = PGT_TEXEL_INDIRECTION;
-                }
-                c->kind[idx] = k;
-                continue;
-            }
-            if (own >= 0) {
-                k = PGT_TEXEL_INNER;
-                for (uint32_t i = 0; i < 8; i += 2) { /* the 4-neighbours */
-                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
-                    if (nx < 0 || ny < 0 || nx >= W || ny >= H ||
-                        c->chart[(size_t)ny * (size_t)W + (size_t)nx] != own) {
-                        k |= ATLAS_KIND_BOUNDARY_BIT;
-                        boundary++;
-                        break;
-                    }
-                }
-            } else {
-                int32_t lo = INT32_MAX, hi = -1;
-                for (uint32_t i = 0; i < 8; ++i) {
-                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
-                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-                    const int32_t o = c->chart[(size_t)ny * (size_t)W + (size_t)nx];
-                    if (o < 0) continue;
-                    if (o < lo) lo = o;
-                    if (o > hi) hi = o;
-                }
-                /* touching two charts breaks the band contract: left as background */
-                if (hi >= 0 && lo == hi) k = PGT_TEXEL_INDIRECTION;
-            }
-            c->kind[idx] = k;
+        uint8_t *kind = &c->kind[(size_t)y * (size_t)W];
+        if (y == 0 || y + 1 == H || W < 3) {
+            for (int32_t x = 0; x < W; ++x) kind[x] = classify_border(c, x, y, &boundary);
+            c->row_boundary[y + 1] = boundary;
+            continue;
         }
+        const int32_t *up = row - W, *down = row + W;
+        for (int32_t x = 0; x < W; ++x) {
+            const int32_t a = up[x], b = row[x], d = down[x];
+            const int32_t hi = a > b ? a : b;
+            col_hi[x] = hi > d ? hi : d;
+            const uint32_t ua = (uint32_t)a, ub = (uint32_t)b, ud = (uint32_t)d;
+            /* as unsigned, -1 is the largest value: the smallest is a chart id when any */
+            const uint32_t lo = ua < ub ? ua : ub, lo3 = lo < ud ? lo : ud;
+            col_lo[x] = lo3 > (uint32_t)INT32_MAX ? INT32_MAX : (int32_t)lo3;
+        }
+        kind[0] = classify_border(c, 0, y, &boundary);
+        for (int32_t x = 1; x + 1 < W; ++x) {
+            const int32_t own = row[x];
+            const int32_t h0 = col_hi[x - 1] > col_hi[x] ? col_hi[x - 1] : col_hi[x];
+            const int32_t hi = h0 > col_hi[x + 1] ? h0 : col_hi[x + 1];
+            const int32_t l0 = col_lo[x - 1] < col_lo[x] ? col_lo[x - 1] : col_lo[x];
+            const int32_t lo = l0 < col_lo[x + 1] ? l0 : col_lo[x + 1];
+            const uint32_t edge =
+                (row[x + 1] != own) | (down[x] != own) | (row[x - 1] != own) | (up[x] != own);
+            const uint32_t inner = own >= 0;
+            const uint8_t outer =
+                (hi >= 0) & (lo == hi) ? PGT_TEXEL_INDIRECTION : PGT_TEXEL_BACKGROUND;
+            kind[x] =
+                inner ? (uint8_t)(PGT_TEXEL_INNER | (edge ? ATLAS_KIND_BOUNDARY_BIT : 0u)) : outer;
+            boundary += inner & edge;
+        }
+        kind[W - 1] = classify_border(c, W - 1, y, &boundary);
         c->row_boundary[y + 1] = boundary;
     }
 }
@@ -448,9 +462,10 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
     c.local_rows = malloc(sizeof(double) * 3u * W * pgt_parallel_workers(threads));
+    c.classify_cols = malloc(sizeof(int32_t) * 2u * W * pgt_parallel_workers(threads));
     pgt_result r = PGT_OK;
     memset(out, 0, sizeof(*out));
-    if (!c.row_boundary || !c.row_counts || !c.local_rows) {
+    if (!c.row_boundary || !c.row_counts || !c.local_rows || !c.classify_cols) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
         goto done;
     }
@@ -488,6 +503,7 @@ done:
     free(c.row_boundary);
     free(c.row_counts);
     free(c.local_rows);
+    free(c.classify_cols);
     free(c.b_texel);
     free(c.b_chart);
     free(c.b_xyz);
