@@ -26,6 +26,8 @@
 
 /* Figure 11: seeds 1 .. this. */
 #define BENCH_IVY_FIG11_SEEDS 64u
+/* ... with a progress line every this many seed counts (and at the last). */
+#define BENCH_IVY_PROGRESS_EVERY 16u
 
 /* A scene of Table 2. Lengths (maxMainSteps, the guide strokes' steps) were chosen so that the
  * polygon counts land near the paper's; the CSV reports how near. */
@@ -341,10 +343,11 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
                     (unsigned long long)out.polygons, t.expand, t.bezier, t.terminals, t.total,
                     t.best, t.cold, threads);
             fflush(f11);
-            fprintf(stderr, "\rpgt bench ivy: figure 11, %s, %u seeds: %.1f ms   ",
-                    sc ? "full" : "main", n, t.total);
+            /* a progress line every few points, one line each: a log keeps them readable */
+            if (quick || n % BENCH_IVY_PROGRESS_EVERY == 0 || n == BENCH_IVY_FIG11_SEEDS)
+                fprintf(stderr, "pgt bench ivy: figure 11, %s, %u of %u seeds: %.1f ms\n",
+                        sc ? "full" : "main", n, BENCH_IVY_FIG11_SEEDS, t.total);
         }
-        fprintf(stderr, "\n");
         pgt_ivy_scene_free(&s);
     }
     pgt_ivy_destroy(&out);
