@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "alloc_internal.h"
 #include "image_internal.h"
 
 pgt_result pgt_image_check_size(uint32_t width, uint32_t height, uint32_t channel_count,
@@ -57,7 +58,7 @@ static pgt_result image_create(pgt_image *out, uint32_t width, uint32_t height,
     /* calloc: masks and accumulation targets start at 0.0f (all-zero bits) for free. */
     out->names = calloc(channel_count, sizeof(*out->names));
     const size_t values = (size_t)width * height * channel_count;
-    out->data = zeroed ? calloc(values, sizeof(float)) : malloc(values * sizeof(float));
+    out->data = zeroed ? calloc(values, sizeof(float)) : pgt_alloc_large(values * sizeof(float));
     if (!out->names || !out->data) {
         pgt_image_destroy(out);
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
