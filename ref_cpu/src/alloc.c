@@ -18,7 +18,8 @@ void *pgt_alloc_large(size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     if (bytes >= PGT_ALLOC_HUGE_MIN) {
         const size_t rounded = (bytes + PGT_ALLOC_HUGE_PAGE - 1u) & ~(PGT_ALLOC_HUGE_PAGE - 1u);
-        void *p = aligned_alloc(PGT_ALLOC_HUGE_PAGE, rounded);
+        /* a size within a huge page of SIZE_MAX wraps: malloc refuses it below */
+        void *p = rounded >= bytes ? aligned_alloc(PGT_ALLOC_HUGE_PAGE, rounded) : NULL;
         if (p) {
             (void)madvise(p, rounded, MADV_HUGEPAGE);
             return p;

@@ -461,8 +461,9 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     for (uint32_t k = 0; k < 3; ++k) c.P[k] = pgt_image_plane(atlas, k);
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
-    c.local_rows = malloc(sizeof(double) * 3u * W * pgt_parallel_workers(threads));
-    c.classify_cols = malloc(sizeof(int32_t) * 2u * W * pgt_parallel_workers(threads));
+    const uint32_t workers = pgt_parallel_workers(threads);
+    c.local_rows = malloc(sizeof(double) * 3u * W * workers);
+    c.classify_cols = malloc(sizeof(int32_t) * 2u * W * workers);
     pgt_result r = PGT_OK;
     memset(out, 0, sizeof(*out));
     if (!c.row_boundary || !c.row_counts || !c.local_rows || !c.classify_cols) {

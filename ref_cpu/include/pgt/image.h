@@ -51,9 +51,9 @@ pgt_result pgt_image_create(pgt_image *out, uint32_t width, uint32_t height, uin
 
 /* pgt_image_create without the zeroing: the values are undefined until written. For a producer
  * that writes every value of every plane (the atlas builder: 44 MB at 1024^2, whose zeroing is a
- * serial pass of several ms in front of a parallel one that overwrites it all). On Linux an
- * image of 8 MiB or more is aligned to 2 MiB and advised to be backed by transparent huge pages:
- * 22 page faults instead of 11,000 for the atlas (pizza's raster 20-21 -> 15-16 ms, 2 threads). */
+ * serial pass of several ms in front of a parallel one that overwrites it all). On Linux a large
+ * image is backed by transparent huge pages where the system allows (ref_cpu/src/alloc_internal.h
+ * for the threshold and the measurements). */
 pgt_result pgt_image_create_unset(pgt_image *out, uint32_t width, uint32_t height,
                                   uint32_t channel_count, const char *const *names, pgt_error *err);
 
