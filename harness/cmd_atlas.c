@@ -37,7 +37,8 @@ static const char *atlas_usage =
     "  --png PIC.png  also a picture: charts coloured (shaded by the normal), indirection\n"
     "                 texels white, dead ends red, background black\n"
     "  --repack       repack the charts even when the input UVs would do\n"
-    "  --threads N    worker threads, 1 to 256 (default: the number of CPUs)\n"
+    "  --threads N    worker threads for the build and the EXR's compression, 1 to 256 (default:\n"
+    "                 the number of CPUs; the same bytes for any count)\n"
     "  --json         print the summary as one JSON object\n"
     "\n"
     "Prints charts, mirrored charts, degenerate UV triangles, inner / inner-boundary /\n"
@@ -181,7 +182,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
         goto done;
     }
     const double t2 = pgt_cli_now_ms();
-    if (pgt_image_write_exr(&atlas, out_path, &err) != PGT_OK ||
+    if (pgt_image_write_exr_threads(&atlas, out_path, threads, &err) != PGT_OK ||
         (png_path && write_picture(&atlas, png_path, &err) != PGT_OK)) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;

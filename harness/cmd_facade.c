@@ -249,7 +249,8 @@ static uint8_t to_srgb8(float c) {
     return (uint8_t)(255.0f * s + 0.5f);
 }
 
-static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, pgt_error *err) {
+static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, uint32_t threads,
+                            pgt_error *err) {
     static const char *names[10] = {"R",   "G",   "B",   "depth",  "terminal",
                                     "N.x", "N.y", "N.z", "facade", "developed"};
     pgt_image img;
@@ -266,7 +267,7 @@ static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, pgt_er
         p[8][i] = fr->facade[i] == PGT_NONE ? -1.0f : (float)fr->facade[i];
         p[9][i] = (float)fr->developed[i];
     }
-    r = pgt_image_write_exr(&img, path, err);
+    r = pgt_image_write_exr_threads(&img, path, threads, err);
     pgt_image_destroy(&img);
     return r;
 }
@@ -439,7 +440,7 @@ int pgt_cmd_facade(int argc, char **argv) {
     }
     const double frame_ms = pgt_cli_median(ms, a.frames),
                  cover_ms = pgt_cli_median(cover, a.frames);
-    if (write_exr(&frame, a.out_path, &err) != PGT_OK) {
+    if (write_exr(&frame, a.out_path, a.threads, &err) != PGT_OK) {
         pgt_cli_fail(verb, "-o %s", err.message);
         goto done;
     }

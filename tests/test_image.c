@@ -154,6 +154,58 @@ static void test_exr_round_trip(void) {
     scratch_remove();
 }
 
+/* The chunks compressed on several threads: the file has the same bytes for any thread count
+ * (chunks are compressed independently and written in order) and reads back bit-exact. Sizes:
+ * a partial last chunk (100 rows = 6 x 16 + 4), exactly one chunk, fewer rows than threads. */
+static void test_exr_threads(void) {
+    static const char *const names[] = {"P.x",   "P.y",  "P.z",   "N.x",   "N.y", "N.z",
+                                        "chart", "kind", "ptr.u", "ptr.v", "rot"};
+    const struct { uint32_t w, h, channels; } sets[] = {{257, 100, 11}, {40, 16, 3}, {3, 2, 1}};
+    static const uint32_t threads[] = {2, 3, 8};
+    scratch_make();
+    REQUIRE(scratch[0] != '\0');
+    rng_state = 11;
+    for (size_t s = 0; s < sizeof(sets) / sizeof(sets[0]); ++s) {
+        pgt_image img, back;
+        pgt_error err;
+        pgt_error_clear(&err);
+        REQUIRE(pgt_image_create(&img, sets[s].w, sets[s].h, sets[s].channels, names, &err) ==
+                PGT_OK);
+        fill_values(&img);
+        /* half the planes smooth, so that ZIP compresses some chunks and stores others raw */
+        for (uint32_t c = 0; c < img.channel_count; c += 2)
+            for (uint32_t i = 0; i < img.width * img.height; ++i)
+                pgt_image_plane(&img, c)[i] = (float)(i % img.width) * 0.25f + (float)c;
+        char ref_path[512];
+        snprintf(ref_path, sizeof(ref_path), "%s", scratch_path("one.exr"));
+        REQUIRE(pgt_image_write_exr_threads(&img, ref_path, 1, &err) == PGT_OK);
+        size_t ref_size = 0;
+        unsigned char *ref = load_file(ref_path, &ref_size);
+        REQUIRE(ref != NULL);
+        for (size_t t = 0; t < sizeof(threads) / sizeof(threads[0]); ++t) {
+            const char *path = scratch_path("many.exr");
+            pgt_result r = pgt_image_write_exr_threads(&img, path, threads[t], &err);
+            CHECK_MSG(r == PGT_OK, "set %zu, %u threads: %s", s, threads[t], err.message);
+            size_t size = 0;
+            unsigned char *bytes = load_file(path, &size);
+            CHECK_MSG(bytes && size == ref_size && memcmp(bytes, ref, size) == 0,
+                      "set %zu: %u threads write other bytes than one", s, threads[t]);
+            free(bytes);
+            r = pgt_image_read_exr(&back, path, &err);
+            CHECK_MSG(r == PGT_OK, "set %zu: %s", s, err.message);
+            if (r == PGT_OK) {
+                CHECK_MSG(same_image(&img, &back), "set %zu, %u threads: not bit-exact", s,
+                          threads[t]);
+                pgt_image_destroy(&back);
+            }
+        }
+        CHECK(scratch_count() == 2); /* no temporary file left behind */
+        free(ref);
+        pgt_image_destroy(&img);
+    }
+    scratch_remove();
+}
+
 static void test_exr_channel_lookup(void) {
     static const char *const names[] = {"depth", "B", "R", "G", "A", "N.x", "N.y", "P.z"};
     static const char *const sorted[] = {"A", "B", "G", "N.x", "N.y", "P.z", "R", "depth"};
@@ -1074,6 +1126,7 @@ static void test_atomic_writes_and_paths(void) {
 
 static const pgt_test_case cases[] = {
     {"exr_round_trip", test_exr_round_trip},
+    {"exr_threads", test_exr_threads},
     {"exr_channel_lookup", test_exr_channel_lookup},
     {"image_create_contract", test_image_create_contract},
     {"exr_half_uint_float", test_exr_half_uint_float},

@@ -22,6 +22,8 @@
 
 #include <openexr.h>
 
+#include "pgt/parallel.h"
+
 #include "image_internal.h"
 
 static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
@@ -630,8 +632,100 @@ static pgt_result write_fail(exr_stream *s, exr_result_t rv, const char *what, p
 #define PGT_EXR_ZIP_LEVEL 1
 #endif
 
+/* A chunk of rows compressed by a worker, kept until it is written in file order. */
+typedef struct exr_chunk_out {
+    void *data;
+    uint64_t size;
+} exr_chunk_out;
+
+/* A worker's encode pipeline (OpenEXRCore: one per thread, all on one context), the library's
+ * messages of its calls, and its first failure. */
+typedef struct exr_encoder {
+    exr_encode_pipeline_t enc;
+    int live;
+    exr_stream msg;
+    uint32_t failed_chunk; /* UINT32_MAX while none failed */
+    exr_result_t rv;
+} exr_encoder;
+
+typedef struct exr_encode_job {
+    exr_context_t ctxt;
+    int part;
+    int32_t lines; /* rows per chunk */
+    const pgt_image *img;
+    exr_chunk_out *chunks;
+    exr_encoder *workers;
+} exr_encode_job;
+
+/* The pipeline's last stage: instead of writing the chunk (the file takes chunks only in
+ * order), keep a copy of what would be written. */
+static exr_result_t keep_chunk(exr_encode_pipeline_t *enc) {
+    exr_chunk_out *out = enc->encoding_user_data;
+    out->data = malloc(enc->compressed_bytes ? enc->compressed_bytes : 1u);
+    if (!out->data) return EXR_ERR_OUT_OF_MEMORY;
+    if (enc->compressed_bytes) memcpy(out->data, enc->compressed_buffer, enc->compressed_bytes);
+    out->size = enc->compressed_bytes;
+    return EXR_ERR_SUCCESS;
+}
+
+/* The chunks are written in order by keep_chunk's caller: nothing to wait for here. */
+static exr_result_t no_wait(exr_encode_pipeline_t *enc) {
+    (void)enc;
+    return EXR_ERR_SUCCESS;
+}
+
+/* Packs and compresses chunk c (rows c * lines on) with worker e's pipeline. */
+static exr_result_t encode_chunk(const exr_encode_job *j, exr_encoder *e, uint32_t c) {
+    const pgt_image *img = j->img;
+    const uint32_t y = c * (uint32_t)j->lines;
+    exr_chunk_info_t ci;
+    memset(&ci, 0, sizeof(ci));
+    exr_result_t rv = exr_write_scanline_chunk_info(j->ctxt, j->part, (int)y, &ci);
+    if (rv != EXR_ERR_SUCCESS) return rv;
+    if (e->live) {
+        rv = exr_encoding_update(j->ctxt, j->part, &ci, &e->enc);
+    } else {
+        e->live = 1;
+        rv = exr_encoding_initialize(j->ctxt, j->part, &ci, &e->enc);
+    }
+    if (rv != EXR_ERR_SUCCESS) return rv;
+    for (int k = 0; k < e->enc.channel_count; ++k) {
+        exr_coding_channel_info_t *cc = &e->enc.channels[k];
+        /* The library sorts channels by name: match them by name, not position. */
+        const int32_t ch = pgt_image_find_channel(img, cc->channel_name);
+        if (ch < 0) return EXR_ERR_UNKNOWN;
+        cc->encode_from_ptr =
+            (const uint8_t *)(pgt_image_plane(img, (uint32_t)ch) + (size_t)y * img->width);
+        cc->user_pixel_stride = (int32_t)sizeof(float);
+        cc->user_line_stride = (int32_t)(sizeof(float) * img->width);
+        cc->user_data_type = EXR_PIXEL_FLOAT;
+        cc->user_bytes_per_element = (int16_t)sizeof(float);
+    }
+    rv = exr_encoding_choose_default_routines(j->ctxt, j->part, &e->enc);
+    if (rv != EXR_ERR_SUCCESS) return rv;
+    e->enc.yield_until_ready_fn = no_wait;
+    e->enc.write_fn = keep_chunk;
+    e->enc.encoding_user_data = &j->chunks[c];
+    return exr_encoding_run(j->ctxt, j->part, &e->enc);
+}
+
+static void encode_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const exr_encode_job *j = vctx;
+    exr_encoder *e = &j->workers[worker];
+    exr_stream *const caller = current_stream; /* the caller's thread runs a range too */
+    current_stream = &e->msg;
+    for (uint32_t c = begin; c < end && e->failed_chunk == UINT32_MAX; ++c) {
+        e->msg.lib_msg[0] = '\0';
+        const exr_result_t rv = encode_chunk(j, e, c);
+        if (rv != EXR_ERR_SUCCESS) e->failed_chunk = c, e->rv = rv;
+    }
+    current_stream = caller;
+}
+
+/* The header, then the chunks: packed and ZIP-compressed on up to `threads` threads (each
+ * chunk on its own: the same bytes for any thread count), written in file order. */
 static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_image *img,
-                               exr_encode_pipeline_t *enc, int *enc_live, pgt_error *err) {
+                               uint32_t threads, pgt_error *err) {
     int part = 0;
     WRITE_CALL(exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part), "header");
     WRITE_CALL(exr_initialize_required_attr_simple(ctxt, part, (int32_t)img->width,
@@ -646,35 +740,58 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
     int32_t lines = 0;
     WRITE_CALL(exr_get_scanlines_per_chunk(ctxt, part, &lines), "header");
     if (lines < 1) return write_fail(s, EXR_ERR_UNKNOWN, "header", err);
-    for (uint32_t y = 0; y < img->height; y += (uint32_t)lines) {
-        exr_chunk_info_t ci;
-        memset(&ci, 0, sizeof(ci));
-        WRITE_CALL(exr_write_scanline_chunk_info(ctxt, part, (int)y, &ci), "pixel data");
-        if (*enc_live) {
-            WRITE_CALL(exr_encoding_update(ctxt, part, &ci, enc), "pixel data");
-        } else {
-            *enc_live = 1;
-            WRITE_CALL(exr_encoding_initialize(ctxt, part, &ci, enc), "pixel data");
-        }
-        for (int k = 0; k < enc->channel_count; ++k) {
-            exr_coding_channel_info_t *cc = &enc->channels[k];
-            /* The library sorts channels by name: match them by name, not position. */
-            int32_t c = pgt_image_find_channel(img, cc->channel_name);
-            if (c < 0) return write_fail(s, EXR_ERR_UNKNOWN, "channel list", err);
-            cc->encode_from_ptr =
-                (const uint8_t *)(pgt_image_plane(img, (uint32_t)c) + (size_t)y * img->width);
-            cc->user_pixel_stride = (int32_t)sizeof(float);
-            cc->user_line_stride = (int32_t)(sizeof(float) * img->width);
-            cc->user_data_type = EXR_PIXEL_FLOAT;
-            cc->user_bytes_per_element = (int16_t)sizeof(float);
-        }
-        WRITE_CALL(exr_encoding_choose_default_routines(ctxt, part, enc), "pixel data");
-        WRITE_CALL(exr_encoding_run(ctxt, part, enc), "pixel data");
+    const uint32_t count = (img->height + (uint32_t)lines - 1u) / (uint32_t)lines;
+    const uint32_t workers = pgt_parallel_workers(threads);
+    exr_encode_job job = {ctxt,
+                          part,
+                          lines,
+                          img,
+                          calloc(count, sizeof(exr_chunk_out)),
+                          calloc(workers, sizeof(exr_encoder))};
+    pgt_result r = PGT_OK;
+    if (!job.chunks || !job.workers) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (pixel data)", s->name);
+        goto done;
     }
-    return PGT_OK;
+    for (uint32_t w = 0; w < workers; ++w) {
+        job.workers[w].msg.name = s->name;
+        job.workers[w].failed_chunk = UINT32_MAX;
+    }
+    /* a chunk weighs its rows' pixels */
+    pgt_parallel_for_items(count, (uint32_t)lines * img->width, workers, encode_range, &job);
+    const exr_encoder *failed = NULL;
+    for (uint32_t w = 0; w < workers; ++w)
+        if (job.workers[w].failed_chunk != UINT32_MAX &&
+            (!failed || job.workers[w].failed_chunk < failed->failed_chunk))
+            failed = &job.workers[w];
+    if (failed) {
+        exr_stream m = failed->msg;
+        r = write_fail(&m, failed->rv, "pixel data", err);
+        goto done;
+    }
+    for (uint32_t c = 0; c < count && r == PGT_OK; ++c) {
+        s->lib_msg[0] = '\0';
+        const exr_result_t rv = exr_write_scanline_chunk(ctxt, part, (int)(c * (uint32_t)lines),
+                                                         job.chunks[c].data, job.chunks[c].size);
+        if (rv != EXR_ERR_SUCCESS) r = write_fail(s, rv, "pixel data", err);
+    }
+done:
+    if (job.workers)
+        for (uint32_t w = 0; w < workers; ++w)
+            if (job.workers[w].live) exr_encoding_destroy(ctxt, &job.workers[w].enc);
+    if (job.chunks)
+        for (uint32_t c = 0; c < count; ++c) free(job.chunks[c].data);
+    free(job.chunks);
+    free(job.workers);
+    return r;
 }
 
 pgt_result pgt_image_write_exr(const pgt_image *img, const char *path, pgt_error *err) {
+    return pgt_image_write_exr_threads(img, path, 1u, err);
+}
+
+pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, uint32_t threads,
+                                       pgt_error *err) {
     if (!img || !path || !path[0])
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "EXR write: NULL %s",
                              img ? "path" : "image");
@@ -705,15 +822,11 @@ pgt_result pgt_image_write_exr(const pgt_image *img, const char *path, pgt_error
 
     exr_context_initializer_t init = stream_initializer(&s);
     exr_context_t ctxt = NULL;
-    exr_encode_pipeline_t enc;
-    memset(&enc, 0, sizeof(enc));
-    int enc_live = 0;
     current_stream = &s;
     s.lib_msg[0] = '\0';
     exr_result_t rv = exr_start_write(&ctxt, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv != EXR_ERR_SUCCESS) r = write_fail(&s, rv, "start", err);
-    if (r == PGT_OK) r = write_pixels(ctxt, &s, img, &enc, &enc_live, err);
-    if (enc_live) exr_encoding_destroy(ctxt, &enc);
+    if (r == PGT_OK) r = write_pixels(ctxt, &s, img, threads, err);
     if (ctxt) {
         /* exr_finish writes the offset table. */
         s.lib_msg[0] = '\0';

@@ -77,6 +77,12 @@ static inline float *pgt_image_plane(const pgt_image *img, uint32_t c) {
  * any failure the temporary file is removed and PGT_ERROR_IO names PATH. */
 pgt_result pgt_image_write_exr(const pgt_image *img, const char *path, pgt_error *err);
 
+/* pgt_image_write_exr with the chunks packed and compressed on up to `threads` threads (0 means
+ * 1), then written in file order: the same bytes for any thread count. Compression is most of a
+ * write (a 1024^2 atlas of 11 channels: 44 MB of floats in 64 chunks). */
+pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, uint32_t threads,
+                                       pgt_error *err);
+
 /* Reads a single-part scanline or tiled OpenEXR file (of a mip- or rip-mapped file the
  * full-resolution level) in any compression OpenEXRCore decodes (3.1: all but DWAA and DWAB),
  * with HALF, FLOAT or UINT channels, all converted to float (HALF exactly; UINT rounded to
