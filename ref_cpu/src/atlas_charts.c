@@ -15,6 +15,7 @@
 
 #include "atlas_internal.h"
 #include "pgt/adjacency.h"
+#include "pgt/parallel.h"
 
 void atlas_charts_destroy(atlas_charts *c) {
     if (!c) return;
@@ -52,6 +53,21 @@ static double area_3d(const pgt_mesh *m, uint32_t f) {
     return 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
 }
 
+/* Per face: the signed UV area and the 3D area (independent per face: in parallel). */
+typedef struct area_ctx {
+    const pgt_mesh *m;
+    double *uv, *d3;
+} area_ctx;
+
+static void area_range(void *vctx, uint32_t f0, uint32_t f1, uint32_t worker) {
+    const area_ctx *a = vctx;
+    (void)worker;
+    for (uint32_t f = f0; f < f1; ++f) {
+        a->uv[f] = uv_area(&a->m->uvs[6u * f]);
+        a->d3[f] = area_3d(a->m, f);
+    }
+}
+
 pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t threads,
                               const char *what, pgt_error *err) {
     memset(out, 0, sizeof(*out));
@@ -65,10 +81,10 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     if (r != PGT_OK) return r;
     uint32_t *parent = malloc(sizeof(uint32_t) * F);
     uint32_t *root_chart = malloc(sizeof(uint32_t) * F);
-    double *area = malloc(sizeof(double) * F);
+    double *area = malloc(sizeof(double) * F), *area3 = malloc(sizeof(double) * F);
     out->face_chart = malloc(sizeof(uint32_t) * F);
     out->uvs = malloc(sizeof(float) * 6u * F);
-    if (!parent || !root_chart || !area || !out->face_chart || !out->uvs) {
+    if (!parent || !root_chart || !area || !area3 || !out->face_chart || !out->uvs) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (charts)", what);
         goto done;
     }
@@ -88,10 +104,9 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     /* Chart ids in order of each chart's smallest face, counting only charts with at least one
      * non-degenerate face. */
     uint32_t charts = 0, degenerate = 0, all_charts = 0;
-    for (uint32_t f = 0; f < F; ++f) {
-        area[f] = uv_area(&m->uvs[6u * f]);
-        root_chart[f] = PGT_NONE;
-    }
+    area_ctx ac = {m, area, area3};
+    pgt_parallel_for(F, threads, area_range, &ac);
+    for (uint32_t f = 0; f < F; ++f) root_chart[f] = PGT_NONE;
     for (uint32_t f = 0; f < F; ++f) {
         const uint32_t rt = find_root(parent, f);
         if (rt == f) all_charts++;
@@ -138,7 +153,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
         if (c == PGT_NONE) continue;
         signed_area[c] += area[f];
         out->chart_area_uv[c] += fabs(area[f]);
-        out->chart_area_3d[c] += area_3d(m, f);
+        out->chart_area_3d[c] += area3[f];
         for (uint32_t k = 0; k < 3; ++k) {
             const float u = m->uvs[6u * f + 2u * k];
             if (u < box[2u * c]) box[2u * c] = u;
@@ -163,6 +178,7 @@ done:
     free(parent);
     free(root_chart);
     free(area);
+    free(area3);
     pgt_adjacency_destroy(&adj);
     if (r != PGT_OK) atlas_charts_destroy(out);
     return r;

@@ -132,6 +132,25 @@ static int pt_less(const void *a, const void *b) {
     return 0;
 }
 
+/* Below this many points a chart's hull points are sorted by insertion (most charts of a
+ * photogrammetry layout are a few triangles: qsort's calls cost more than the sort). */
+#define ATLAS_HULL_INSERTION_SORT 32u
+
+/* pts sorted by (x, y): the order pt_less defines (equal points are equal, so any stable or
+ * unstable sort gives the same sequence of values). */
+static void sort_points(pt2 *pts, uint32_t n) {
+    if (n > ATLAS_HULL_INSERTION_SORT) {
+        qsort(pts, n, sizeof(pt2), pt_less);
+        return;
+    }
+    for (uint32_t i = 1; i < n; ++i) {
+        const pt2 p = pts[i];
+        uint32_t j = i;
+        for (; j > 0 && pt_less(&p, &pts[j - 1u]) < 0; --j) pts[j] = pts[j - 1u];
+        pts[j] = p;
+    }
+}
+
 static double cross3(pt2 o, pt2 a, pt2 b) {
     return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
@@ -141,14 +160,17 @@ static double cross3(pt2 o, pt2 a, pt2 b) {
  * points in 8 directions cannot be on the hull and are dropped before sorting. */
 static uint32_t convex_hull(pt2 *pts, uint32_t n, pt2 *hull) {
     if (n > 16u) {
-        static const double dir[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
-                                         {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+        /* the first point farthest along each of the directions (1, 0), (1, 1), (0, 1),
+         * (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1): x, x + y, y, y - x, -x, -x - y, -y,
+         * x - y (the products by 0 and 1 of a dot product are exact) */
         uint32_t ext[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        for (uint32_t i = 1; i < n; ++i)
+        double best[8];
+        for (uint32_t i = 0; i < n; ++i) {
+            const double x = pts[i].x, y = pts[i].y;
+            const double key[8] = {x, x + y, y, y - x, -x, -x - y, -y, x - y};
             for (uint32_t k = 0; k < 8; ++k)
-                if (pts[i].x * dir[k][0] + pts[i].y * dir[k][1] >
-                    pts[ext[k]].x * dir[k][0] + pts[ext[k]].y * dir[k][1])
-                    ext[k] = i;
+                if (i == 0 || key[k] > best[k]) best[k] = key[k], ext[k] = i;
+        }
         pt2 oct[8];
         for (uint32_t k = 0; k < 8; ++k) oct[k] = pts[ext[k]];
         uint32_t m = 0;
@@ -163,7 +185,7 @@ static uint32_t convex_hull(pt2 *pts, uint32_t n, pt2 *hull) {
         }
         n = m;
     }
-    qsort(pts, n, sizeof(pt2), pt_less);
+    sort_points(pts, n);
     uint32_t k = 0;
     for (uint32_t i = 0; i < n; ++i) {
         while (k >= 2 && cross3(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) k--;
@@ -181,6 +203,7 @@ typedef struct chart_box {
     double qx0, qy0, qx1, qy1; /* bounding box of the rotated UVs */
     double w, h;               /* in 3D units: (qx1 - qx0) s, (qy1 - qy0) s */
     double s;                  /* 3D length per UV unit */
+    double ca, sa;             /* cos and sin of angle */
 } chart_box;
 
 static void rotated_box(const pt2 *p, uint32_t n, double a, double *x0, double *y0, double *x1,
@@ -189,7 +212,11 @@ static void rotated_box(const pt2 *p, uint32_t n, double a, double *x0, double *
     *x0 = *y0 = INFINITY, *x1 = *y1 = -INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         const double x = ca * p[i].x - sa * p[i].y, y = sa * p[i].x + ca * p[i].y;
-        *x0 = fmin(*x0, x), *x1 = fmax(*x1, x), *y0 = fmin(*y0, y), *y1 = fmax(*y1, y);
+        /* finite values (UVs are checked): comparisons, as fmin and fmax would choose */
+        if (x < *x0) *x0 = x;
+        if (x > *x1) *x1 = x;
+        if (y < *y0) *y0 = y;
+        if (y > *y1) *y1 = y;
     }
 }
 
@@ -209,13 +236,14 @@ static chart_box chart_box_make(const pt2 *hull, uint32_t h, double s) {
         const double area = (x1 - x0) * (y1 - y0);
         if (area < best_area) {
             best_area = area;
-            best = (chart_box){a, x0, y0, x1, y1, 0, 0, s};
+            best = (chart_box){a, x0, y0, x1, y1, 0, 0, s, 0, 0};
         }
     }
     if (best.qy1 - best.qy0 > best.qx1 - best.qx0) {
         best.angle += 1.5707963267948966; /* a quarter turn */
         rotated_box(hull, h, best.angle, &best.qx0, &best.qy0, &best.qx1, &best.qy1);
     }
+    best.ca = cos(best.angle), best.sa = sin(best.angle);
     best.w = (best.qx1 - best.qx0) * s;
     best.h = (best.qy1 - best.qy0) * s;
     return best;
@@ -407,7 +435,7 @@ static pgt_result repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_ch
             continue;
         }
         const chart_box *b = &box[c];
-        const double ca = cos(b->angle), sa = sin(b->angle), k = b->s * g_lo;
+        const double ca = b->ca, sa = b->sa, k = b->s * g_lo;
         for (uint32_t v = 0; v < 3; ++v) {
             const float *uv = &ch->uvs[6u * f + 2u * v];
             const double qx = ca * uv[0] - sa * uv[1], qy = sa * uv[0] + ca * uv[1];

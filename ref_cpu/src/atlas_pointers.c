@@ -348,29 +348,62 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
     }
 }
 
+/* Bins of the radix selection: 16 bits of a float's pattern a pass. */
+#define SELECT_BINS 65536u
+
+typedef struct select_ctx {
+    const float *v;
+    const uint32_t *count;
+    size_t stride;
+    uint32_t *hist; /* per worker: SELECT_BINS counts */
+    uint32_t high;  /* the second pass: the high half sought (UINT32_MAX in the first) */
+} select_ctx;
+
+/* The worker's histogram of rows [y0, y1): of the high 16 bits of every value (first pass), or
+ * of the low 16 bits of the values whose high half is `high` (second pass). */
+static void histogram_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    const select_ctx *s = vctx;
+    uint32_t *hist = &s->hist[(size_t)worker * SELECT_BINS];
+    const uint32_t high = s->high;
+    for (uint32_t y = y0; y < y1; ++y) {
+        const float *v = &s->v[s->stride * y];
+        const uint32_t n = s->count[y];
+        uint32_t bits;
+        if (high == UINT32_MAX) {
+            for (uint32_t i = 0; i < n; ++i) memcpy(&bits, &v[i], 4), hist[bits >> 16]++;
+        } else {
+            for (uint32_t i = 0; i < n; ++i)
+                if (memcpy(&bits, &v[i], 4), bits >> 16 == high) hist[bits & 0xFFFFu]++;
+        }
+    }
+}
+
+/* The bin of the workers' summed histograms that holds rank *k; *k becomes the rank in it. */
+static uint32_t rank_bin(const uint32_t *hist, uint32_t workers, size_t *k) {
+    for (uint32_t b = 0;; ++b) {
+        size_t n = 0;
+        for (uint32_t w = 0; w < workers; ++w) n += hist[(size_t)w * SELECT_BINS + b];
+        if (b + 1u == SELECT_BINS || *k < n) return b;
+        *k -= n;
+    }
+}
+
 /* The k-th smallest (0-based) of the non-negative floats in rows of `v` (row y holds count[y]
- * values from v + stride * y): their bit patterns sort like the values, so two 16-bit radix
- * histograms find it exactly (no sort, no recursion). */
+ * <= stride values from v + stride * y): their bit patterns sort like the values, so two 16-bit
+ * radix histograms find it exactly (no sort, no recursion), each pass over the rows on up to
+ * `threads` threads with a histogram per worker. */
 static float select_nonnegative(const float *v, const uint32_t *count, uint32_t rows, size_t stride,
-                                size_t k) {
-    uint32_t *hist = calloc(65536u, sizeof(uint32_t));
+                                size_t k, uint32_t threads) {
+    const uint32_t workers = pgt_parallel_workers(threads);
+    uint32_t *hist = calloc((size_t)workers * SELECT_BINS, sizeof(uint32_t));
     if (!hist) return 0.0f;
-    uint32_t bits = 0, high, low;
-    for (uint32_t y = 0; y < rows; ++y)
-        for (uint32_t i = 0; i < count[y]; ++i) {
-            memcpy(&bits, &v[stride * y + i], 4);
-            hist[bits >> 16]++;
-        }
-    for (high = 0; high < 65535u && k >= hist[high]; ++high) k -= hist[high];
-    memset(hist, 0, 65536u * sizeof(uint32_t));
-    for (uint32_t y = 0; y < rows; ++y)
-        for (uint32_t i = 0; i < count[y]; ++i) {
-            memcpy(&bits, &v[stride * y + i], 4);
-            if (bits >> 16 == high) hist[bits & 0xFFFFu]++;
-        }
-    for (low = 0; low < 65535u && k >= hist[low]; ++low) k -= hist[low];
+    select_ctx s = {v, count, stride, hist, UINT32_MAX};
+    atlas_parallel_rows(rows, (uint32_t)stride, workers, histogram_rows, &s);
+    s.high = rank_bin(hist, workers, &k);
+    memset(hist, 0, (size_t)workers * SELECT_BINS * sizeof(uint32_t));
+    atlas_parallel_rows(rows, (uint32_t)stride, workers, histogram_rows, &s);
+    const uint32_t low = rank_bin(hist, workers, &k), bits = s.high << 16 | low;
     free(hist);
-    bits = high << 16 | low;
     float out;
     memcpy(&out, &bits, 4);
     return out;
@@ -440,7 +473,8 @@ static double texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch, u
         for (uint32_t y = 0; y < H; ++y) n += c.count[y];
         /* the lower median for an even count */
         if (n)
-            med = sqrt((double)select_nonnegative(c.d, c.count, H, 2u * (size_t)W, (n - 1u) / 2u));
+            med = sqrt((double)select_nonnegative(c.d, c.count, H, 2u * (size_t)W, (n - 1u) / 2u,
+                                                  threads));
     }
     free(c.d);
     free(c.count);
