@@ -69,9 +69,10 @@ typedef struct kd_build_item {
     uint32_t node, begin, end, depth;
 } kd_build_item;
 
-/* Depth of the serial top of the tree: its (at most) 2^KD_SERIAL_DEPTH subtrees below are built
- * in parallel. Fixed, so the tree is the same for any thread count; 16 subtrees balance a few
- * threads, and a level costs two passes over its points. */
+/* Depth of the top of the tree, built level by level (the nodes of a level in parallel: 1, 2, 4,
+ * 8); its (at most) 2^KD_SERIAL_DEPTH subtrees below are built in parallel. Fixed, so the tree
+ * is the same for any thread count; 16 subtrees balance a few threads, and a level costs two
+ * passes over its points. */
 #define KD_SERIAL_DEPTH 4u
 
 /* Nodes above this depth split at the middle of their bounding box's widest side (one partition
@@ -94,52 +95,75 @@ static uint32_t partition_below(kd_point *v, uint32_t b, uint32_t e, uint32_t ax
     }
 }
 
+/* The split of node item `it` over v[it.begin, it.end): the axis and plane (the middle of the
+ * bounding box's widest side, or the median where the middle leaves a side empty or below
+ * KD_MIDPOINT_DEPTH), with v partitioned at *mid. Returns 0, touching nothing, when the node is
+ * a leaf (few points, or `stack_top` + 2 entries would not fit the builder's stack). */
+static int split_node(kd_point *v, kd_build_item it, uint32_t stack_top, float *out_split,
+                      uint32_t *out_axis, uint32_t *out_mid) {
+    const uint32_t b = it.begin, e = it.end;
+    if (e - b <= PGT_KDTREE_LEAF_SIZE || it.depth + 1u >= PGT_KDTREE_MAX_DEPTH ||
+        stack_top + 2u > PGT_KDTREE_MAX_DEPTH)
+        return 0;
+    float lo[3], hi[3];
+    for (uint32_t k = 0; k < 3; ++k) lo[k] = hi[k] = v[b].p[k];
+    for (uint32_t i = b + 1u; i < e; ++i)
+        for (uint32_t k = 0; k < 3; ++k) {
+            if (v[i].p[k] < lo[k]) lo[k] = v[i].p[k];
+            if (v[i].p[k] > hi[k]) hi[k] = v[i].p[k];
+        }
+    uint32_t axis = 0;
+    for (uint32_t k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+    /* left: coordinates <= split, right: >= split (the search's contract) */
+    float split = lo[axis] + 0.5f * (hi[axis] - lo[axis]);
+    uint32_t mid = b;
+    if (it.depth < KD_MIDPOINT_DEPTH) mid = partition_below(v, b, e, axis, split);
+    if (mid == b || mid == e) { /* deep, or the middle leaves a side empty: the median */
+        mid = b + (e - b) / 2u;
+        select_kth(v, b, e, mid, axis);
+        split = v[mid].p[axis];
+    }
+    *out_split = split, *out_axis = axis, *out_mid = mid;
+    return 1;
+}
+
 /* Builds the subtree of points v[begin, end) at nodes[root] (depth `depth`), numbering new nodes
- * from *next in pairs. With `pending`, a node at depth KD_SERIAL_DEPTH that would split is left
- * to the caller: its item is appended to pending (the node stays unwritten). */
-static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root, uint32_t *next,
-                        kd_build_item *pending, uint32_t *n_pending) {
+ * from *next in pairs. */
+static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root, uint32_t *next) {
     kd_build_item stack[PGT_KDTREE_MAX_DEPTH + 2u];
     uint32_t top = 0;
     stack[top++] = root;
     while (top) {
         const kd_build_item it = stack[--top];
-        pgt_kdtree_node *n = &nodes[it.node];
-        const uint32_t b = it.begin, e = it.end;
-        if (e - b <= PGT_KDTREE_LEAF_SIZE || it.depth + 1u >= PGT_KDTREE_MAX_DEPTH ||
-            top + 2u > PGT_KDTREE_MAX_DEPTH) {
-            *n = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, b, e};
+        float split;
+        uint32_t axis, mid;
+        if (!split_node(v, it, top, &split, &axis, &mid)) {
+            nodes[it.node] = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, it.begin, it.end};
             continue;
-        }
-        if (pending && it.depth == KD_SERIAL_DEPTH) {
-            pending[(*n_pending)++] = it;
-            continue;
-        }
-        float lo[3], hi[3];
-        for (uint32_t k = 0; k < 3; ++k) lo[k] = hi[k] = v[b].p[k];
-        for (uint32_t i = b + 1u; i < e; ++i)
-            for (uint32_t k = 0; k < 3; ++k) {
-                if (v[i].p[k] < lo[k]) lo[k] = v[i].p[k];
-                if (v[i].p[k] > hi[k]) hi[k] = v[i].p[k];
-            }
-        uint32_t axis = 0;
-        for (uint32_t k = 1; k < 3; ++k)
-            if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
-        /* left: coordinates <= split, right: >= split (the search's contract) */
-        float split = lo[axis] + 0.5f * (hi[axis] - lo[axis]);
-        uint32_t mid = b;
-        if (it.depth < KD_MIDPOINT_DEPTH) mid = partition_below(v, b, e, axis, split);
-        if (mid == b || mid == e) { /* deep, or the middle leaves a side empty: the median */
-            mid = b + (e - b) / 2u;
-            select_kth(v, b, e, mid, axis);
-            split = v[mid].p[axis];
         }
         const uint32_t left = *next, right = *next + 1u;
         *next += 2u;
-        *n = (pgt_kdtree_node){split, axis, left, right};
-        stack[top++] = (kd_build_item){right, mid, e, it.depth + 1u};
-        stack[top++] = (kd_build_item){left, b, mid, it.depth + 1u};
+        nodes[it.node] = (pgt_kdtree_node){split, axis, left, right};
+        stack[top++] = (kd_build_item){right, mid, it.end, it.depth + 1u};
+        stack[top++] = (kd_build_item){left, it.begin, mid, it.depth + 1u};
     }
+}
+
+/* One level of the top of the tree: its nodes split in parallel, each into its own slot. */
+typedef struct kd_level {
+    kd_point *v;
+    const kd_build_item *items;
+    int *splits; /* per item: split_node's answer */
+    float *plane;
+    uint32_t *axis, *mid;
+} kd_level;
+
+static void split_level(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const kd_level *l = vctx;
+    (void)worker;
+    for (uint32_t i = begin; i < end; ++i)
+        l->splits[i] = split_node(l->v, l->items[i], 0, &l->plane[i], &l->axis[i], &l->mid[i]);
 }
 
 /* The subtrees below the serial top, each built into its own node array (local node 0 is its
@@ -154,6 +178,29 @@ typedef struct kd_subtrees {
 /* The weight of a subtree for pgt_parallel_for_items: each one is a thread's worth of work. */
 #define KD_SUBTREE_WEIGHT 4096u
 
+/* The points in and out of build order: v <- xyz (into) or xyz, ids <- v (out), in parallel. */
+typedef struct kd_copy {
+    kd_point *v;
+    const float *in;
+    pgt_kdtree *out;
+} kd_copy;
+
+static void copy_points(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const kd_copy *c = vctx;
+    (void)worker;
+    if (c->in) {
+        for (uint32_t i = begin; i < end; ++i) {
+            memcpy(c->v[i].p, &c->in[3u * (size_t)i], 3u * sizeof(float));
+            c->v[i].id = i;
+        }
+        return;
+    }
+    for (uint32_t i = begin; i < end; ++i) {
+        memcpy(&c->out->xyz[3u * (size_t)i], c->v[i].p, 3u * sizeof(float));
+        c->out->ids[i] = c->v[i].id;
+    }
+}
+
 static void build_subtrees(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
     const kd_subtrees *s = vctx;
     (void)worker;
@@ -161,8 +208,30 @@ static void build_subtrees(void *vctx, uint32_t begin, uint32_t end, uint32_t wo
         kd_build_item root = s->items[i];
         root.node = 0;
         uint32_t next = 1;
-        build_nodes(s->nodes[i], s->v, root, &next, NULL, NULL);
+        build_nodes(s->nodes[i], s->v, root, &next);
         s->counts[i] = next;
+    }
+}
+
+/* Subtree i's local node k goes to node items[i].node (k = 0) or first[i] + k - 1, its
+ * children renumbered alike; in parallel over the subtrees once first[] is known. */
+typedef struct kd_place {
+    const kd_subtrees *s;
+    const uint32_t *first;
+    pgt_kdtree_node *nodes;
+} kd_place;
+
+static void place_subtrees(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const kd_place *p = vctx;
+    (void)worker;
+    for (uint32_t i = begin; i < end; ++i) {
+        const pgt_kdtree_node *sn = p->s->nodes[i];
+        const uint32_t shift = p->first[i] - 1u;
+        for (uint32_t k = 0; k < p->s->counts[i]; ++k) {
+            pgt_kdtree_node n = sn[k];
+            if (n.axis != PGT_KDTREE_LEAF) n.a += shift, n.b += shift;
+            p->nodes[k ? shift + k : p->s->items[i].node] = n;
+        }
     }
 }
 
@@ -190,11 +259,41 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, u
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_kdtree_build: out of memory");
         goto done;
     }
-    for (uint32_t i = 0; i < count; ++i) {
-        memcpy(v[i].p, &xyz[3u * (size_t)i], 3u * sizeof(float));
-        v[i].id = i;
+    kd_copy copy = {v, xyz, out};
+    pgt_parallel_for(count, threads, copy_points, &copy);
+    /* The top KD_SERIAL_DEPTH levels level by level, the nodes of a level in parallel (the
+     * root alone, then 2, 4, 8), numbered in level order; the items left at depth
+     * KD_SERIAL_DEPTH are the subtrees. */
+    {
+        kd_build_item level[1u << KD_SERIAL_DEPTH];
+        int splits[1u << KD_SERIAL_DEPTH];
+        float plane[1u << KD_SERIAL_DEPTH];
+        uint32_t axis[1u << KD_SERIAL_DEPTH], mid[1u << KD_SERIAL_DEPTH], n_level = 1;
+        level[0] = (kd_build_item){0, 0, count, 0};
+        for (uint32_t depth = 0; depth < KD_SERIAL_DEPTH && n_level; ++depth) {
+            kd_level l = {v, level, splits, plane, axis, mid};
+            pgt_parallel_for_items(n_level, KD_SUBTREE_WEIGHT, threads, split_level, &l);
+            kd_build_item next[1u << KD_SERIAL_DEPTH];
+            uint32_t n_next = 0;
+            for (uint32_t i = 0; i < n_level; ++i) {
+                const kd_build_item it = level[i];
+                if (!splits[i]) {
+                    out->nodes[it.node] =
+                        (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, it.begin, it.end};
+                    continue;
+                }
+                const uint32_t left = nodes, right = nodes + 1u;
+                nodes += 2u;
+                out->nodes[it.node] = (pgt_kdtree_node){plane[i], axis[i], left, right};
+                next[n_next++] = (kd_build_item){left, it.begin, mid[i], depth + 1u};
+                next[n_next++] = (kd_build_item){right, mid[i], it.end, depth + 1u};
+            }
+            memcpy(level, next, sizeof(kd_build_item) * n_next);
+            n_level = n_next;
+        }
+        memcpy(pending, level, sizeof(kd_build_item) * n_level);
+        n_pending = n_level;
     }
-    build_nodes(out->nodes, v, (kd_build_item){0, 0, count, 0}, &nodes, pending, &n_pending);
     for (uint32_t i = 0; i < n_pending; ++i) {
         sub_nodes[i] =
             malloc(sizeof(pgt_kdtree_node) * (2u * (pending[i].end - pending[i].begin) + 1u));
@@ -205,21 +304,14 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, u
     }
     kd_subtrees s = {v, pending, sub_nodes, sub_counts};
     pgt_parallel_for_items(n_pending, KD_SUBTREE_WEIGHT, threads, build_subtrees, &s);
-    /* subtree i's local node k is node pending[i].node (k = 0) or nodes + k - 1 */
-    for (uint32_t i = 0; i < n_pending; ++i) {
-        const pgt_kdtree_node *sn = sub_nodes[i];
-        for (uint32_t k = 0; k < sub_counts[i]; ++k) {
-            pgt_kdtree_node n = sn[k];
-            if (n.axis != PGT_KDTREE_LEAF) n.a += nodes - 1u, n.b += nodes - 1u;
-            out->nodes[k ? nodes + k - 1u : pending[i].node] = n;
-        }
-        nodes += sub_counts[i] - 1u;
-    }
+    /* subtree i's nodes after those of the subtrees before it, its root in place */
+    uint32_t first[1u << KD_SERIAL_DEPTH];
+    for (uint32_t i = 0; i < n_pending; ++i) first[i] = nodes, nodes += sub_counts[i] - 1u;
+    kd_place place = {&s, first, out->nodes};
+    pgt_parallel_for_items(n_pending, KD_SUBTREE_WEIGHT, threads, place_subtrees, &place);
     out->node_count = nodes;
-    for (uint32_t i = 0; i < count; ++i) {
-        memcpy(&out->xyz[3u * (size_t)i], v[i].p, 3u * sizeof(float));
-        out->ids[i] = v[i].id;
-    }
+    copy.in = NULL;
+    pgt_parallel_for(count, threads, copy_points, &copy);
 done:
     for (uint32_t i = 0; i < n_pending; ++i) free(sub_nodes[i]);
     free(v);

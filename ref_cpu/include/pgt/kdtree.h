@@ -43,8 +43,8 @@ typedef struct pgt_kdtree {
 } pgt_kdtree;
 
 /* Builds a tree over count points xyz[3*i .. 3*i+2] (finite). count may be 0. The top levels
- * are built serially and the subtrees below them on up to `threads` threads (0 means 1); the
- * tree is the same for any thread count. */
+ * are split level by level and the subtrees below them built on up to `threads` threads (0
+ * means 1); the tree is the same for any thread count. */
 pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, uint32_t threads,
                             pgt_error *err);
 
