@@ -326,7 +326,7 @@ int pgt_cli_read_context(const char *verb, const char *flag, const char *path, c
         free(px);
     } else {
         pgt_image img = {0};
-        if (pgt_image_read_exr(&img, path, &err) != PGT_OK)
+        if (pgt_image_read_exr_threads(&img, path, pgt_cli_cpu_count(), &err) != PGT_OK)
             return pgt_cli_fail(verb, "%s %s", flag, err.message), -1;
         int32_t c = pgt_image_find_channel(&img, channel);
         if (c < 0) c = pgt_image_find_channel(&img, "Y");

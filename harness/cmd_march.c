@@ -246,7 +246,8 @@ int pgt_cmd_march(int argc, char **argv) {
     pgt_march_atlas atlas = {0};
     float *mask = NULL, *density = NULL;
     int rc = PGT_EXIT_USAGE;
-    if (pgt_image_read_exr(&img, in_path, &err) != PGT_OK ||
+    /* the march is one walker; the atlas decodes on every CPU */
+    if (pgt_image_read_exr_threads(&img, in_path, pgt_cli_cpu_count(), &err) != PGT_OK ||
         pgt_march_atlas_create(&atlas, &img, in_path, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;

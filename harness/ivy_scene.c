@@ -17,7 +17,7 @@ int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, ui
     pgt_error err = {0};
     const double t0 = pgt_cli_now_ms();
     if (pgt_cli_ends_with_ci(path, ".exr")) {
-        if (pgt_image_read_exr(&s->img, path, &err) != PGT_OK) goto fail;
+        if (pgt_image_read_exr_threads(&s->img, path, threads, &err) != PGT_OK) goto fail;
     } else {
         pgt_mesh mesh = {0};
         if (pgt_cli_load_named(path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) goto fail;

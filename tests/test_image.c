@@ -606,6 +606,24 @@ static void test_exr_truncations(void) {
     }
 }
 
+/* Reads the file at path on one thread and on several: the same result code, the same message
+ * (that of the first failing chunk in file order) and, when it reads, the same image. */
+static int same_read_any_threads(const char *path) {
+    pgt_image one, many;
+    pgt_error e1, e4;
+    pgt_error_clear(&e1), pgt_error_clear(&e4);
+    const pgt_result r1 = pgt_image_read_exr_threads(&one, path, 1, &e1);
+    const pgt_result r4 = pgt_image_read_exr_threads(&many, path, 4, &e4);
+    int same = r1 == r4 && strcmp(e1.message, e4.message) == 0;
+    if (same && r1 == PGT_OK) same = same_image(&one, &many);
+    if (!same)
+        fprintf(stderr, "  %s: one thread %s (%s), four %s (%s)\n", path, pgt_result_name(r1),
+                e1.message, pgt_result_name(r4), e4.message);
+    pgt_image_destroy(&one);
+    pgt_image_destroy(&many);
+    return same;
+}
+
 static void test_exr_garbage_and_mutations(void) {
     pgt_image img;
     pgt_error err;
@@ -623,7 +641,9 @@ static void test_exr_garbage_and_mutations(void) {
         unsigned char *data = make_exr(kind, &size);
         REQUIRE(data != NULL);
         unsigned char *copy = malloc(size);
-        int ok = 0, failed = 0;
+        int ok = 0, failed = 0, differ = 0;
+        scratch_make();
+        REQUIRE(scratch[0] != '\0');
         for (int i = 0; i < 1500; ++i) {
             memcpy(copy, data, size);
             int changes = 1 + (int)(rnd() % 4);
@@ -634,6 +654,12 @@ static void test_exr_garbage_and_mutations(void) {
                 copy[at] = (unsigned char)(rnd() % 3 ? rnd() : copy[at] ^ (1u << (rnd() % 8)));
             }
             pgt_result r = read_mem(&img, copy, size, "mutant.exr", &err);
+            /* every third mutant also from a file, decoded on one thread and on four */
+            if (i % 3 == 0) {
+                const char *path = scratch_path("mutant.exr");
+                REQUIRE(save_file(path, copy, size) == 0);
+                differ += !same_read_any_threads(path);
+            }
             if (r == PGT_OK) {
                 ok++;
                 CHECK(img.width >= 1 && img.width <= PGT_IMAGE_MAX_SIDE && img.height >= 1 &&
@@ -645,9 +671,83 @@ static void test_exr_garbage_and_mutations(void) {
             }
         }
         printf("  exr kind %d (%zu bytes): %d mutants read, %d rejected\n", kind, size, ok, failed);
+        CHECK_MSG(differ == 0, "kind %d: %d mutants read differently on four threads", kind,
+                  differ);
+        scratch_remove();
         free(copy);
         free(data);
     }
+}
+
+/* Damaged files large enough to decode on several threads (the pool takes 4096 pixels a thread
+ * at least): pgt's ZIP scanlines (13 chunks), RLE scanlines (one row a chunk) and uncompressed
+ * 16 x 16 tiles. Bytes changed past the header, in the offset table and chunks, so that some
+ * chunks fail to decode: one thread and four give the same code, message and image. */
+static void test_exr_threads_damaged(void) {
+    enum { W = 160, H = 200 };
+    static uint16_t half[W * H];
+    static float floats[W * H];
+    for (int i = 0; i < W * H; ++i) {
+        half[i] = (uint16_t)(0x3800 + (i % 97));
+        floats[i] = sinf((float)i * 0.01f);
+    }
+    scratch_make();
+    REQUIRE(scratch[0] != '\0');
+    rng_state = 5;
+    for (int kind = 0; kind < 3; ++kind) {
+        const char *base = scratch_path("base.exr");
+        if (kind == 0) {
+            static const char *const names[] = {"R", "G", "B", "depth"};
+            pgt_image img;
+            REQUIRE(pgt_image_create(&img, W, H, 4, names, NULL) == PGT_OK);
+            for (size_t i = 0; i < (size_t)W * H * 4; ++i) img.data[i] = (float)(i % 50) * 0.5f;
+            REQUIRE(pgt_image_write_exr(&img, base, NULL) == PGT_OK);
+            pgt_image_destroy(&img);
+        } else {
+            const capi_file f = {0,
+                                 0,
+                                 W,
+                                 H,
+                                 kind == 2 ? EXR_STORAGE_TILED : EXR_STORAGE_SCANLINE,
+                                 16,
+                                 16,
+                                 kind == 2 ? EXR_COMPRESSION_NONE : EXR_COMPRESSION_RLE,
+                                 EXR_LINEORDER_INCREASING_Y,
+                                 2,
+                                 {{"Y", EXR_PIXEL_HALF, half}, {"Z", EXR_PIXEL_FLOAT, floats}}};
+            REQUIRE(capi_write(base, &f) == 0);
+        }
+        size_t size = 0;
+        unsigned char *data = load_file(base, &size);
+        REQUIRE(data != NULL && size > 1000);
+        CHECK(same_read_any_threads(base));
+        unsigned char *copy = malloc(size);
+        REQUIRE(copy != NULL);
+        int differ = 0, failed = 0;
+        for (int i = 0; i < 150; ++i) {
+            memcpy(copy, data, size);
+            const int changes = 1 + (int)(rnd() % 3);
+            for (int c = 0; c < changes; ++c) {
+                const size_t at = 400u + rnd() % (size - 400u); /* past the header */
+                copy[at] = (unsigned char)(rnd() % 2 ? rnd() : copy[at] ^ (1u << (rnd() % 8)));
+            }
+            const char *path = scratch_path("damaged.exr");
+            REQUIRE(save_file(path, copy, size) == 0);
+            pgt_image img;
+            pgt_error err;
+            pgt_error_clear(&err);
+            failed += pgt_image_read_exr(&img, path, &err) != PGT_OK;
+            pgt_image_destroy(&img);
+            differ += !same_read_any_threads(path);
+        }
+        printf("  kind %d (%zu bytes): %d of 150 damaged files rejected\n", kind, size, failed);
+        CHECK_MSG(differ == 0, "kind %d: %d damaged files read differently on four threads", kind,
+                  differ);
+        CHECK(failed > 0); /* the error path was taken */
+        free(copy);
+        free(data);
+    }
+    scratch_remove();
 }
 
 static void test_malformed_corpus(void) {
@@ -677,6 +777,7 @@ static void test_malformed_corpus(void) {
             r = pgt_image_read_exr(&img, path, &err);
             zeroed = image_is_zero(&img);
             if (r == PGT_OK) pgt_image_destroy(&img);
+            CHECK_MSG(same_read_any_threads(path), "%s: read differently on four threads", fname);
             /* The memory reader shares the code path: same code, its name in the message. */
             size_t size = 0;
             unsigned char *data = load_file(path, &size);
@@ -1133,6 +1234,7 @@ static const pgt_test_case cases[] = {
     {"exr_tiled", test_exr_tiled},
     {"exr_truncations", test_exr_truncations},
     {"exr_garbage_and_mutations", test_exr_garbage_and_mutations},
+    {"exr_threads_damaged", test_exr_threads_damaged},
     {"malformed_corpus", test_malformed_corpus},
     {"png_round_trip", test_png_round_trip},
     {"png_variants", test_png_variants},

@@ -13,6 +13,7 @@
 #include "pgt/image.h"
 
 #include <errno.h>
+#include <stdatomic.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,11 +35,23 @@ typedef struct exr_stream {
     int fd;                   /* -1 when reading from memory */
     const unsigned char *mem; /* memory reading */
     uint64_t size;            /* reading: bytes in the file, fixed when it was opened */
-    int io_errno;             /* the first failed read or write, 0 if none */
+    _Atomic int io_errno;     /* the first failed read or write, 0 if none */
     int chunks_checked;       /* reading: check_chunks found every chunk inside the file */
     const char *compression;  /* reading: the file's compression, once the header is read */
     char lib_msg[256];        /* the library's last error message */
+    /* a decoding worker's stream, for its messages: the stream the library reads through,
+     * whose io_errno counts (NULL: this one) */
+    const struct exr_stream *io;
 } exr_stream;
+
+/* The first failed read or write of the file behind s, 0 if none. */
+static int stream_errno(const exr_stream *s) { return (s->io ? s->io : s)->io_errno; }
+
+/* Records errno e as the stream's first failure (reads may run on several threads). */
+static void stream_fail(exr_stream *s, int e) {
+    int none = 0;
+    atomic_compare_exchange_strong(&s->io_errno, &none, e);
+}
 
 /* OpenEXRCore reports errors through a callback, sometimes while it holds its context lock, so
  * the callback must not call back into the library (exr_get_user_data would take that lock
@@ -69,7 +82,7 @@ static int64_t stream_read(exr_const_context_t ctxt, void *userdata, void *buffe
             pread(s->fd, (char *)buffer + done, (size_t)(n - done), (off_t)(offset + done));
         if (got < 0 && errno == EINTR) continue;
         if (got < 0) {
-            if (!s->io_errno) s->io_errno = errno;
+            stream_fail(s, errno);
             return -1;
         }
         if (got == 0) break; /* the file shrank since we measured it: a short read */
@@ -94,7 +107,7 @@ static int64_t stream_write(exr_const_context_t ctxt, void *userdata, const void
             pwrite(s->fd, (const char *)buffer + done, (size_t)(sz - done), (off_t)(offset + done));
         if (put < 0 && errno == EINTR) continue;
         if (put <= 0) {
-            if (!s->io_errno) s->io_errno = put < 0 ? errno : EIO;
+            stream_fail(s, put < 0 ? errno : EIO);
             return -1;
         }
         done += (uint64_t)put;
@@ -122,9 +135,9 @@ static exr_context_initializer_t stream_initializer(exr_stream *s) {
  * read of our own descriptor is I/O; everything the library rejects as malformed is a parse
  * error. */
 static pgt_result read_fail(exr_stream *s, exr_result_t rv, const char *what, pgt_error *err) {
-    if (s->io_errno)
+    if (stream_errno(s))
         return pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", s->name,
-                             strerror(s->io_errno));
+                             strerror(stream_errno(s)));
     pgt_result code = PGT_ERROR_PARSE;
     if (rv == EXR_ERR_OUT_OF_MEMORY)
         code = PGT_ERROR_OUT_OF_MEMORY;
@@ -232,9 +245,9 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, pgt_error *e
     c.s = s;
     unsigned char version[8];
     if (stream_read(NULL, s, version, 8, 0, NULL) != 8)
-        return s->io_errno ? PGT_OK
-                           : pgt_error_set(err, PGT_ERROR_TRUNCATED,
-                                           "%s: the file ends in its version field", s->name);
+        return stream_errno(s) ? PGT_OK
+                               : pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                                               "%s: the file ends in its version field", s->name);
     const int multipart = (version[5] & 0x10) != 0; /* version flag bit 12 */
     c.pos = 8;
     for (int part = 0, attr = 0;;) {
@@ -434,11 +447,15 @@ static pgt_result decode_chunk(exr_context_t ctxt, exr_stream *s, const exr_layo
                              "pixels need",
                              name, ci->idx, (unsigned long long)ci->packed_size,
                              (unsigned long long)ci->unpacked_size);
+    /* failures name the chunk and its pixels */
+    char what[96];
+    snprintf(what, sizeof(what), "pixel data of chunk %d (%d x %d pixels at %u, %u)", ci->idx,
+             ci->width, ci->height, x0, y0);
     if (*dec_live) {
-        READ_CALL(exr_decoding_update(ctxt, 0, ci, dec), "pixel data");
+        READ_CALL(exr_decoding_update(ctxt, 0, ci, dec), what);
     } else {
         *dec_live = 1; /* exr_decoding_destroy also frees what a failed initialize left */
-        READ_CALL(exr_decoding_initialize(ctxt, 0, ci, dec), "pixel data");
+        READ_CALL(exr_decoding_initialize(ctxt, 0, ci, dec), what);
     }
     if ((uint32_t)dec->channel_count != img->channel_count)
         return pgt_error_set(err, PGT_ERROR_PARSE, "%s: chunk %d decodes %d channels, not %u", name,
@@ -458,69 +475,149 @@ static pgt_result decode_chunk(exr_context_t ctxt, exr_stream *s, const exr_layo
         cc->user_bytes_per_element = (int16_t)sizeof(float);
     }
     /* Chosen again for every chunk: the pointers moved, and the choice is cheap. */
-    READ_CALL(exr_decoding_choose_default_routines(ctxt, 0, dec), "pixel data");
-    READ_CALL(exr_decoding_run(ctxt, 0, dec), "pixel data");
+    READ_CALL(exr_decoding_choose_default_routines(ctxt, 0, dec), what);
+    READ_CALL(exr_decoding_run(ctxt, 0, dec), what);
     return PGT_OK;
 }
 
-static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layout *lay,
-                              pgt_image *img, pgt_error *err) {
-    exr_decode_pipeline_t dec;
-    memset(&dec, 0, sizeof(dec));
-    int dec_live = 0;
-    pgt_result r = PGT_OK;
+/* A chunk to decode: its library record and where its pixels go. */
+typedef struct exr_chunk_in {
     exr_chunk_info_t ci;
-    if (lay->tiled) {
-        uint32_t tiles_x = (lay->width - 1) / lay->tile_w + 1;
-        uint32_t tiles_y = (lay->height - 1) / lay->tile_h + 1;
-        for (uint32_t ty = 0; ty < tiles_y && r == PGT_OK; ++ty)
-            for (uint32_t tx = 0; tx < tiles_x && r == PGT_OK; ++tx) {
-                memset(&ci, 0, sizeof(ci));
-                s->lib_msg[0] = '\0';
-                exr_result_t rv = exr_read_tile_chunk_info(ctxt, 0, (int)tx, (int)ty, 0, 0, &ci);
-                if (rv != EXR_ERR_SUCCESS) {
-                    r = read_fail(s, rv, "chunk", err);
-                    break;
-                }
-                if (ci.width > (int32_t)lay->tile_w || ci.height > (int32_t)lay->tile_h)
-                    r = pgt_error_set(err, PGT_ERROR_PARSE,
-                                      "%s: tile (%u, %u) is %d x %d, larger than %u x %u", s->name,
-                                      tx, ty, ci.width, ci.height, lay->tile_w, lay->tile_h);
-                else
-                    r = decode_chunk(ctxt, s, lay, &ci, tx * lay->tile_w, ty * lay->tile_h, img,
-                                     &dec, &dec_live, err);
-            }
-    } else {
-        int64_t end = (int64_t)lay->min_y + lay->height;
-        for (int64_t y = lay->min_y; y < end && r == PGT_OK; y += lay->scanlines_per_chunk) {
-            memset(&ci, 0, sizeof(ci));
-            s->lib_msg[0] = '\0';
-            exr_result_t rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &ci);
+    uint32_t x0, y0;
+} exr_chunk_in;
+
+/* A worker's decode pipeline (one per thread on the shared context), the library's messages of
+ * its calls (its reads go through the file's stream, whose io_errno counts) and its first
+ * failure. */
+typedef struct exr_decoder {
+    exr_decode_pipeline_t dec;
+    int live;
+    exr_stream msg;
+    uint32_t failed_chunk; /* UINT32_MAX while none failed */
+    pgt_error err;
+} exr_decoder;
+
+typedef struct exr_decode_job {
+    exr_context_t ctxt;
+    const exr_layout *lay;
+    const exr_chunk_in *chunks;
+    pgt_image *img;
+    exr_decoder *workers;
+} exr_decode_job;
+
+/* Decodes chunks [begin, end) until the worker's first failure. A worker takes its blocks in
+ * increasing order, so the chunks it skips come after its failure: the lowest failing chunk of
+ * all workers is the one a serial read would have stopped at. */
+static void decode_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const exr_decode_job *j = vctx;
+    exr_decoder *d = &j->workers[worker];
+    exr_stream *const caller = current_stream; /* the caller's thread runs a range too */
+    current_stream = &d->msg;
+    for (uint32_t i = begin; i < end && d->failed_chunk == UINT32_MAX; ++i) {
+        const exr_chunk_in *c = &j->chunks[i];
+        if (decode_chunk(j->ctxt, &d->msg, j->lay, &c->ci, c->x0, c->y0, j->img, &d->dec, &d->live,
+                         &d->err) != PGT_OK)
+            d->failed_chunk = i;
+    }
+    current_stream = caller;
+}
+
+/* The chunks' records in file order (serially: the library's lookups of the offset table),
+ * then their pixels decoded on up to `threads` threads, each chunk on its own. Errors are those
+ * of a serial read: the first failing chunk's, a record's or its decoding's. */
+static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layout *lay,
+                              pgt_image *img, uint32_t threads, pgt_error *err) {
+    pgt_result r = PGT_OK;
+    const uint32_t tiles_x = lay->tiled ? (lay->width - 1) / lay->tile_w + 1 : 1;
+    const uint32_t tiles_y = lay->tiled ? (lay->height - 1) / lay->tile_h + 1 : 0;
+    const uint32_t count =
+        lay->tiled ? tiles_x * tiles_y
+                   : (uint32_t)((lay->height + (uint32_t)lay->scanlines_per_chunk - 1u) /
+                                (uint32_t)lay->scanlines_per_chunk);
+    const uint32_t workers = pgt_parallel_workers(threads);
+    exr_chunk_in *chunks = calloc(count ? count : 1u, sizeof(exr_chunk_in));
+    exr_decoder *dec = calloc(workers, sizeof(exr_decoder));
+    if (!chunks || !dec) {
+        free(chunks);
+        free(dec);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (pixel data)",
+                             s->name);
+    }
+    /* the records; n: how many are good, r: the failure of record n when n < count */
+    pgt_error rec_err = {0};
+    uint32_t n = 0;
+    for (; n < count; ++n) {
+        exr_chunk_in *c = &chunks[n];
+        s->lib_msg[0] = '\0';
+        exr_result_t rv;
+        if (lay->tiled) {
+            const uint32_t tx = n % tiles_x, ty = n / tiles_x;
+            rv = exr_read_tile_chunk_info(ctxt, 0, (int)tx, (int)ty, 0, 0, &c->ci);
             if (rv != EXR_ERR_SUCCESS) {
-                r = read_fail(s, rv, "chunk", err);
+                r = read_fail(s, rv, "chunk", &rec_err);
                 break;
             }
-            if ((int64_t)ci.start_y != y || ci.width != (int32_t)lay->width)
-                r = pgt_error_set(err, PGT_ERROR_PARSE,
+            if (c->ci.width > (int32_t)lay->tile_w || c->ci.height > (int32_t)lay->tile_h) {
+                r = pgt_error_set(&rec_err, PGT_ERROR_PARSE,
+                                  "%s: tile (%u, %u) is %d x %d, larger than %u x %u", s->name, tx,
+                                  ty, c->ci.width, c->ci.height, lay->tile_w, lay->tile_h);
+                break;
+            }
+            c->x0 = tx * lay->tile_w, c->y0 = ty * lay->tile_h;
+        } else {
+            const int64_t y = (int64_t)lay->min_y + (int64_t)n * lay->scanlines_per_chunk;
+            rv = exr_read_scanline_chunk_info(ctxt, 0, (int)y, &c->ci);
+            if (rv != EXR_ERR_SUCCESS) {
+                r = read_fail(s, rv, "chunk", &rec_err);
+                break;
+            }
+            if ((int64_t)c->ci.start_y != y || c->ci.width != (int32_t)lay->width) {
+                r = pgt_error_set(&rec_err, PGT_ERROR_PARSE,
                                   "%s: the chunk for row %lld starts at row %d and is %d wide",
-                                  s->name, (long long)y, ci.start_y, ci.width);
-            else
-                r = decode_chunk(ctxt, s, lay, &ci, 0, (uint32_t)(y - lay->min_y), img, &dec,
-                                 &dec_live, err);
+                                  s->name, (long long)y, c->ci.start_y, c->ci.width);
+                break;
+            }
+            c->x0 = 0, c->y0 = (uint32_t)(y - lay->min_y);
         }
     }
-    if (dec_live) exr_decoding_destroy(ctxt, &dec);
+    for (uint32_t w = 0; w < workers; ++w) {
+        dec[w].msg.name = s->name;
+        dec[w].msg.fd = s->fd;
+        dec[w].msg.size = s->size;
+        dec[w].msg.chunks_checked = s->chunks_checked;
+        dec[w].msg.compression = s->compression;
+        dec[w].msg.io = s;
+        dec[w].failed_chunk = UINT32_MAX;
+    }
+    exr_decode_job job = {ctxt, lay, chunks, img, dec};
+    /* a chunk weighs its pixels */
+    const uint32_t weight =
+        lay->tiled ? lay->tile_w * lay->tile_h : (uint32_t)lay->scanlines_per_chunk * lay->width;
+    pgt_parallel_for_items(n, weight, workers, decode_range, &job);
+    const exr_decoder *failed = NULL;
+    for (uint32_t w = 0; w < workers; ++w)
+        if (dec[w].failed_chunk != UINT32_MAX &&
+            (!failed || dec[w].failed_chunk < failed->failed_chunk))
+            failed = &dec[w];
+    if (failed)
+        r = pgt_error_set(err, failed->err.code, "%s", failed->err.message);
+    else if (r != PGT_OK)
+        r = pgt_error_set(err, rec_err.code, "%s", rec_err.message);
+    for (uint32_t w = 0; w < workers; ++w)
+        if (dec[w].live) exr_decoding_destroy(ctxt, &dec[w].dec);
+    free(chunks);
+    free(dec);
     return r;
 }
 
-static pgt_result read_stream(pgt_image *out, exr_stream *s, pgt_error *err) {
+static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, pgt_error *err) {
     memset(out, 0, sizeof(*out));
     if (s->size == 0) return pgt_error_set(err, PGT_ERROR_EMPTY, "%s: empty file", s->name);
     unsigned char head[4];
     size_t n = s->size < 4 ? (size_t)s->size : 4;
     if (stream_read(NULL, s, head, n, 0, NULL) != (int64_t)n)
         return pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", s->name,
-                             strerror(s->io_errno ? s->io_errno : EIO));
+                             strerror(stream_errno(s) ? stream_errno(s) : EIO));
     if (memcmp(head, exr_magic, n) != 0)
         return pgt_error_set(err, PGT_ERROR_PARSE,
                              "%s: not an OpenEXR file (it does not start with 76 2f 31 01)",
@@ -555,7 +652,7 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, pgt_error *err) {
     if (r == PGT_OK) {
         for (uint32_t c = 0; c < lay.channels; ++c)
             memcpy(out->names[c], ch->entries[c].name.str, (size_t)ch->entries[c].name.length + 1);
-        r = read_pixels(ctxt, s, &lay, out, err);
+        r = read_pixels(ctxt, s, &lay, out, threads, err);
     }
     if (ctxt) exr_finish(&ctxt);
     current_stream = NULL;
@@ -576,10 +673,15 @@ pgt_result pgt_image_read_exr_memory(pgt_image *out, const void *data, size_t si
     s.fd = -1;
     s.mem = data;
     s.size = size;
-    return read_stream(out, &s, err);
+    return read_stream(out, &s, 1u, err);
 }
 
 pgt_result pgt_image_read_exr(pgt_image *out, const char *path, pgt_error *err) {
+    return pgt_image_read_exr_threads(out, path, 1u, err);
+}
+
+pgt_result pgt_image_read_exr_threads(pgt_image *out, const char *path, uint32_t threads,
+                                      pgt_error *err) {
     memset(out, 0, sizeof(*out));
     if (!path || !path[0])
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "EXR read: no path");
@@ -599,7 +701,7 @@ pgt_result pgt_image_read_exr(pgt_image *out, const char *path, pgt_error *err) 
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: not a regular file", path);
     else {
         s.size = (uint64_t)st.st_size;
-        r = read_stream(out, &s, err);
+        r = read_stream(out, &s, threads, err);
     }
     close(s.fd);
     return r;
@@ -607,10 +709,11 @@ pgt_result pgt_image_read_exr(pgt_image *out, const char *path, pgt_error *err) 
 
 /* ---- writing ---- */
 
-static pgt_result write_fail(exr_stream *s, exr_result_t rv, const char *what, pgt_error *err) {
-    if (s->io_errno)
+static pgt_result write_fail(const exr_stream *s, exr_result_t rv, const char *what,
+                             pgt_error *err) {
+    if (stream_errno(s))
         return pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", s->name,
-                             strerror(s->io_errno));
+                             strerror(stream_errno(s)));
     const char *msg = s->lib_msg[0] ? s->lib_msg : exr_get_default_error_message(rv);
     return pgt_error_set(err, rv == EXR_ERR_OUT_OF_MEMORY ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_IO,
                          "%s: %s: %s (OpenEXR %s)", s->name, what, msg,
@@ -765,8 +868,7 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
             (!failed || job.workers[w].failed_chunk < failed->failed_chunk))
             failed = &job.workers[w];
     if (failed) {
-        exr_stream m = failed->msg;
-        r = write_fail(&m, failed->rv, "pixel data", err);
+        r = write_fail(&failed->msg, failed->rv, "pixel data", err);
         goto done;
     }
     for (uint32_t c = 0; c < count && r == PGT_OK; ++c) {
