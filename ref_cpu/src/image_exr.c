@@ -13,8 +13,8 @@
 #include "pgt/image.h"
 
 #include <errno.h>
-#include <stdatomic.h>
 #include <fcntl.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -771,7 +771,7 @@ static exr_result_t keep_chunk(exr_encode_pipeline_t *enc) {
     return EXR_ERR_SUCCESS;
 }
 
-/* The chunks are written in order by keep_chunk's caller: nothing to wait for here. */
+/* Nothing to wait for: write_pixels writes the kept chunks in order once all are done. */
 static exr_result_t no_wait(exr_encode_pipeline_t *enc) {
     (void)enc;
     return EXR_ERR_SUCCESS;
