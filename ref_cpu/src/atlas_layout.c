@@ -254,6 +254,13 @@ static uint32_t slot_side(double size, double g, uint32_t band) {
     return (t < 1.0 ? 1u : (t > 1e9 ? 1000000000u : (uint32_t)t)) + band;
 }
 
+/* Removes segment k of the skyline's S segments. */
+static void segment_remove(uint32_t *seg_x, uint32_t *seg_y, uint32_t *S, uint32_t k) {
+    memmove(&seg_x[k], &seg_x[k + 1u], sizeof(uint32_t) * (*S - k - 1u));
+    memmove(&seg_y[k], &seg_y[k + 1u], sizeof(uint32_t) * (*S - k - 1u));
+    (*S)--;
+}
+
 /* Bottom-left skyline packing of the charts in `order` at global scale g. The skyline is a
  * list of segments (start x, height y), sorted by x, covering [band, W); a slot is tried at
  * every segment start, and goes where its top is lowest (ties: leftmost). Returns 1 and fills
@@ -290,11 +297,12 @@ static int pack(const chart_box *box, const uint32_t *order, uint32_t n, double 
         S = S - removed + add;
         seg_x[best_i] = x0, seg_y[best_i] = top;
         if (tail) seg_x[best_i + 1u] = x1, seg_y[best_i + 1u] = tail_y;
-        /* merge equal neighbours so the list stays short */
-        uint32_t w = 0;
-        for (uint32_t r = 0; r < S; ++r)
-            if (w == 0 || seg_y[w - 1u] != seg_y[r]) seg_x[w] = seg_x[r], seg_y[w] = seg_y[r], w++;
-        S = w;
+        /* merge equal neighbours so the list stays short: no two were equal before, and a tail
+         * lies below the new segment (tail_y <= best_y < top), so only the new segment can equal
+         * its left neighbour or, without a tail, its right one; a merge keeps the left x */
+        uint32_t at = best_i;
+        if (at > 0u && seg_y[at - 1u] == top) segment_remove(seg_x, seg_y, &S, at--);
+        if (at + 1u < S && seg_y[at + 1u] == top) segment_remove(seg_x, seg_y, &S, at + 1u);
         X[c] = x0, Y[c] = best_y;
     }
     return 1;
