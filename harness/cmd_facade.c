@@ -242,13 +242,6 @@ static void ray_errors(uint32_t bits, char *buf, size_t size) {
             n += (size_t)snprintf(buf + n, n < size ? size - n : 0, "%s%s", n ? "; " : "", what[b]);
 }
 
-static uint8_t to_srgb8(float c) {
-    if (!(c > 0.0f)) return 0;
-    if (c >= 1.0f) return 255;
-    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-    return (uint8_t)(255.0f * s + 0.5f);
-}
-
 static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, uint32_t threads,
                             pgt_error *err) {
     static const char *names[10] = {"R",   "G",   "B",   "depth",  "terminal",
@@ -276,7 +269,7 @@ static pgt_result write_png(const pgt_facade_frame *fr, const char *path, pgt_er
     const size_t n = (size_t)fr->width * fr->height;
     uint8_t *px = malloc(3u * n);
     if (!px) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
-    for (size_t i = 0; i < 3u * n; ++i) px[i] = to_srgb8(fr->rgb[i]);
+    for (size_t i = 0; i < 3u * n; ++i) px[i] = pgt_png_linear_to_srgb8(fr->rgb[i]);
     const pgt_result r = pgt_png_write(path, fr->width, fr->height, 3, px, err);
     free(px);
     return r;

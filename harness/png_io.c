@@ -187,6 +187,13 @@ static int write_body(png_structp png, png_infop info, png_job *job, const uint8
     return 0;
 }
 
+uint8_t pgt_png_linear_to_srgb8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+    return (uint8_t)(255.0f * s + 0.5f);
+}
+
 pgt_result pgt_png_write(const char *path, uint32_t w, uint32_t h, uint32_t channels,
                          const uint8_t *pixels, pgt_error *err) {
     if (!path || !path[0])

@@ -14,6 +14,10 @@
  * atlas fits, and a hostile 16-byte IHDR cannot ask for gigabytes. */
 #define PGT_PNG_MAX_SIDE PGT_IMAGE_MAX_SIDE
 
+/* The 8-bit sRGB code of a linear value (the sRGB transfer function, rounded to nearest): 0 at
+ * or below 0 and for NaN, 255 at or above 1. For pictures rendered in linear light. */
+uint8_t pgt_png_linear_to_srgb8(float c);
+
 /* Writes an 8-bit PNG (colour type from `channels`, 1..4; zlib level 6, no interlacing).
  * Bad arguments are PGT_ERROR_INVALID_ARGUMENT (a side of 0, channels outside 1..4, NULL
  * pixels), a side above PGT_PNG_MAX_SIDE PGT_ERROR_LIMIT, both before anything is written;

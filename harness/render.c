@@ -17,6 +17,7 @@
 #include "cli.h"
 #include "pgt/image.h"
 #include "pgt/parallel.h"
+#include "png_io.h"
 
 #define RENDER_PI 3.14159265358979323846
 
@@ -215,13 +216,6 @@ static float srgb_to_linear(float c) {
     return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
 }
 
-static uint8_t linear_to_srgb8(float c) {
-    if (!(c > 0.0f)) return 0;
-    if (c >= 1.0f) return 255;
-    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-    return (uint8_t)(255.0f * s + 0.5f);
-}
-
 /* Linear radiance of one sample ray from the eye through image-plane point (px, py). */
 static void shade_sample(trace_job *job, struct RTCIntersectContext *ctx, float px, float py,
                          float rgb[3], uint64_t *rays) {
@@ -298,7 +292,8 @@ static void trace_rows(void *ctx_, uint32_t begin, uint32_t end, uint32_t worker
                                  (float)y + ((float)j + 0.5f) * inv_n, c, &rays);
                     for (int k = 0; k < 3; ++k) sum[k] += c[k];
                 }
-            for (int k = 0; k < 3; ++k) row[3u * x + k] = linear_to_srgb8(sum[k] * inv_count);
+            for (int k = 0; k < 3; ++k)
+                row[3u * x + k] = pgt_png_linear_to_srgb8(sum[k] * inv_count);
         }
     }
     job->rays[worker] += rays;
