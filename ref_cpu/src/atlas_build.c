@@ -13,6 +13,20 @@ void atlas_parallel_rows(uint32_t rows, uint32_t width, uint32_t threads, atlas_
     pgt_parallel_for_items(rows, width, threads, fn, ctx);
 }
 
+/* Per worker, which charts the texels of its rows belong to. */
+typedef struct seen_ctx {
+    const int32_t *texel_chart;
+    uint32_t width, charts;
+    uint8_t *seen; /* per worker: charts bytes */
+} seen_ctx;
+
+static void seen_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    const seen_ctx *c = vctx;
+    uint8_t *seen = &c->seen[(size_t)worker * c->charts];
+    for (size_t i = (size_t)y0 * c->width; i < (size_t)y1 * c->width; ++i)
+        if (c->texel_chart[i] >= 0) seen[c->texel_chart[i]] = 1;
+}
+
 pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas_options *opt,
                            pgt_atlas_stats *out_stats, pgt_error *err) {
     const double t_start = pgt_now_ms();
@@ -135,15 +149,22 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.fold_over_texels = rc.fold_over;
     st.packing_efficiency = (double)rc.inner / ((double)W * H);
     {
-        uint8_t *seen = calloc(charts.chart_count, 1);
-        if (!seen) {
+        /* charts without texels: each worker marks the charts of its rows in its own array */
+        const uint32_t workers = pgt_parallel_workers(threads);
+        seen_ctx sc = {texel_chart, W, charts.chart_count,
+                       calloc((size_t)workers * charts.chart_count, 1)};
+        if (!sc.seen) {
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
             goto done;
         }
-        for (size_t i = 0; i < (size_t)W * H; ++i)
-            if (texel_chart[i] >= 0) seen[texel_chart[i]] = 1;
-        for (uint32_t c = 0; c < charts.chart_count; ++c) st.empty_charts += !seen[c];
-        free(seen);
+        atlas_parallel_rows(H, W, workers, seen_rows, &sc);
+        for (uint32_t c = 0; c < charts.chart_count; ++c) {
+            uint8_t any = 0;
+            for (uint32_t w = 0; w < workers; ++w)
+                any |= sc.seen[(size_t)w * charts.chart_count + c];
+            st.empty_charts += !any;
+        }
+        free(sc.seen);
     }
     st.ms_raster = pgt_now_ms() - t;
 
