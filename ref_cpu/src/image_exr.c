@@ -127,6 +127,63 @@ static exr_context_initializer_t stream_initializer(exr_stream *s) {
     return init;
 }
 
+/* ---- chunks on several threads (reading and writing) ---- */
+
+/* A worker of a pass over chunks: the stream that the library's messages of its calls go to
+ * (on_exr_error finds it through current_stream; its `io` is the file's stream, whose io_errno
+ * counts) and its first failing chunk. The pass's job keeps the worker's pipeline and why it
+ * failed. */
+typedef struct exr_worker {
+    exr_stream msg;
+    uint32_t failed_chunk; /* UINT32_MAX while none failed */
+} exr_worker;
+
+/* Does chunk `chunk` on worker `worker` of `job`; 0 when it failed. */
+typedef int (*exr_chunk_fn)(void *job, uint32_t worker, uint32_t chunk);
+
+typedef struct exr_chunk_pass {
+    exr_chunk_fn fn;
+    void *job;
+    exr_worker *workers;
+} exr_chunk_pass;
+
+static void chunk_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
+    const exr_chunk_pass *p = vctx;
+    exr_worker *w = &p->workers[worker];
+    exr_stream *const caller = current_stream; /* the caller's thread runs a range too */
+    current_stream = &w->msg;
+    for (uint32_t i = begin; i < end && w->failed_chunk == UINT32_MAX; ++i) {
+        w->msg.lib_msg[0] = '\0';
+        if (!p->fn(p->job, worker, i)) w->failed_chunk = i;
+    }
+    current_stream = caller;
+}
+
+/* Runs fn over chunks [0, count), each weighing `weight` pixels, on the `count_workers` workers
+ * w (messages named after stream s), each until its first failure. Returns the worker whose
+ * failing chunk is the lowest, -1 when none failed: a worker takes its blocks in increasing
+ * order and skips only chunks after its failure, so that is the chunk a serial pass stops at. */
+static int32_t run_chunks(exr_worker *w, uint32_t count_workers, const exr_stream *s,
+                          uint32_t count, uint32_t weight, exr_chunk_fn fn, void *job) {
+    for (uint32_t i = 0; i < count_workers; ++i) {
+        w[i].msg.name = s->name;
+        w[i].msg.fd = s->fd;
+        w[i].msg.size = s->size;
+        w[i].msg.chunks_checked = s->chunks_checked;
+        w[i].msg.compression = s->compression;
+        w[i].msg.io = s;
+        w[i].failed_chunk = UINT32_MAX;
+    }
+    exr_chunk_pass p = {fn, job, w};
+    pgt_parallel_for_items(count, weight, count_workers, chunk_range, &p);
+    int32_t failed = -1;
+    for (uint32_t i = 0; i < count_workers; ++i)
+        if (w[i].failed_chunk != UINT32_MAX &&
+            (failed < 0 || w[i].failed_chunk < w[failed].failed_chunk))
+            failed = (int32_t)i;
+    return failed;
+}
+
 /* ---- reading ---- */
 
 /* Maps a failed library call while reading. A short read (the library asked for bytes past the
@@ -486,14 +543,10 @@ typedef struct exr_chunk_in {
     uint32_t x0, y0;
 } exr_chunk_in;
 
-/* A worker's decode pipeline (one per thread on the shared context), the library's messages of
- * its calls (its reads go through the file's stream, whose io_errno counts) and its first
- * failure. */
+/* A worker's decode pipeline (one per thread on the shared context) and its failure. */
 typedef struct exr_decoder {
     exr_decode_pipeline_t dec;
     int live;
-    exr_stream msg;
-    uint32_t failed_chunk; /* UINT32_MAX while none failed */
     pgt_error err;
 } exr_decoder;
 
@@ -502,24 +555,16 @@ typedef struct exr_decode_job {
     const exr_layout *lay;
     const exr_chunk_in *chunks;
     pgt_image *img;
-    exr_decoder *workers;
+    exr_worker *workers;
+    exr_decoder *dec; /* per worker */
 } exr_decode_job;
 
-/* Decodes chunks [begin, end) until the worker's first failure. A worker takes its blocks in
- * increasing order, so the chunks it skips come after its failure: the lowest failing chunk of
- * all workers is the one a serial read would have stopped at. */
-static void decode_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
-    const exr_decode_job *j = vctx;
-    exr_decoder *d = &j->workers[worker];
-    exr_stream *const caller = current_stream; /* the caller's thread runs a range too */
-    current_stream = &d->msg;
-    for (uint32_t i = begin; i < end && d->failed_chunk == UINT32_MAX; ++i) {
-        const exr_chunk_in *c = &j->chunks[i];
-        if (decode_chunk(j->ctxt, &d->msg, j->lay, &c->ci, c->x0, c->y0, j->img, &d->dec, &d->live,
-                         &d->err) != PGT_OK)
-            d->failed_chunk = i;
-    }
-    current_stream = caller;
+static int decode_one(void *vjob, uint32_t worker, uint32_t i) {
+    const exr_decode_job *j = vjob;
+    exr_decoder *d = &j->dec[worker];
+    const exr_chunk_in *c = &j->chunks[i];
+    return decode_chunk(j->ctxt, &j->workers[worker].msg, j->lay, &c->ci, c->x0, c->y0, j->img,
+                        &d->dec, &d->live, &d->err) == PGT_OK;
 }
 
 /* The chunks' records in file order (serially: the library's lookups of the offset table),
@@ -536,9 +581,11 @@ static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layou
                                 (uint32_t)lay->scanlines_per_chunk);
     const uint32_t workers = pgt_parallel_workers(threads);
     exr_chunk_in *chunks = calloc(count ? count : 1u, sizeof(exr_chunk_in));
+    exr_worker *w = calloc(workers, sizeof(exr_worker));
     exr_decoder *dec = calloc(workers, sizeof(exr_decoder));
-    if (!chunks || !dec) {
+    if (!chunks || !w || !dec) {
         free(chunks);
+        free(w);
         free(dec);
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (pixel data)",
                              s->name);
@@ -580,32 +627,19 @@ static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layou
             c->x0 = 0, c->y0 = (uint32_t)(y - lay->min_y);
         }
     }
-    for (uint32_t w = 0; w < workers; ++w) {
-        dec[w].msg.name = s->name;
-        dec[w].msg.fd = s->fd;
-        dec[w].msg.size = s->size;
-        dec[w].msg.chunks_checked = s->chunks_checked;
-        dec[w].msg.compression = s->compression;
-        dec[w].msg.io = s;
-        dec[w].failed_chunk = UINT32_MAX;
-    }
-    exr_decode_job job = {ctxt, lay, chunks, img, dec};
+    exr_decode_job job = {ctxt, lay, chunks, img, w, dec};
     /* a chunk weighs its pixels */
     const uint32_t weight =
         lay->tiled ? lay->tile_w * lay->tile_h : (uint32_t)lay->scanlines_per_chunk * lay->width;
-    pgt_parallel_for_items(n, weight, workers, decode_range, &job);
-    const exr_decoder *failed = NULL;
-    for (uint32_t w = 0; w < workers; ++w)
-        if (dec[w].failed_chunk != UINT32_MAX &&
-            (!failed || dec[w].failed_chunk < failed->failed_chunk))
-            failed = &dec[w];
-    if (failed)
-        r = pgt_error_set(err, failed->err.code, "%s", failed->err.message);
+    const int32_t failed = run_chunks(w, workers, s, n, weight, decode_one, &job);
+    if (failed >= 0)
+        r = pgt_error_set(err, dec[failed].err.code, "%s", dec[failed].err.message);
     else if (r != PGT_OK)
         r = pgt_error_set(err, rec_err.code, "%s", rec_err.message);
-    for (uint32_t w = 0; w < workers; ++w)
-        if (dec[w].live) exr_decoding_destroy(ctxt, &dec[w].dec);
+    for (uint32_t i = 0; i < workers; ++i)
+        if (dec[i].live) exr_decoding_destroy(ctxt, &dec[i].dec);
     free(chunks);
+    free(w);
     free(dec);
     return r;
 }
@@ -741,13 +775,11 @@ typedef struct exr_chunk_out {
     uint64_t size;
 } exr_chunk_out;
 
-/* A worker's encode pipeline (OpenEXRCore: one per thread, all on one context), the library's
- * messages of its calls, and its first failure. */
+/* A worker's encode pipeline (OpenEXRCore: one per thread, all on one context) and its
+ * failure. */
 typedef struct exr_encoder {
     exr_encode_pipeline_t enc;
     int live;
-    exr_stream msg;
-    uint32_t failed_chunk; /* UINT32_MAX while none failed */
     exr_result_t rv;
 } exr_encoder;
 
@@ -757,7 +789,7 @@ typedef struct exr_encode_job {
     int32_t lines; /* rows per chunk */
     const pgt_image *img;
     exr_chunk_out *chunks;
-    exr_encoder *workers;
+    exr_encoder *enc; /* per worker */
 } exr_encode_job;
 
 /* The pipeline's last stage: instead of writing the chunk (the file takes chunks only in
@@ -812,17 +844,11 @@ static exr_result_t encode_chunk(const exr_encode_job *j, exr_encoder *e, uint32
     return exr_encoding_run(j->ctxt, j->part, &e->enc);
 }
 
-static void encode_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
-    const exr_encode_job *j = vctx;
-    exr_encoder *e = &j->workers[worker];
-    exr_stream *const caller = current_stream; /* the caller's thread runs a range too */
-    current_stream = &e->msg;
-    for (uint32_t c = begin; c < end && e->failed_chunk == UINT32_MAX; ++c) {
-        e->msg.lib_msg[0] = '\0';
-        const exr_result_t rv = encode_chunk(j, e, c);
-        if (rv != EXR_ERR_SUCCESS) e->failed_chunk = c, e->rv = rv;
-    }
-    current_stream = caller;
+static int encode_one(void *vjob, uint32_t worker, uint32_t c) {
+    const exr_encode_job *j = vjob;
+    exr_encoder *e = &j->enc[worker];
+    e->rv = encode_chunk(j, e, c);
+    return e->rv == EXR_ERR_SUCCESS;
 }
 
 /* The header, then the chunks: packed and ZIP-compressed on up to `threads` threads (each
@@ -845,6 +871,7 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
     if (lines < 1) return write_fail(s, EXR_ERR_UNKNOWN, "header", err);
     const uint32_t count = (img->height + (uint32_t)lines - 1u) / (uint32_t)lines;
     const uint32_t workers = pgt_parallel_workers(threads);
+    exr_worker *w = calloc(workers, sizeof(exr_worker));
     exr_encode_job job = {ctxt,
                           part,
                           lines,
@@ -852,23 +879,15 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
                           calloc(count, sizeof(exr_chunk_out)),
                           calloc(workers, sizeof(exr_encoder))};
     pgt_result r = PGT_OK;
-    if (!job.chunks || !job.workers) {
+    if (!w || !job.chunks || !job.enc) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (pixel data)", s->name);
         goto done;
     }
-    for (uint32_t w = 0; w < workers; ++w) {
-        job.workers[w].msg.name = s->name;
-        job.workers[w].failed_chunk = UINT32_MAX;
-    }
     /* a chunk weighs its rows' pixels */
-    pgt_parallel_for_items(count, (uint32_t)lines * img->width, workers, encode_range, &job);
-    const exr_encoder *failed = NULL;
-    for (uint32_t w = 0; w < workers; ++w)
-        if (job.workers[w].failed_chunk != UINT32_MAX &&
-            (!failed || job.workers[w].failed_chunk < failed->failed_chunk))
-            failed = &job.workers[w];
-    if (failed) {
-        r = write_fail(&failed->msg, failed->rv, "pixel data", err);
+    const int32_t failed =
+        run_chunks(w, workers, s, count, (uint32_t)lines * img->width, encode_one, &job);
+    if (failed >= 0) {
+        r = write_fail(&w[failed].msg, job.enc[failed].rv, "pixel data", err);
         goto done;
     }
     for (uint32_t c = 0; c < count && r == PGT_OK; ++c) {
@@ -878,13 +897,14 @@ static pgt_result write_pixels(exr_context_t ctxt, exr_stream *s, const pgt_imag
         if (rv != EXR_ERR_SUCCESS) r = write_fail(s, rv, "pixel data", err);
     }
 done:
-    if (job.workers)
-        for (uint32_t w = 0; w < workers; ++w)
-            if (job.workers[w].live) exr_encoding_destroy(ctxt, &job.workers[w].enc);
+    if (job.enc)
+        for (uint32_t i = 0; i < workers; ++i)
+            if (job.enc[i].live) exr_encoding_destroy(ctxt, &job.enc[i].enc);
     if (job.chunks)
         for (uint32_t c = 0; c < count; ++c) free(job.chunks[c].data);
     free(job.chunks);
-    free(job.workers);
+    free(job.enc);
+    free(w);
     return r;
 }
 

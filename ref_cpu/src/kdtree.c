@@ -128,6 +128,23 @@ static int split_node(kd_point *v, kd_build_item it, uint32_t stack_top, float *
     return 1;
 }
 
+/* Writes node item `it`: a leaf when it does not split, else the split with its two children
+ * numbered *next and *next + 1, whose items go to child[0] (left) and child[1] (right). Returns
+ * how many children (0 or 2). */
+static uint32_t emit_node(pgt_kdtree_node *nodes, kd_build_item it, int splits, float plane,
+                          uint32_t axis, uint32_t mid, uint32_t *next, kd_build_item child[2]) {
+    if (!splits) {
+        nodes[it.node] = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, it.begin, it.end};
+        return 0;
+    }
+    const uint32_t left = *next, right = *next + 1u;
+    *next += 2u;
+    nodes[it.node] = (pgt_kdtree_node){plane, axis, left, right};
+    child[0] = (kd_build_item){left, it.begin, mid, it.depth + 1u};
+    child[1] = (kd_build_item){right, mid, it.end, it.depth + 1u};
+    return 2;
+}
+
 /* Builds the subtree of points v[begin, end) at nodes[root] (depth `depth`), numbering new nodes
  * from *next in pairs. */
 static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root, uint32_t *next) {
@@ -136,17 +153,12 @@ static void build_nodes(pgt_kdtree_node *nodes, kd_point *v, kd_build_item root,
     stack[top++] = root;
     while (top) {
         const kd_build_item it = stack[--top];
-        float split;
-        uint32_t axis, mid;
-        if (!split_node(v, it, top, &split, &axis, &mid)) {
-            nodes[it.node] = (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, it.begin, it.end};
-            continue;
-        }
-        const uint32_t left = *next, right = *next + 1u;
-        *next += 2u;
-        nodes[it.node] = (pgt_kdtree_node){split, axis, left, right};
-        stack[top++] = (kd_build_item){right, mid, it.end, it.depth + 1u};
-        stack[top++] = (kd_build_item){left, it.begin, mid, it.depth + 1u};
+        float split = 0.0f;
+        uint32_t axis = 0, mid = 0;
+        const int splits = split_node(v, it, top, &split, &axis, &mid);
+        kd_build_item child[2];
+        if (emit_node(nodes, it, splits, split, axis, mid, next, child))
+            stack[top++] = child[1], stack[top++] = child[0]; /* the left one first */
     }
 }
 
@@ -264,35 +276,20 @@ pgt_result pgt_kdtree_build(pgt_kdtree *out, const float *xyz, uint32_t count, u
     /* The top KD_SERIAL_DEPTH levels level by level, the nodes of a level in parallel (the
      * root alone, then 2, 4, 8), numbered in level order; the items left at depth
      * KD_SERIAL_DEPTH are the subtrees. */
-    {
-        kd_build_item level[1u << KD_SERIAL_DEPTH];
+    pending[n_pending++] = (kd_build_item){0, 0, count, 0};
+    for (uint32_t depth = 0; depth < KD_SERIAL_DEPTH && n_pending; ++depth) {
         int splits[1u << KD_SERIAL_DEPTH];
         float plane[1u << KD_SERIAL_DEPTH];
-        uint32_t axis[1u << KD_SERIAL_DEPTH], mid[1u << KD_SERIAL_DEPTH], n_level = 1;
-        level[0] = (kd_build_item){0, 0, count, 0};
-        for (uint32_t depth = 0; depth < KD_SERIAL_DEPTH && n_level; ++depth) {
-            kd_level l = {v, level, splits, plane, axis, mid};
-            pgt_parallel_for_items(n_level, KD_SUBTREE_WEIGHT, threads, split_level, &l);
-            kd_build_item next[1u << KD_SERIAL_DEPTH];
-            uint32_t n_next = 0;
-            for (uint32_t i = 0; i < n_level; ++i) {
-                const kd_build_item it = level[i];
-                if (!splits[i]) {
-                    out->nodes[it.node] =
-                        (pgt_kdtree_node){0.0f, PGT_KDTREE_LEAF, it.begin, it.end};
-                    continue;
-                }
-                const uint32_t left = nodes, right = nodes + 1u;
-                nodes += 2u;
-                out->nodes[it.node] = (pgt_kdtree_node){plane[i], axis[i], left, right};
-                next[n_next++] = (kd_build_item){left, it.begin, mid[i], depth + 1u};
-                next[n_next++] = (kd_build_item){right, mid[i], it.end, depth + 1u};
-            }
-            memcpy(level, next, sizeof(kd_build_item) * n_next);
-            n_level = n_next;
-        }
-        memcpy(pending, level, sizeof(kd_build_item) * n_level);
-        n_pending = n_level;
+        uint32_t axis[1u << KD_SERIAL_DEPTH], mid[1u << KD_SERIAL_DEPTH];
+        kd_level l = {v, pending, splits, plane, axis, mid};
+        pgt_parallel_for_items(n_pending, KD_SUBTREE_WEIGHT, threads, split_level, &l);
+        kd_build_item next[1u << KD_SERIAL_DEPTH];
+        uint32_t n_next = 0;
+        for (uint32_t i = 0; i < n_pending; ++i)
+            n_next += emit_node(out->nodes, pending[i], splits[i], plane[i], axis[i], mid[i],
+                                &nodes, &next[n_next]);
+        memcpy(pending, next, sizeof(kd_build_item) * n_next);
+        n_pending = n_next;
     }
     for (uint32_t i = 0; i < n_pending; ++i) {
         sub_nodes[i] =
