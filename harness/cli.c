@@ -216,7 +216,7 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
                               pgt_error *err) {
     uint32_t g = pgt_gen_default_find(name);
     if (g != PGT_NONE) return pgt_gen_default(g, out, err);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     struct stat st;
     if (stat(name, &st) == 0 || strchr(name, '/')) return pgt_mesh_read(out, name, &ro, err);
     char path[4096];

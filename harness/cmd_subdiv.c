@@ -4,6 +4,7 @@
 
 #include "backend.h"
 #include "cli.h"
+#include "pgt/adjacency.h"
 #include "pgt/mesh_io.h"
 #include "pgt/selection.h"
 #include "pgt/sqrt3.h"
@@ -38,6 +39,20 @@ static const char *subdiv_usage =
     "\n"
     "Prints one summary line: input and output vertex/face counts and milliseconds (read,\n"
     "subdivide, write). Exit 0 on success, 2 on a bad flag or input.\n";
+
+/* Where in the input file a subdivision error is: for a non-manifold edge or vertex or a
+ * degenerate face, the line (binary PLY: the byte offset) of the face record the error is about,
+ * found again with the reference's adjacency (only on this error path; every backend checks its
+ * input with pgt_adjacency_require_manifold); else the path alone. */
+static const char *error_place(const pgt_mesh *in, const pgt_mesh_origin *origin, const char *path,
+                               pgt_result code, char *buf, size_t size) {
+    if (code != PGT_ERROR_NON_MANIFOLD && code != PGT_ERROR_DEGENERATE) return path;
+    pgt_adjacency adj;
+    if (pgt_adjacency_build(&adj, in, 1, NULL) != PGT_OK) return path;
+    const uint32_t f = pgt_adjacency_error_face(&adj);
+    pgt_adjacency_destroy(&adj);
+    return f == PGT_NONE ? path : pgt_mesh_origin_where(origin, path, f, buf, size);
+}
 
 int pgt_cmd_subdiv(int argc, char **argv) {
     const char *verb = "subdiv", *in_path = NULL, *out_path = NULL, *protect_path = NULL;
@@ -99,13 +114,15 @@ int pgt_cmd_subdiv(int argc, char **argv) {
 
     pgt_error err = {0};
     pgt_mesh in = {0}, out = {0};
+    pgt_mesh_origin origin = {0};
     uint8_t *prot = NULL;
     int rc = PGT_EXIT_USAGE;
     pgt_backend backend;
     if (pgt_backend_open(&backend, kind, device, profile, &err) != PGT_OK)
         return pgt_cli_fail(verb, "%s", err.message);
     double t0 = pgt_cli_now_ms();
-    if (pgt_mesh_read(&in, in_path, NULL, &err) != PGT_OK) {
+    const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 0, &origin};
+    if (pgt_mesh_read(&in, in_path, &ro, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
@@ -145,7 +162,10 @@ int pgt_cmd_subdiv(int argc, char **argv) {
                 "without them (use --backend cpu to keep them)\n",
                 pgt_backend_kind_name(kind), out_path);
     if (pgt_backend_sqrt3(&backend, &out, &in, &opts, NULL, &err) != PGT_OK) {
-        pgt_cli_fail(verb, "%s: %s", in_path, err.message);
+        char place[4200];
+        pgt_cli_fail(verb, "%s: %s",
+                     error_place(&in, &origin, in_path, err.code, place, sizeof(place)),
+                     err.message);
         goto done;
     }
     double t2 = pgt_cli_now_ms();
@@ -181,6 +201,7 @@ done:
     pgt_backend_close(&backend);
     free(prot);
     pgt_mesh_destroy(&in);
+    pgt_mesh_origin_destroy(&origin);
     pgt_mesh_destroy(&out);
     return rc;
 }

@@ -541,6 +541,23 @@ expect malformed_input 2 "$pgt" subdiv trunc.off --iters 1 -o x.off
 one_line malformed_input_names_file_and_line "trunc.off:5"
 [ ! -e x.off ] && ok no_output_on_failure || bad no_output_on_failure "x.off exists"
 
+# topology errors name the line (binary PLY: the byte offset) of the face record they are about:
+# the OBJ's quad is fan-triangulated, so face numbers after reading are not the file's (its note
+# comes first on stderr); the edge's first face is the OFF's second, the bowtie vertex's first
+# face the PLY's second (13 bytes a face record after 6 x 12 bytes of vertices)
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 -1 0\n# a quad, then a face repeating a vertex\nf 1 2 4 3\n\nf 1 5 5\n' >degenerate.obj
+expect degenerate_input 2 "$pgt" subdiv degenerate.obj --iters 1 -o x.off
+grep -q "^pgt subdiv: degenerate.obj:9: sqrt3 input: face 2 (0-based) repeats a vertex" err.txt \
+  && ok degenerate_names_line || bad degenerate_names_line "stderr: $(cat err.txt)"
+printf 'OFF\n8 4 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n5 5 5\n6 5 5\n5 6 5\n3 5 6 7\n3 0 1 2\n3 1 0 3\n3 0 1 4\n' >fin.off
+expect non_manifold_edge_input 2 "$pgt" subdiv fin.off --iters 1 -o x.off
+one_line non_manifold_edge_names_line "^pgt subdiv: fin.off:12: sqrt3 input: non-manifold edge (0, 1)"
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement face 3\nproperty list uchar uint vertex_indices\nend_header\n' >bowtie.ply
+header_bytes=$(wc -c <bowtie.ply)
+/usr/bin/python3 -c 'import struct,sys; sys.stdout.buffer.write(struct.pack("<18f", 0,0,0, 1,0,0, 0,1,0, -1,0,0, 0,-1,0, 1,1,0) + struct.pack("<B3I", 3, 2,1,5) + struct.pack("<B3I", 3, 0,1,2) + struct.pack("<B3I", 3, 0,3,4))' >>bowtie.ply
+expect non_manifold_vertex_input 2 "$pgt" subdiv bowtie.ply --iters 1 -o x.off
+one_line non_manifold_vertex_names_offset "^pgt subdiv: bowtie.ply: byte offset $((header_bytes + 72 + 13)): sqrt3 input: non-manifold vertex 0"
+
 cp "$ico" same.off
 sum0=$(md5sum <same.off)
 expect never_overwrites_input 2 "$pgt" subdiv same.off --iters 1 -o same.off

@@ -191,7 +191,7 @@ static pgt_result build(const pgt_mesh *m, uint32_t res, uint32_t threads, int r
 static int load_shared(const char *name, pgt_mesh *m) {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, name);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     pgt_error err = {0};
     if (pgt_mesh_read(m, path, &ro, &err) != PGT_OK) {
         fprintf(stderr, "  cannot read %s: %s\n", path, err.message);
@@ -675,7 +675,7 @@ static void test_voronoi_atlases(void) {
         pgt_image img = {0};
         pgt_atlas_stats st;
         pgt_error err = {0};
-        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
         if (pgt_mesh_read(&m, path, &ro, &err) != PGT_OK) {
             CHECK_MSG(0, "%s: %s", path, err.message);
             continue;

@@ -1468,7 +1468,7 @@ static void test_real_random_marches(void) {
             snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, pgt_cli_shared_meshes[k]);
         const char *name = pgt_cli_mesh_label(path);
         pgt_mesh m;
-        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
         if (pgt_mesh_read(&m, path, &ro, NULL) != PGT_OK) {
             CHECK_MSG(!listed, "%s: cannot read it", path);
             printf("  SKIP %s: cannot read it\n", path);

@@ -22,7 +22,7 @@
 
 /* ---- helpers ---- */
 
-static const pgt_mesh_read_options quiet_opts = {PGT_FORMAT_AUTO, 1};
+static const pgt_mesh_read_options quiet_opts = {PGT_FORMAT_AUTO, 1, NULL};
 
 static int mesh_is_zero(const pgt_mesh *m) {
     static const pgt_mesh zero;
@@ -392,7 +392,7 @@ static void test_round_trips(void) {
         snprintf(path, sizeof(path), "%s/ply.dat", scratch);
         CHECK(pgt_mesh_write(&m, path, &as_ply, NULL) == PGT_OK);
         pgt_mesh back;
-        const pgt_mesh_read_options read_ply = {PGT_FORMAT_PLY, 1};
+        const pgt_mesh_read_options read_ply = {PGT_FORMAT_PLY, 1, NULL};
         CHECK(pgt_mesh_read(&back, path, &read_ply, NULL) == PGT_OK);
         CHECK(back.face_count == m.face_count);
         pgt_mesh_destroy(&back);
@@ -449,7 +449,7 @@ static void check_fan(const char *file, int with_uvs) {
     pgt_mesh m;
     pgt_error err;
     pgt_error_clear(&err);
-    const pgt_mesh_read_options loud = {PGT_FORMAT_AUTO, 0};
+    const pgt_mesh_read_options loud = {PGT_FORMAT_AUTO, 0, NULL};
     capture_begin();
     pgt_result r = pgt_mesh_read(&m, file, &loud, &err);
     char *notes = capture_end();
@@ -491,7 +491,7 @@ static void test_obj_forms(void) {
     pgt_mesh_destroy(&m);
 
     /* Only some faces have vt: UVs dropped with one note. */
-    const pgt_mesh_read_options loud = {PGT_FORMAT_AUTO, 0};
+    const pgt_mesh_read_options loud = {PGT_FORMAT_AUTO, 0, NULL};
     capture_begin();
     pgt_result r = pgt_mesh_read(&m, PGT_TEST_DATA_DIR "/valid/partial_uv.obj", &loud, &err);
     char *notes = capture_end();
@@ -627,6 +627,111 @@ static void test_ply_groups_binary(void) {
     }
 }
 
+/* ---- where each face came from ---- */
+
+/* Reads text (lines[0..n), each ended by '\n') with an origin and checks that triangle t names
+ * the line of face record k where faces[k] = (1-based line, corners): the lines are counted
+ * here as the text is built, and a polygon of c corners is c - 2 triangles in file order. */
+static void check_text_origin(const char *name, const char *const *lines, size_t n,
+                              const size_t (*faces)[2], size_t nf) {
+    char text[1024];
+    size_t len = 0;
+    for (size_t i = 0; i < n; ++i)
+        len += (size_t)snprintf(text + len, sizeof(text) - len, "%s\n", lines[i]);
+    pgt_mesh m;
+    pgt_mesh_origin o;
+    memset(&o, 0xAB, sizeof(o));
+    const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, &o};
+    pgt_error err = {0};
+    const pgt_result r = pgt_mesh_read_memory(&m, text, len, name, &ro, &err);
+    CHECK_MSG(r == PGT_OK, "%s: %s", name, err.message);
+    if (r != PGT_OK) return;
+    CHECK(!o.offsets && o.face_count == m.face_count);
+    uint32_t t = 0;
+    for (size_t k = 0; k < nf; ++k)
+        for (size_t c = 2; c < faces[k][1]; ++c, ++t)
+            CHECK_MSG(t < o.face_count && o.face[t] == faces[k][0], "%s: triangle %u", name, t);
+    CHECK(t == m.face_count);
+    char where[64];
+    CHECK(strcmp(pgt_mesh_origin_where(&o, name, 0, where, sizeof(where)), name) != 0);
+    char want[64];
+    snprintf(want, sizeof(want), "%s:%zu", name, faces[0][0]);
+    CHECK_MSG(strcmp(where, want) == 0, "%s", where);
+    pgt_mesh_origin_destroy(&o);
+    pgt_mesh_destroy(&m);
+}
+
+static void test_origins(void) {
+    static const char *const obj[] = {"# two faces", "v 0 0 0", "v 1 0 0",
+                                      "v 1 1 0",     "v 0 1 0", "",
+                                      "f 1 2 3 4",   "g x",     "f 1 3 4 # a comment"};
+    static const size_t obj_faces[][2] = {{7, 4}, {9, 3}};
+    check_text_origin("o.obj", obj, 9, obj_faces, 2);
+    static const char *const off[] = {"OFF",   "# counts next", "4 3 0",      "0 0 0",
+                                      "1 0 0", "1 1 0",         "0 1 0",      "4 0 1 2 3",
+                                      "",      "3 0 2 3",       "5 0 1 2 3 1"};
+    static const size_t off_faces[][2] = {{8, 4}, {10, 3}, {11, 5}};
+    check_text_origin("o.off", off, 11, off_faces, 3);
+    static const char *const ply[] = {"ply",
+                                      "format ascii 1.0",
+                                      "element vertex 4",
+                                      "property float x",
+                                      "property float y",
+                                      "property float z",
+                                      "element face 2",
+                                      "property list uchar int vertex_indices",
+                                      "end_header",
+                                      "0 0 0",
+                                      "1 0 0",
+                                      "1 1 0",
+                                      "0 1 0",
+                                      "4 0 1 2 3",
+                                      "3 0 2 3"};
+    static const size_t ply_faces[][2] = {{14, 4}, {15, 3}};
+    check_text_origin("o.ply", ply, 15, ply_faces, 2);
+
+    /* binary PLY: each triangle names its face record's byte offset, counted here */
+    unsigned char b[512];
+    size_t k = (size_t)snprintf((char *)b, sizeof(b),
+                                "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty "
+                                "float x\nproperty float y\nproperty float z\nelement face 2\n"
+                                "property list uchar uint vertex_indices\nend_header\n");
+    const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    k += put(b + k, pos, sizeof(pos));
+    const size_t quad_at = k;
+    const unsigned char four = 4, three = 3;
+    const uint32_t quad[4] = {0, 1, 2, 3}, tri[3] = {0, 2, 3};
+    k += put(b + k, &four, 1);
+    k += put(b + k, quad, sizeof(quad));
+    const size_t tri_at = k;
+    k += put(b + k, &three, 1);
+    k += put(b + k, tri, sizeof(tri));
+    pgt_mesh m;
+    pgt_mesh_origin o;
+    const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, &o};
+    pgt_error err = {0};
+    REQUIRE(pgt_mesh_read_memory(&m, b, k, "o.ply", &ro, &err) == PGT_OK);
+    REQUIRE(o.offsets && o.face_count == 3);
+    CHECK(o.face[0] == quad_at && o.face[1] == quad_at && o.face[2] == tri_at);
+    char where[64], want[64];
+    snprintf(want, sizeof(want), "o.ply: byte offset %zu", tri_at);
+    CHECK_MSG(strcmp(pgt_mesh_origin_where(&o, "o.ply", 2, where, sizeof(where)), want) == 0, "%s",
+              where);
+    /* a face the origin does not cover, or no origin: the name alone */
+    CHECK(strcmp(pgt_mesh_origin_where(&o, "o.ply", 3, where, sizeof(where)), "o.ply") == 0);
+    CHECK(strcmp(pgt_mesh_origin_where(NULL, "o.ply", 0, where, sizeof(where)), "o.ply") == 0);
+    pgt_mesh_origin_destroy(&o);
+    pgt_mesh_destroy(&m);
+    CHECK(o.face == NULL && o.face_count == 0);
+
+    /* a failed read leaves the origin zeroed */
+    memset(&o, 0xAB, sizeof(o));
+    static const char bad[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n";
+    CHECK(pgt_mesh_read_memory(&m, bad, sizeof(bad) - 1, "bad.obj", &ro, &err) ==
+          PGT_ERROR_INDEX_RANGE);
+    CHECK(o.face == NULL && o.face_count == 0 && o.offsets == 0);
+}
+
 /* ---- the real meshes ---- */
 
 static double now_ms(void) {
@@ -695,8 +800,8 @@ static void test_paths_and_formats(void) {
     CHECK(pgt_mesh_read(&m, "/nonexistent/x.obj", NULL, &err) == PGT_ERROR_IO);
     CHECK(mesh_is_zero(&m) && strstr(err.message, "/nonexistent/x.obj"));
     pgt_error_clear(&err);
-    CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR, &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1}, &err) ==
-          PGT_ERROR_IO);
+    CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR, &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1, NULL},
+                        &err) == PGT_ERROR_IO);
     pgt_error_clear(&err);
     CHECK(pgt_mesh_read(&m, PGT_TEST_DATA_DIR "/malformed/MANIFEST", NULL, &err) ==
           PGT_ERROR_UNSUPPORTED);
@@ -705,7 +810,7 @@ static void test_paths_and_formats(void) {
     static const char tri[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3";
     memset(&m, 0xAB, sizeof(m));
     CHECK(pgt_mesh_read_memory(&m, tri, sizeof(tri) - 1, NULL,
-                               &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1}, NULL) == PGT_OK);
+                               &(pgt_mesh_read_options){PGT_FORMAT_OBJ, 1, NULL}, NULL) == PGT_OK);
     CHECK(m.face_count == 1);
     pgt_mesh_destroy(&m);
     CHECK(read_mem(&m, NULL, 0, "x.obj", &err) == PGT_ERROR_EMPTY && mesh_is_zero(&m));
@@ -775,6 +880,7 @@ static const pgt_test_case cases[] = {
     {"numbers_match_strtof", test_numbers_match_strtof},
     {"ply_groups_ascii", test_ply_groups_ascii},
     {"ply_groups_binary", test_ply_groups_binary},
+    {"origins", test_origins},
     {"real_meshes", test_real_meshes},
     {"paths_and_formats", test_paths_and_formats},
     {"atomic_writes", test_atomic_writes},

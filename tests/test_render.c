@@ -353,7 +353,7 @@ static void test_same_bytes_any_threads(void) {
     REQUIRE(quad_mesh(&ground, -1.0, 3.0, &err) == PGT_OK);
     char path[1024];
     snprintf(path, sizeof path, "%s/spot.obj", PGT_SHARED_MESH_DIR);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     const int have_spot = pgt_mesh_read(&spot, path, &ro, &err) == PGT_OK;
     if (!have_spot) printf("  SKIP spot: %s\n", err.message);
     pgt_render_mesh rm[3] = {{&sphere, {0.8f, 0.8f, 0.8f}, 0},

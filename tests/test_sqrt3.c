@@ -481,7 +481,7 @@ static void uvs_no_spikes_on_a_real_atlas(void) {
     char path[1024];
     snprintf(path, sizeof path, "%s/spot.obj", PGT_SHARED_MESH_DIR);
     pgt_mesh m;
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     REQUIRE(pgt_mesh_read(&m, path, &ro, NULL) == PGT_OK && m.uvs);
     for (uint32_t k = 1; k <= 3; ++k) {
         run r;
@@ -524,6 +524,33 @@ static void refuses_non_manifold(void) {
     pgt_mesh d = {8, 1, p, degen, NULL, NULL};
     pgt_error_clear(&err);
     CHECK(pgt_sqrt3_subdivide(&out, &d, NULL, &err) == PGT_ERROR_DEGENERATE);
+    /* the face each error is about (what pgt subdiv turns into the file's line): the
+     * degenerate face, the first face with the edge, the first face at the vertex; a face
+     * without the problem comes first in each, so that face 0 would be wrong */
+    uint32_t later_degen[] = {5, 6, 7, 0, 1, 2, 0, 2, 2, 1, 1, 3};
+    uint32_t later_edge[] = {5, 6, 7, 1, 0, 3, 0, 1, 2, 0, 1, 4};
+    uint32_t later_bowtie[] = {2, 1, 7, 0, 1, 2, 0, 5, 6};
+    const struct {
+        uint32_t *faces, count, face;
+        pgt_result code;
+    } located[] = {{later_degen, 4, 2, PGT_ERROR_DEGENERATE},
+                   {later_edge, 4, 1, PGT_ERROR_NON_MANIFOLD},
+                   {later_bowtie, 3, 1, PGT_ERROR_NON_MANIFOLD},
+                   {fan3, 3, 0, PGT_ERROR_NON_MANIFOLD}};
+    for (size_t i = 0; i < sizeof(located) / sizeof(located[0]); ++i) {
+        pgt_mesh lm = {8, located[i].count, p, located[i].faces, NULL, NULL};
+        pgt_adjacency a;
+        REQUIRE(pgt_adjacency_build(&a, &lm, 1, NULL) == PGT_OK);
+        CHECK(pgt_adjacency_require_manifold(&a, "test", NULL) == located[i].code);
+        CHECK_MSG(pgt_adjacency_error_face(&a) == located[i].face, "case %zu: face %u", i,
+                  pgt_adjacency_error_face(&a));
+        pgt_adjacency_destroy(&a);
+    }
+    pgt_adjacency good;
+    pgt_mesh one = {8, 1, p, fan3, NULL, NULL};
+    REQUIRE(pgt_adjacency_build(&good, &one, 1, NULL) == PGT_OK);
+    CHECK(pgt_adjacency_error_face(&good) == PGT_NONE);
+    pgt_adjacency_destroy(&good);
     /* out-of-range index and too many iterations */
     uint32_t oob[] = {0, 1, 9};
     pgt_mesh e = {8, 1, p, oob, NULL, NULL};

@@ -44,7 +44,7 @@ static int load_named(const char *name, pgt_mesh *m) {
     if (g != PGT_NONE) return pgt_gen_default(g, m, &err) == PGT_OK;
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, name);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     if (pgt_mesh_read(m, path, &ro, &err) != PGT_OK) {
         fprintf(stderr, "  %s\n", err.message);
         return 0;
@@ -64,7 +64,7 @@ static int agree(const char *name, const pgt_mesh *m, const pgt_mesh *ours, cons
         return 1;
     }
     pgt_mesh theirs;
-    pgt_mesh_read_options ro = {PGT_FORMAT_OFF, 1};
+    pgt_mesh_read_options ro = {PGT_FORMAT_OFF, 1, NULL};
     if (pgt_mesh_read(&theirs, out_off, &ro, &err) != PGT_OK) {
         fprintf(stderr, "  %s\n", err.message);
         return 1;

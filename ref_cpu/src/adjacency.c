@@ -79,6 +79,7 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
                                pgt_error *err) {
     memset(out, 0, sizeof(*out));
     out->bad_edge[0] = out->bad_edge[1] = out->bad_vertex = out->bad_face = PGT_NONE;
+    out->bad_edge_face = out->bad_vertex_face = PGT_NONE;
     if (!mesh || (mesh->face_count && (!mesh->indices || !mesh->positions)))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "adjacency: no mesh");
     const uint32_t V = mesh->vertex_count, F = mesh->face_count, H = 3 * F;
@@ -128,6 +129,7 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
             if (lo == h && out->non_manifold_edges++ == 0) {
                 out->bad_edge[0] = a < b ? a : b;
                 out->bad_edge[1] = a < b ? b : a;
+                out->bad_edge_face = h / 3u; /* h is the edge's smallest half-edge */
             }
         } else if (out->opposite[h] == PGT_NONE && !degenerate[h / 3]) {
             out->border_half_edges++;
@@ -136,7 +138,10 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
 
     pgt_parallel_for(V, threads, adj_vertex_range, &ctx); /* reuses bad[] per vertex */
     for (uint32_t v = 0; v < V; ++v)
-        if (bad[v] && out->non_manifold_vertices++ == 0) out->bad_vertex = v;
+        if (bad[v] && out->non_manifold_vertices++ == 0) {
+            out->bad_vertex = v;
+            out->bad_vertex_face = list[start[v]].h / 3u; /* ascending h within a bucket */
+        }
 
     free(start), free(list), free(degenerate), free(bad), free(fill);
     return PGT_OK;
@@ -153,17 +158,24 @@ pgt_result pgt_adjacency_require_manifold(const pgt_adjacency *adj, const char *
     if (!what) what = "input";
     if (adj->degenerate_faces)
         return pgt_error_set(err, PGT_ERROR_DEGENERATE,
-                             "%s: face %u repeats a vertex (%u degenerate faces)", what,
+                             "%s: face %u (0-based) repeats a vertex (%u degenerate faces)", what,
                              adj->bad_face, adj->degenerate_faces);
     if (adj->non_manifold_edges)
         return pgt_error_set(err, PGT_ERROR_NON_MANIFOLD,
-                             "%s: non-manifold edge (%u, %u): more than two faces or inconsistent "
-                             "orientation (%u such edges)",
+                             "%s: non-manifold edge (%u, %u) (0-based vertices): more than two "
+                             "faces or inconsistent orientation (%u such edges)",
                              what, adj->bad_edge[0], adj->bad_edge[1], adj->non_manifold_edges);
     if (adj->non_manifold_vertices)
         return pgt_error_set(err, PGT_ERROR_NON_MANIFOLD,
-                             "%s: non-manifold vertex %u: its faces form more than one fan (%u "
-                             "such vertices)",
+                             "%s: non-manifold vertex %u (0-based): its faces form more than one "
+                             "fan (%u such vertices)",
                              what, adj->bad_vertex, adj->non_manifold_vertices);
     return PGT_OK;
+}
+
+uint32_t pgt_adjacency_error_face(const pgt_adjacency *adj) {
+    if (adj->degenerate_faces) return adj->bad_face;
+    if (adj->non_manifold_edges) return adj->bad_edge_face;
+    if (adj->non_manifold_vertices) return adj->bad_vertex_face;
+    return PGT_NONE;
 }

@@ -4,6 +4,7 @@
  * The formats themselves are in mesh_io_obj.c, mesh_io_off.c and mesh_io_ply.c. */
 #include "mesh_io_internal.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <errno.h>
 #include <float.h>
@@ -32,7 +33,7 @@ void *pgt_io_grow(void *data, size_t *cap, size_t need, size_t elem) {
 }
 
 pgt_result pgt_io_tris_add(pgt_io_tris *t, const uint32_t *v, const uint32_t *aux, const float *uv,
-                           int32_t label, size_t n) {
+                           int32_t label, uint64_t where, size_t n) {
     size_t add = n - 2;
     if (t->triangle_count + add > PGT_MESH_MAX_ELEMENTS) return PGT_ERROR_LIMIT;
     size_t tc = t->triangle_count + add;
@@ -40,6 +41,7 @@ pgt_result pgt_io_tris_add(pgt_io_tris *t, const uint32_t *v, const uint32_t *au
     if (t->use_aux && pgt_io_u32_reserve(&t->aux, 3 * tc) != 0) return PGT_ERROR_OUT_OF_MEMORY;
     if (t->use_uvs && pgt_io_f32_reserve(&t->uvs, 6 * tc) != 0) return PGT_ERROR_OUT_OF_MEMORY;
     if (t->use_labels && pgt_io_i32_reserve(&t->labels, tc) != 0) return PGT_ERROR_OUT_OF_MEMORY;
+    if (t->use_where && pgt_io_u64_reserve(&t->where, tc) != 0) return PGT_ERROR_OUT_OF_MEMORY;
     for (size_t i = 1; i + 1 < n; ++i) {
         const size_t c[3] = {0, i, i + 1};
         for (int k = 0; k < 3; ++k) {
@@ -51,6 +53,7 @@ pgt_result pgt_io_tris_add(pgt_io_tris *t, const uint32_t *v, const uint32_t *au
             }
         }
         if (t->use_labels) t->labels.data[t->labels.len++] = label;
+        if (t->use_where) t->where.data[t->where.len++] = where;
     }
     t->triangle_count = tc;
     if (n > 3) t->polygon_count++;
@@ -67,11 +70,13 @@ void pgt_io_tris_free(pgt_io_tris *t) {
     free(t->aux.data);
     free(t->uvs.data);
     free(t->labels.data);
+    free(t->where.data);
     memset(t, 0, sizeof(*t));
 }
 
 pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count,
-                         const pgt_io_tris *t, int with_uvs, const char *name, pgt_error *err) {
+                         const pgt_io_tris *t, int with_uvs, pgt_mesh_origin *origin, int offsets,
+                         const char *name, pgt_error *err) {
     /* Readers check both counts against the limit before they get here. */
     pgt_result r = pgt_mesh_create(out, (uint32_t)vertex_count, (uint32_t)t->triangle_count,
                                    with_uvs, t->use_labels, err);
@@ -83,7 +88,36 @@ pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_co
     if (with_uvs && t->use_uvs)
         memcpy(out->uvs, t->uvs.data, t->triangle_count * 6 * sizeof(float));
     if (t->use_labels) memcpy(out->labels, t->labels.data, t->triangle_count * sizeof(int32_t));
+    if (origin) {
+        assert(t->use_where && t->where.len == t->triangle_count);
+        origin->face = malloc(t->triangle_count * sizeof(uint64_t));
+        if (!origin->face) {
+            pgt_mesh_destroy(out);
+            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
+                                 "%s: out of memory for the faces' records", name);
+        }
+        memcpy(origin->face, t->where.data, t->triangle_count * sizeof(uint64_t));
+        origin->face_count = (uint32_t)t->triangle_count;
+        origin->offsets = offsets;
+    }
     return PGT_OK;
+}
+
+void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
+    if (!origin) return;
+    free(origin->face);
+    memset(origin, 0, sizeof(*origin));
+}
+
+const char *pgt_mesh_origin_where(const pgt_mesh_origin *origin, const char *name, uint32_t face,
+                                  char *buf, size_t size) {
+    if (!origin || !origin->face || face >= origin->face_count)
+        snprintf(buf, size, "%s", name);
+    else if (origin->offsets)
+        snprintf(buf, size, "%s: byte offset %llu", name, (unsigned long long)origin->face[face]);
+    else
+        snprintf(buf, size, "%s:%llu", name, (unsigned long long)origin->face[face]);
+    return buf;
 }
 
 void pgt_io_note_fan(const char *name, size_t polygons, int quiet) {
@@ -256,12 +290,14 @@ pgt_result pgt_mesh_read_memory(pgt_mesh *out, const void *data, size_t size, co
     pgt_result r = resolve_format(opts ? opts->format : PGT_FORMAT_AUTO, name, &format, err);
     if (r != PGT_OK) return r;
     int quiet = opts ? opts->quiet : 0;
+    pgt_mesh_origin *origin = opts ? opts->origin : NULL;
+    if (origin) memset(origin, 0, sizeof(*origin));
     switch (format) {
-    case PGT_FORMAT_OBJ: r = pgt_io_read_obj(out, data, size, name, quiet, err); break;
-    case PGT_FORMAT_OFF: r = pgt_io_read_off(out, data, size, name, quiet, err); break;
-    default: r = pgt_io_read_ply(out, data, size, name, quiet, err); break;
+    case PGT_FORMAT_OBJ: r = pgt_io_read_obj(out, data, size, name, quiet, origin, err); break;
+    case PGT_FORMAT_OFF: r = pgt_io_read_off(out, data, size, name, quiet, origin, err); break;
+    default: r = pgt_io_read_ply(out, data, size, name, quiet, origin, err); break;
     }
-    if (r != PGT_OK) pgt_mesh_destroy(out);
+    if (r != PGT_OK) pgt_mesh_destroy(out), pgt_mesh_origin_destroy(origin);
     return r;
 }
 
@@ -325,7 +361,7 @@ pgt_result pgt_mesh_read(pgt_mesh *out, const char *path, const pgt_mesh_read_op
     size_t size;
     r = read_file(path, &data, &size, err);
     if (r != PGT_OK) return r;
-    pgt_mesh_read_options o = {format, opts ? opts->quiet : 0};
+    pgt_mesh_read_options o = {format, opts ? opts->quiet : 0, opts ? opts->origin : NULL};
     r = pgt_mesh_read_memory(out, data, size, path, &o, err);
     free(data);
     return r;

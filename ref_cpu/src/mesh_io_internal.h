@@ -37,6 +37,11 @@ typedef struct pgt_io_i32vec {
     size_t len, cap;
 } pgt_io_i32vec;
 
+typedef struct pgt_io_u64vec {
+    uint64_t *data;
+    size_t len, cap;
+} pgt_io_u64vec;
+
 #define PGT_IO_DEFINE_RESERVE(fn, type)                                                        \
     static inline int fn(type *v, size_t need) {                                               \
         if (need <= v->cap) return 0;                                                          \
@@ -48,6 +53,7 @@ typedef struct pgt_io_i32vec {
 PGT_IO_DEFINE_RESERVE(pgt_io_u32_reserve, pgt_io_u32vec)
 PGT_IO_DEFINE_RESERVE(pgt_io_f32_reserve, pgt_io_f32vec)
 PGT_IO_DEFINE_RESERVE(pgt_io_i32_reserve, pgt_io_i32vec)
+PGT_IO_DEFINE_RESERVE(pgt_io_u64_reserve, pgt_io_u64vec)
 #undef PGT_IO_DEFINE_RESERVE
 
 /* ---- triangles collected while reading: polygons are fan-triangulated here ---- */
@@ -57,24 +63,28 @@ typedef struct pgt_io_tris {
     pgt_io_u32vec aux;     /* 3 per triangle when use_aux (OBJ: each corner's vt or PGT_NONE) */
     pgt_io_f32vec uvs;     /* 6 per triangle when use_uvs */
     pgt_io_i32vec labels;  /* 1 per triangle when use_labels */
-    int use_aux, use_uvs, use_labels;
+    pgt_io_u64vec where;   /* 1 per triangle when use_where: its face record's line or offset */
+    int use_aux, use_uvs, use_labels, use_where;
     size_t triangle_count;
     size_t polygon_count; /* faces with more than 3 corners */
 } pgt_io_tris;
 
 /* Adds the polygon v[0..n) (n >= 3) as the fan (v0, vi, vi+1), i = 1..n-2; aux/uv (2 floats per
- * corner) follow the corners and label goes to every triangle. Returns PGT_OK,
+ * corner) follow the corners, and label and where (the record's line, or its byte offset in
+ * binary PLY) go to every triangle. Returns PGT_OK,
  * PGT_ERROR_OUT_OF_MEMORY or PGT_ERROR_LIMIT (more than PGT_MESH_MAX_ELEMENTS triangles); the
  * caller writes the message (see pgt_io_tris_problem). */
 pgt_result pgt_io_tris_add(pgt_io_tris *t, const uint32_t *v, const uint32_t *aux, const float *uv,
-                           int32_t label, size_t n);
+                           int32_t label, uint64_t where, size_t n);
 const char *pgt_io_tris_problem(pgt_result r);
 void pgt_io_tris_free(pgt_io_tris *t);
 
 /* Builds *out from positions (3 * vertex_count floats) and the triangles; uvs/labels are copied
- * when the builder uses them (OBJ fills uvs itself afterwards). */
+ * when the builder uses them (OBJ fills uvs itself afterwards), and the triangles' records into
+ * *origin when it is not NULL (offsets: binary PLY). */
 pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count,
-                         const pgt_io_tris *t, int with_uvs, const char *name, pgt_error *err);
+                         const pgt_io_tris *t, int with_uvs, pgt_mesh_origin *origin, int offsets,
+                         const char *name, pgt_error *err);
 
 /* ---- text: lines and tokens ---- */
 
@@ -177,12 +187,13 @@ pgt_result pgt_io_fail_offset(pgt_error *err, pgt_result code, const char *name,
 /* Prints "note: NAME: fan-triangulated N polygons" unless quiet or N == 0. */
 void pgt_io_note_fan(const char *name, size_t polygons, int quiet);
 
+/* The readers: origin (may be NULL) as in pgt_mesh_read_options. */
 pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err);
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err);
 pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err);
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err);
 pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err);
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err);
 
 /* Writers only write; the caller checks ferror/fclose and renames. */
 void pgt_io_write_obj(FILE *f, const pgt_mesh *mesh, int precise);

@@ -105,7 +105,7 @@ static pgt_result obj_numbers(const char *p, const char *end, size_t count_min, 
 }
 
 pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err) {
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err) {
     pgt_io_text t;
     const char *p, *end, *tok;
     size_t n;
@@ -131,6 +131,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
     float *vts = malloc((total.vt * 2 + 1) * sizeof(float));
     pgt_io_tris tris;
     memset(&tris, 0, sizeof(tris));
+    tris.use_where = origin != NULL;
     tris.use_aux = 1;
     pgt_io_u32vec poly_v = {0}, poly_vt = {0};
     size_t faces = 0, faces_with_vt = 0;
@@ -215,7 +216,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
             /* A face counts as textured only when every corner has a vt. */
             if (with_vt == poly_v.len) faces_with_vt++;
             faces++;
-            r = pgt_io_tris_add(&tris, poly_v.data, poly_vt.data, NULL, 0, poly_v.len);
+            r = pgt_io_tris_add(&tris, poly_v.data, poly_vt.data, NULL, 0, t.line, poly_v.len);
             if (r != PGT_OK) {
                 r = pgt_io_fail_line(err, r, name, t.line, "%s", pgt_io_tris_problem(r));
                 goto done;
@@ -246,7 +247,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
     if (faces_with_vt > 0 && !with_uvs && !quiet)
         fprintf(stderr, "note: %s: %zu of %zu faces have no texture coordinates; UVs dropped\n",
                 name, faces - faces_with_vt, faces);
-    r = pgt_io_finish(out, positions, total.v, &tris, with_uvs, name, err);
+    r = pgt_io_finish(out, positions, total.v, &tris, with_uvs, origin, 0, name, err);
     if (r == PGT_OK && with_uvs)
         for (size_t c = 0; c < tris.triangle_count * 3; ++c) {
             out->uvs[2 * c] = vts[2 * (size_t)tris.aux.data[c]];

@@ -43,7 +43,7 @@ static int is_off_variant(const char *tok, size_t n) {
 }
 
 pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err) {
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err) {
     pgt_io_text t;
     const char *p, *end, *tok;
     size_t n;
@@ -135,6 +135,7 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
     float *positions = malloc(((size_t)V * 3 + 1) * sizeof(float));
     pgt_io_tris tris;
     memset(&tris, 0, sizeof(tris));
+    tris.use_where = origin != NULL;
     pgt_io_u32vec poly = {0};
     if (!positions) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld vertices",
@@ -230,14 +231,14 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
                 goto done;
             }
         }
-        r = pgt_io_tris_add(&tris, poly.data, NULL, NULL, 0, poly.len);
+        r = pgt_io_tris_add(&tris, poly.data, NULL, NULL, 0, t.line, poly.len);
         if (r != PGT_OK) {
             r = pgt_io_fail_line(err, r, name, t.line, "%s", pgt_io_tris_problem(r));
             goto done;
         }
     }
     pgt_io_note_fan(name, tris.polygon_count, quiet);
-    r = pgt_io_finish(out, positions, (size_t)V, &tris, 0, name, err);
+    r = pgt_io_finish(out, positions, (size_t)V, &tris, 0, origin, 0, name, err);
 done:
     free(positions);
     free(poly.data);

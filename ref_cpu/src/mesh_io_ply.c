@@ -521,7 +521,7 @@ static int ascii_next_line(pgt_io_text *t) {
 }
 
 pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const char *name,
-                           int quiet, pgt_error *err) {
+                           int quiet, pgt_mesh_origin *origin, pgt_error *err) {
     ply_header *h = calloc(1, sizeof(*h));
     if (!h) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
     pgt_result r = parse_header(h, data, size, name, err);
@@ -571,6 +571,7 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
     float *positions = malloc(((size_t)V * 3 + 1) * sizeof(float));
     pgt_io_tris tris;
     memset(&tris, 0, sizeof(tris));
+    tris.use_where = origin != NULL;
     pgt_io_u32vec poly = {0};
     pgt_io_f32vec uv = {0};
     for (size_t j = 0; j < h->face->nprops; ++j) {
@@ -678,7 +679,8 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                              poly.len, uv.len, 2 * poly.len);
                 goto done;
             }
-            r = pgt_io_tris_add(&tris, poly.data, NULL, uv.data, group, poly.len);
+            r = pgt_io_tris_add(&tris, poly.data, NULL, uv.data, group,
+                                h->binary ? record_start : in.text.line, poly.len);
             if (r != PGT_OK) {
                 r = ply_fail(&in, record_start, r, "%s", pgt_io_tris_problem(r));
                 goto done;
@@ -692,7 +694,7 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
         goto done;
     }
     pgt_io_note_fan(name, tris.polygon_count, quiet);
-    r = pgt_io_finish(out, positions, (size_t)V, &tris, tris.use_uvs, name, err);
+    r = pgt_io_finish(out, positions, (size_t)V, &tris, tris.use_uvs, origin, h->binary, name, err);
 done:
     free(positions);
     free(poly.data);

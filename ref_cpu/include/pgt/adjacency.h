@@ -27,9 +27,11 @@ typedef struct pgt_adjacency {
     uint32_t non_manifold_edges;    /* edges with >2 faces or repeated direction */
     uint32_t non_manifold_vertices; /* vertices whose faces form more than one fan */
     uint32_t degenerate_faces;      /* faces that repeat a vertex index */
-    uint32_t bad_edge[2]; /* the first non-manifold edge found (vertex ids), or PGT_NONE */
-    uint32_t bad_vertex;  /* the first non-manifold vertex found, or PGT_NONE */
-    uint32_t bad_face;    /* the first degenerate face found, or PGT_NONE */
+    uint32_t bad_edge[2];     /* the first non-manifold edge found (vertex ids), or PGT_NONE */
+    uint32_t bad_vertex;      /* the first non-manifold vertex found, or PGT_NONE */
+    uint32_t bad_face;        /* the first degenerate face found, or PGT_NONE */
+    uint32_t bad_edge_face;   /* the first face with bad_edge, or PGT_NONE */
+    uint32_t bad_vertex_face; /* the first face at bad_vertex, or PGT_NONE */
 } pgt_adjacency;
 
 static inline uint32_t pgt_half_edge_next(uint32_t h) { return h % 3u == 2u ? h - 2u : h + 1u; }
@@ -44,9 +46,15 @@ void pgt_adjacency_destroy(pgt_adjacency *adj);
 
 /* PGT_OK when the mesh is a 2-manifold (with or without border) with consistent orientation and
  * no degenerate face; otherwise PGT_ERROR_NON_MANIFOLD (or PGT_ERROR_DEGENERATE) with a message
- * naming `what` (a file name or "input") and one offending edge, vertex or face. */
+ * naming `what` (a file name or "input") and one offending edge, vertex or face (0-based ids).
+ * Checked in this order: degenerate faces, non-manifold edges, non-manifold vertices. */
 pgt_result pgt_adjacency_require_manifold(const pgt_adjacency *adj, const char *what,
                                           pgt_error *err);
+
+/* The face that pgt_adjacency_require_manifold's error is about (the degenerate face, the first
+ * face with the edge, or the first face at the vertex), or PGT_NONE when there is no error:
+ * a reader's pgt_mesh_origin turns it into the file's line. */
+uint32_t pgt_adjacency_error_face(const pgt_adjacency *adj);
 
 #ifdef __cplusplus
 }

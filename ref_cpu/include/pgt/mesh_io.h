@@ -23,10 +23,32 @@ typedef enum pgt_mesh_format {
     PGT_FORMAT_PLY = 3  /* reading: ascii and binary_little_endian; writing: binary_little_endian */
 } pgt_mesh_format;
 
+/* Where the triangles of a mesh read from a file come from: the face record (OBJ `f` line, OFF
+ * face line, PLY face element) each was fan-triangulated from, so that an error found later
+ * about a face (a non-manifold edge or vertex, a degenerate face) can name the place in the
+ * file. */
+typedef struct pgt_mesh_origin {
+    uint64_t *face;      /* face_count entries: the record's 1-based line, or in binary PLY data
+                            the byte offset where the record starts */
+    uint32_t face_count; /* the mesh's face_count */
+    int offsets;         /* nonzero: face[] holds byte offsets (binary PLY), else lines */
+} pgt_mesh_origin;
+
 typedef struct pgt_mesh_read_options {
-    pgt_mesh_format format; /* 0: from the extension */
-    int quiet;              /* nonzero: no notes on stderr (e.g. "fan-triangulated N polygons") */
+    pgt_mesh_format format;  /* 0: from the extension */
+    int quiet;               /* nonzero: no notes on stderr (e.g. "fan-triangulated N polygons") */
+    pgt_mesh_origin *origin; /* not NULL: filled on success (free with pgt_mesh_origin_destroy),
+                                zeroed on failure */
 } pgt_mesh_read_options;
+
+/* Frees the array and zeroes the struct; NULL or a zeroed origin is a no-op. */
+void pgt_mesh_origin_destroy(pgt_mesh_origin *origin);
+
+/* Writes where face `face` comes from as the readers' messages name places: "NAME:LINE" or
+ * "NAME: byte offset N", or NAME alone when origin is NULL or does not cover the face. Returns
+ * buf. */
+const char *pgt_mesh_origin_where(const pgt_mesh_origin *origin, const char *name, uint32_t face,
+                                  char *buf, size_t size);
 
 typedef struct pgt_mesh_write_options {
     pgt_mesh_format format; /* 0: from the extension */
