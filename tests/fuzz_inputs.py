@@ -5,10 +5,12 @@ input gets one error line naming the file, exit 2).
   fuzz_inputs.py PGT PGT_DATASETS SOURCE_DIR WORK_DIR [--runs N] [--seed S]
 
 Starts from valid files (generated meshes in OBJ, PLY and OFF, the shipped grammars, a generated
-city scene, ivy seed and stroke files), applies 1-10 random edits to each copy (byte changes,
-inserted tokens such as nan, -1, 1e39 or 4294967295, deleted, duplicated or truncated spans,
-duplicated lines) and runs the verb that reads it: pgt atlas and pgt subdiv (meshes), pgt ivy
-(grammars, seed and stroke files) and pgt facade (facade grammars, scenes). Every run must end
+city scene, ivy seed and stroke files, an atlas EXR, a PNG mask, a protected-face list), applies
+1-10 random edits to each copy (byte changes, inserted tokens such as nan, -1, 1e39 or
+4294967295, deleted, duplicated or truncated spans, duplicated lines) and runs the verb that
+reads it: pgt atlas and pgt subdiv (meshes), pgt ivy (grammars, seed and stroke files, the
+atlas, the mask), pgt facade (facade grammars, scenes), pgt march (the atlas, the mask) and pgt
+subdiv --protect (the face list). Every run must end
 with exit 0, 1 or 2 within the time limit and without a sanitizer report (the Sanitize build
 runs this test too); an exit 2 must print exactly one error line on stderr, naming the input
 file, after any notes the readers print (such as "note: FILE: fan-triangulated 1 polygons").
@@ -19,8 +21,10 @@ input is kept in WORK_DIR/failed/ with its command and stderr. Exit 0 when every
 import os
 import random
 import shutil
+import struct
 import subprocess
 import sys
+import zlib
 
 # Mutated inputs per run of the test: about 20 s under ASan+UBSan on the 2-core machine.
 DEFAULT_RUNS = 400
@@ -36,6 +40,15 @@ TOKENS = [b"-1", b"0", b"1e39", b"nan", b"inf", b"-inf", b"4294967295", b"214748
 def is_note(line):
     """A note on stderr: 'note: ...' (the mesh readers) or 'pgt VERB: note: ...'."""
     return line.startswith("note: ") or (line.startswith("pgt ") and ": note: " in line)
+
+
+def grey_png(w, h, value):
+    """An 8-bit grey PNG, value(x, y) in 0..255, written with the standard library."""
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
+    raw = b"".join(b"\0" + bytes(value(x, y) for x in range(w)) for y in range(h))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
 def mutate(rng, data):
@@ -128,6 +141,21 @@ def main(argv):
     cases.append(("strokes", b"stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\n"
                   b"stroke\npoint 0 0 1\ntexel 20.5 20.5\n", ".txt",
                   [ivy + short + ["--paint", "{}"]]))
+
+    # the atlas itself (ZIP chunks: most edits break a chunk's inflate or CRC-less data, the
+    # rest reach the marcher's checks of the channels), a PNG mask of the atlas's size and a
+    # protected-face list
+    march = [pgt, "march", "{}", "--from", "10.5,10.5", "--dir", "1,0.3", "--step", "2",
+             "--steps", "40", "-o", out + ".csv"]
+    cases.append(("atlas", read(atlas), ".exr",
+                  [march, ivy[:2] + ["{}"] + ivy[3:] + short]))
+    march_mask = [a.replace("{}", atlas) for a in march] + ["--mask", "{}"]
+    cases.append(("mask", grey_png(64, 64, lambda x, y: 255 if (x // 8 + y // 8) % 5 == 0 else 0),
+                  ".png", [march_mask, ivy + short + ["--mask", "{}"]]))
+    ico = os.path.join(data, "icosphere_l1.off")
+    cases.append(("protect", b"# faces of icosphere_l1\n0 1, 2\n10\n79 # the last\n", ".txt",
+                  [[pgt, "subdiv", ico, "--iters", "1", "-o", out + ".off", "--threads", "1",
+                    "--protect", "{}"]]))
 
     env = dict(os.environ)
     env.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")

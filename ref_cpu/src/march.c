@@ -562,9 +562,10 @@ pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx,
                              (double)y, a->width, a->height);
     const uint32_t c = a->codes[t];
     if ((c & 3u) != PGT_TEXEL_INNER) {
-        static const char *const kinds[4] = {"background", "inner", "indirection", "dead-end"};
+        static const char *const kinds[4] = {"a background", "an inner", "an indirection",
+                                             "a dead-end"};
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                             "start (%g, %g) is on texel (%u, %u), a %s texel, not an inner one",
+                             "start (%g, %g) is on texel (%u, %u), %s texel, not an inner one",
                              (double)x, (double)y, t % a->width, t / a->width, kinds[c & 3u]);
     }
     out->x = x, out->y = y;
