@@ -730,6 +730,14 @@ static void test_origins(void) {
     CHECK(pgt_mesh_read_memory(&m, bad, sizeof(bad) - 1, "bad.obj", &ro, &err) ==
           PGT_ERROR_INDEX_RANGE);
     CHECK(o.face == NULL && o.face_count == 0 && o.offsets == 0);
+    /* also when the failure comes before any parsing: a missing file, an unknown extension */
+    memset(&o, 0xAB, sizeof(o));
+    CHECK(pgt_mesh_read(&m, "/nonexistent/x.obj", &ro, &err) == PGT_ERROR_IO);
+    CHECK(o.face == NULL && o.face_count == 0 && o.offsets == 0);
+    memset(&o, 0xAB, sizeof(o));
+    CHECK(pgt_mesh_read_memory(&m, bad, sizeof(bad) - 1, "bad.xyz", &ro, &err) ==
+          PGT_ERROR_UNSUPPORTED);
+    CHECK(o.face == NULL && o.face_count == 0 && o.offsets == 0);
 }
 
 /* ---- the real meshes ---- */

@@ -286,12 +286,12 @@ pgt_result pgt_mesh_read_memory(pgt_mesh *out, const void *data, size_t size, co
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s: NULL data of %zu bytes", name,
                              size);
     if (!data) data = "";
+    pgt_mesh_origin *origin = opts ? opts->origin : NULL;
+    if (origin) memset(origin, 0, sizeof(*origin));
     pgt_mesh_format format = PGT_FORMAT_AUTO;
     pgt_result r = resolve_format(opts ? opts->format : PGT_FORMAT_AUTO, name, &format, err);
     if (r != PGT_OK) return r;
     int quiet = opts ? opts->quiet : 0;
-    pgt_mesh_origin *origin = opts ? opts->origin : NULL;
-    if (origin) memset(origin, 0, sizeof(*origin));
     switch (format) {
     case PGT_FORMAT_OBJ: r = pgt_io_read_obj(out, data, size, name, quiet, origin, err); break;
     case PGT_FORMAT_OFF: r = pgt_io_read_off(out, data, size, name, quiet, origin, err); break;
@@ -353,6 +353,7 @@ static pgt_result read_file(const char *path, char **out_data, size_t *out_size,
 pgt_result pgt_mesh_read(pgt_mesh *out, const char *path, const pgt_mesh_read_options *opts,
                          pgt_error *err) {
     memset(out, 0, sizeof(*out));
+    if (opts && opts->origin) memset(opts->origin, 0, sizeof(*opts->origin));
     if (!path) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "mesh read: NULL path");
     pgt_mesh_format format = PGT_FORMAT_AUTO;
     pgt_result r = resolve_format(opts ? opts->format : PGT_FORMAT_AUTO, path, &format, err);
