@@ -795,6 +795,7 @@ static void test_malformed_corpus(void) {
         CHECK_MSG(zeroed, "%s: outputs not zeroed", fname);
         CHECK_MSG(strncmp(err.message, path, strlen(path)) == 0, "%s: message '%s'", fname,
                   err.message);
+        CHECK_MSG(strchr(err.message, '\n') == NULL, "%s: message of two lines", fname);
     }
     fclose(f);
     CHECK(files >= 40);
@@ -809,6 +810,43 @@ static void test_malformed_corpus(void) {
     }
     closedir(d);
     CHECK_MSG(on_disk == files, "%d image files on disk, %d in MANIFEST", on_disk, files);
+}
+
+/* Tiles may be larger than the image (OpenEXRCore clips them): a tile's pixel count in 32 bits
+ * (2^31 here) wrapped the parallel decode's weights, and threads 1 and 2 read zeros or half of
+ * the image (tests/data/valid_images, written by make_corpus.py: pixel y holds y % 7 + 1). */
+static void test_tiles_larger_than_image(void) {
+    const char *path = PGT_TEST_DATA_DIR "/valid_images/tiles_larger_than_image.exr";
+    for (uint32_t threads = 1; threads <= 4; ++threads) {
+        pgt_image img;
+        pgt_error err = {0};
+        const pgt_result r = pgt_image_read_exr_threads(&img, path, threads, &err);
+        CHECK_MSG(r == PGT_OK, "%s", err.message);
+        if (r != PGT_OK) continue;
+        CHECK(img.width == 1 && img.height == 16384 && img.channel_count == 1);
+        uint32_t wrong = 0;
+        for (uint32_t y = 0; y < img.height; ++y) wrong += img.data[y] != (float)(y % 7u + 1u);
+        CHECK_MSG(wrong == 0, "%u threads: %u of 16384 pixels wrong", threads, wrong);
+        pgt_image_destroy(&img);
+    }
+}
+
+/* A multipart file of one part (pgt reads it; its chunk leaders start with a part number, which
+ * the file-size checks before the library read as the row and refused the file as truncated):
+ * pixel (x, y) holds 10 y + x + 1 (make_corpus.py). */
+static void test_one_part_multipart(void) {
+    const char *path = PGT_TEST_DATA_DIR "/valid_images/one_part_multipart.exr";
+    for (uint32_t threads = 1; threads <= 2; ++threads) {
+        pgt_image img;
+        pgt_error err = {0};
+        const pgt_result r = pgt_image_read_exr_threads(&img, path, threads, &err);
+        CHECK_MSG(r == PGT_OK, "%s", err.message);
+        if (r != PGT_OK) continue;
+        CHECK(img.width == 4 && img.height == 3 && img.channel_count == 1);
+        for (uint32_t i = 0; i < 12; ++i)
+            CHECK(img.data[i] == (float)(10u * (i / 4u) + i % 4u + 1u));
+        pgt_image_destroy(&img);
+    }
 }
 
 /* ---- PNG ---- */
@@ -1236,6 +1274,8 @@ static const pgt_test_case cases[] = {
     {"exr_garbage_and_mutations", test_exr_garbage_and_mutations},
     {"exr_threads_damaged", test_exr_threads_damaged},
     {"malformed_corpus", test_malformed_corpus},
+    {"tiles_larger_than_image", test_tiles_larger_than_image},
+    {"one_part_multipart", test_one_part_multipart},
     {"png_round_trip", test_png_round_trip},
     {"png_variants", test_png_variants},
     {"png_from_image", test_png_from_image},

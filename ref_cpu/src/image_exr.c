@@ -294,9 +294,12 @@ static int scan_name(scan_cursor *c, size_t *len) {
 }
 
 /* Sets *header_end to the offset just past the headers, or 0 when they look malformed (the
- * library then says how). Returns PGT_ERROR_TRUNCATED when the file ends inside them. */
-static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, pgt_error *err) {
+ * library then says how), and *multipart to the version field's multipart flag (its chunks
+ * start with a part number). Returns PGT_ERROR_TRUNCATED when the file ends inside them. */
+static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipart_out,
+                               pgt_error *err) {
     *header_end = 0;
+    *multipart_out = 0;
     scan_cursor c;
     memset(&c, 0, sizeof(c));
     c.s = s;
@@ -306,6 +309,7 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, pgt_error *e
                                : pgt_error_set(err, PGT_ERROR_TRUNCATED,
                                                "%s: the file ends in its version field", s->name);
     const int multipart = (version[5] & 0x10) != 0; /* version flag bit 12 */
+    *multipart_out = multipart;
     c.pos = 8;
     for (int part = 0, attr = 0;;) {
         size_t len = 0;
@@ -336,9 +340,10 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, pgt_error *e
     }
 }
 
-/* The offset table and every chunk leader lie inside the file. */
+/* The offset table and every chunk leader lie inside the file (a leader: the part number in a
+ * multipart file, then y or the tile's four numbers, then the packed size). */
 static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunks, int tiled,
-                               pgt_error *err) {
+                               int multipart, pgt_error *err) {
     const uint64_t table_end = header_end + (uint64_t)chunks * 8u;
     if (table_end > s->size)
         return pgt_error_set(err, PGT_ERROR_TRUNCATED,
@@ -346,8 +351,8 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
                              "%llu-%llu, the file holds %llu)",
                              s->name, chunks, (unsigned long long)header_end,
                              (unsigned long long)table_end, (unsigned long long)s->size);
-    const uint64_t leader = tiled ? 20u : 8u;
-    unsigned char entry[8], lead[20];
+    const uint64_t leader = (tiled ? 20u : 8u) + (multipart ? 4u : 0u);
+    unsigned char entry[8], lead[24];
     for (int32_t i = 0; i < chunks; ++i) {
         if (stream_read(NULL, s, entry, 8, header_end + 8u * (uint64_t)i, NULL) != 8)
             return PGT_OK; /* a read error: the library will meet it too */
@@ -533,7 +538,17 @@ static pgt_result decode_chunk(exr_context_t ctxt, exr_stream *s, const exr_layo
     }
     /* Chosen again for every chunk: the pointers moved, and the choice is cheap. */
     READ_CALL(exr_decoding_choose_default_routines(ctxt, 0, dec), what);
-    READ_CALL(exr_decoding_run(ctxt, 0, dec), what);
+    s->lib_msg[0] = '\0';
+    const exr_result_t rv = exr_decoding_run(ctxt, 0, dec);
+    /* OpenEXRCore 3.1's B44 decoder says "out of memory" for a chunk shorter than its data
+     * needs; the buffers of a decode are bounded by the image's size, checked above: a
+     * corrupt chunk */
+    if (rv == EXR_ERR_OUT_OF_MEMORY && !stream_errno(s))
+        return pgt_error_set(err, PGT_ERROR_PARSE, "%s: %s: %s (OpenEXR %s: a corrupt chunk)",
+                             s->name, what,
+                             s->lib_msg[0] ? s->lib_msg : exr_get_default_error_message(rv),
+                             exr_get_error_code_as_string(rv));
+    if (rv != EXR_ERR_SUCCESS) return read_fail(s, rv, what, err);
     return PGT_OK;
 }
 
@@ -628,9 +643,12 @@ static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layou
         }
     }
     exr_decode_job job = {ctxt, lay, chunks, img, w, dec};
-    /* a chunk weighs its pixels */
-    const uint32_t weight =
-        lay->tiled ? lay->tile_w * lay->tile_h : (uint32_t)lay->scanlines_per_chunk * lay->width;
+    /* a chunk weighs its pixels, at most the image's (a file may declare tiles or chunks far
+     * larger than the image: their product would wrap 32 bits) */
+    const uint64_t cw = lay->tiled ? (lay->tile_w < lay->width ? lay->tile_w : lay->width)
+                                   : lay->width,
+                   chh = lay->tiled ? lay->tile_h : (uint64_t)lay->scanlines_per_chunk;
+    const uint32_t weight = (uint32_t)(cw * (chh < lay->height ? chh : lay->height));
     const int32_t failed = run_chunks(w, workers, s, n, weight, decode_one, &job);
     if (failed >= 0)
         r = pgt_error_set(err, dec[failed].err.code, "%s", dec[failed].err.message);
@@ -666,7 +684,8 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
     memset(&lay, 0, sizeof(lay));
     const exr_attr_chlist_t *ch = NULL;
     uint64_t header_end = 0;
-    pgt_result r = scan_headers(s, &header_end, err);
+    int multipart = 0;
+    pgt_result r = scan_headers(s, &header_end, &multipart, err);
     if (r != PGT_OK) return r;
     current_stream = s;
     s->lib_msg[0] = '\0';
@@ -677,7 +696,8 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
     if (r == PGT_OK && s->lib_msg[0])
         r = pgt_error_set(err, PGT_ERROR_PARSE, "%s: header: %s", s->name, s->lib_msg);
     if (r == PGT_OK) r = read_layout(ctxt, s, &lay, &ch, err);
-    if (r == PGT_OK && header_end > 0) r = check_chunks(s, header_end, lay.chunks, lay.tiled, err);
+    if (r == PGT_OK && header_end > 0)
+        r = check_chunks(s, header_end, lay.chunks, lay.tiled, multipart, err);
     if (r == PGT_OK &&
         pgt_image_create(out, lay.width, lay.height, lay.channels, NULL, NULL) != PGT_OK)
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,

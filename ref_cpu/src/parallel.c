@@ -67,9 +67,10 @@ typedef struct pgt_items_job {
 
 static void pgt_items_trampoline(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
     const pgt_items_job *j = vctx;
-    /* the items whose first element lies in [begin, end) */
-    const uint32_t i0 = (begin + j->weight - 1u) / j->weight,
-                   i1 = (end + j->weight - 1u) / j->weight;
+    /* the items whose first element lies in [begin, end) (in 64 bits: end + weight - 1 may
+     * pass 2^32 when count * weight is near it) */
+    const uint32_t i0 = (uint32_t)(((uint64_t)begin + j->weight - 1u) / j->weight),
+                   i1 = (uint32_t)(((uint64_t)end + j->weight - 1u) / j->weight);
     if (i0 < i1) j->fn(j->ctx, i0, i1, worker);
 }
 

@@ -46,6 +46,10 @@ pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...) 
         va_start(ap, fmt);
         vsnprintf(err->message, sizeof(err->message), fmt, ap);
         va_end(ap);
+        /* one line whatever a file put into a name or a library into its text: control bytes
+         * (a newline in an EXR channel name) become '?' */
+        for (char *c = err->message; *c; ++c)
+            if ((unsigned char)*c < 0x20u || *c == 0x7f) *c = '?';
         err->code = code;
     }
     return code;

@@ -45,8 +45,9 @@ typedef struct pgt_error {
 const char *pgt_result_name(pgt_result code);
 
 /* Records the first error only: a later call on an error that already holds one keeps the first
- * (embree's rtcGetDeviceError model). err may be NULL. Returns code, so callers can write
- * `return pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: ...", path, line);`. */
+ * (embree's rtcGetDeviceError model). err may be NULL. The message is one line: control bytes
+ * in it (from names in a file, a library's text) are replaced by '?'. Returns code, so callers can
+ * write `return pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: ...", path, line);`. */
 pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -139,6 +139,48 @@ def png(width=4, height=3, color_type=2, depth=8, idat=None, ihdr_crc=None, chun
     return PNG_SIG + body + png_chunk(b"IEND", b"")
 
 
+B44_COMPRESSION = 6
+
+
+def exr_zip(raw):
+    """OpenEXR's ZIP: bytes split into even and odd halves, a delta predictor, deflate."""
+    t = raw[0::2] + raw[1::2]
+    out = bytearray(t)
+    for i in range(1, len(t)):
+        out[i] = (t[i] - t[i - 1] + 128) & 0xFF
+    return zlib.compress(bytes(out), 6)
+
+
+def tiles_larger_than_image():
+    """A valid 1 x 16384 FLOAT image in two ZIP tiles of 262143 x 8192 (tiles may be larger
+    than the image; OpenEXRCore reads them, clipped): pixel y holds y % 7 + 1. Their pixel count
+    (2^31 a tile) overflowed the weights of the parallel decode."""
+    width, height, tw, th = 1, 16384, 262143, 8192
+    extra = attr("tiles", "tiledesc", struct.pack("<IIB", tw, th, 0))
+    head = MAGIC + version(FLAG_TILED) + header([("Y", FLOAT, 1, 1)], (0, 0, width - 1, height - 1),
+                                                ZIP_COMPRESSION, extra) + b"\0"
+    chunks = []
+    for ty in range(height // th):
+        raw = b"".join(struct.pack("<f", float((ty * th + r) % 7 + 1)) for r in range(th))
+        data = exr_zip(raw)
+        chunks.append(struct.pack("<iiiii", 0, ty, 0, 0, len(data)) + data)
+    return assemble(head, chunks)
+
+
+def one_part_multipart(y0=1000000):
+    """A valid 4 x 3 FLOAT image as a multipart file of one part (rows y0 ..): each chunk
+    starts with its part number; pixel (x, y) holds 10 y + x + 1."""
+    extra = (attr("name", "string", b"main") + attr("type", "string", b"scanlineimage") +
+             attr("chunkCount", "int", struct.pack("<i", 3)))
+    head = MAGIC + version(FLAG_MULTIPART) + header([("Y", FLOAT, 1, 1)], (0, y0, 3, y0 + 2),
+                                                    extra=extra) + b"\0" + b"\0"
+    chunks = []
+    for y in range(3):
+        data = b"".join(struct.pack("<f", float(10 * y + x + 1)) for x in range(4))
+        chunks.append(struct.pack("<iii", 0, y0 + y, len(data)) + data)
+    return assemble(head, chunks)
+
+
 def corpus():
     rng = random.Random(20240611)
     valid_head, valid_chunks = scanline_parts()
@@ -185,10 +227,19 @@ def corpus():
         ("exr_chunk_wrong_row.exr", "parse", scanline_exr(height=2, rows=[0, 7])),
         ("exr_chunk_short_data.exr", "parse",
          scanline_exr(height=1, chunk_data=b"\0" * 12)),
+        # OpenEXRCore's B44 decoder calls a chunk too short for its data "out of memory"
+        ("exr_b44_short_chunk.exr", "parse",
+         assemble(MAGIC + version() + header([("Y", HALF, 1, 1)], (0, 0, 7, 31), B44_COMPRESSION)
+                  + b"\0", [struct.pack("<ii", 0, 5) + bytes([1, 2, 3, 4, 5])])),
+        # a newline in a channel name must not split the error message
+        ("exr_newline_in_name.exr", "unsupported",
+         header_only_exr([("Y\nerror: a second line", FLOAT, 2, 1)], (0, 0, 3, 2))),
         # EXR: valid files of a kind pgt does not read
         ("exr_subsampled.exr", "unsupported",
          header_only_exr([("C", HALF, 2, 2), ("Y", HALF, 1, 1)], (0, 0, 3, 3))),
         ("exr_multipart.exr", "unsupported", multipart_exr()),
+        # one part with the multipart flag, its last chunk cut (its leader has a part number)
+        ("exr_one_part_truncated.exr", "truncated", one_part_multipart()[:-10]),
         ("exr_deep.exr", "unsupported", deep_exr()),
         ("exr_dwaa.exr", "unsupported",
          header_only_exr([("R", FLOAT, 1, 1)], (0, 0, 63, 0), compression=DWAA_COMPRESSION)),
@@ -224,7 +275,13 @@ def main():
             with open(os.path.join(HERE, name), "wb") as f:
                 f.write(data)
             m.write("%s %s\n" % (name, code))
-    print("wrote %d files" % len(entries))
+    valid = os.path.join(os.path.dirname(HERE), "valid_images")
+    os.makedirs(valid, exist_ok=True)
+    with open(os.path.join(valid, "tiles_larger_than_image.exr"), "wb") as f:
+        f.write(tiles_larger_than_image())
+    with open(os.path.join(valid, "one_part_multipart.exr"), "wb") as f:
+        f.write(one_part_multipart())
+    print("wrote %d files and 2 in valid_images" % len(entries))
 
 
 if __name__ == "__main__":
