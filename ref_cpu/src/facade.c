@@ -739,13 +739,13 @@ static uint32_t memo_key(facade_cache_key *k, const facade_cache *cache, const p
                      argc);
 }
 
+/* Floats compare bit for bit: -0 and +0 are two keys (1 / a or atan2 can tell them apart, so a
+ * layout may differ), and a NaN argument matches itself. */
 static int key_equal(const facade_cache_key *a, const facade_cache_key *b) {
-    if (a->building != b->building || a->item != b->item || a->key != b->key ||
-        a->argc != b->argc || a->w != b->w || a->h != b->h)
+    if (a->building != b->building || a->item != b->item || a->key != b->key || a->argc != b->argc)
         return 0;
-    for (uint32_t i = 0; i < a->argc; ++i)
-        if (a->args[i] != b->args[i]) return 0;
-    return 1;
+    return memcmp(&a->w, &b->w, sizeof a->w) == 0 && memcmp(&a->h, &b->h, sizeof a->h) == 0 &&
+           memcmp(a->args, b->args, a->argc * sizeof a->args[0]) == 0;
 }
 
 /* The rectangles of terminal item `it` (index `item`, node `key`) on a w x h scope with the
