@@ -195,6 +195,13 @@ one_line ivy_mask_wrong_size_one_line "small.png: 64 x 64 pixels, the atlas is 1
 
 # --density feeds the grammar's context.density(texCoord): 20 steps per seed where it reads
 # more than 0.5 (128 / 255 = 0.502 too), none where it reads 0 or without --density
+# terminal values are checked where the grammar gives them (line:col), before the mesh is built;
+# a finite but huge radius used to write non-finite vertices with exit 0
+printf 'Ivy --> M(0)\nM(n) --> Marching(4, 0, n < 5) {M(n + 1), Bark(-0.01, C1)}\n' >neg_bark.grammar
+expect ivy_bark_negative 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar neg_bark.grammar
+one_line ivy_bark_negative_names_place "neg_bark.grammar:2:43: seed 0 (id 1): Bark radius -0.01 is not in"
+expect ivy_bark_huge 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --param barkRadius=3e38 "${short[@]}"
+one_line ivy_bark_huge_names_place "ivy.grammar:[0-9]*:[0-9]*: seed 0 (id 1): Bark radius 3e+38 is not in"
 printf 'A --> B(0)\nB(n) --> Marching(2, 0, n < 20 && context.density(texCoord) > 0.5) { B(n + 1), NIL }\n' >dens.grammar
 for d in d255 d128 d0 none; do
   if [ $d = none ]; then dens=(); else dens=(--density $d.png); fi

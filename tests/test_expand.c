@@ -157,10 +157,10 @@ static void test_straight_march(void) {
 
 /* TopSucc before ExtrudedSucc, by hand (seed at (10.5, 20.5) heading +x):
  *   A: Marching -> p1 (12.5, 20.5); Top = B runs first:
- *      B item 1: Marching -> p2 (14.5, 20.5), parent p1; its Top Leaves(2, 0) is outside any
+ *      B item 1: Marching -> p2 (14.5, 20.5), parent p1; its Top Leaves(2, 0.5) is outside any
  *        Extruded: on the segment ending at p2; its Extruded Bark(3, C1): on p2;
  *      B item 2: Marching turned by +pi/2 from p1 heading +x -> p3 (12.5, 22.5), parent p1
- *        (p1's second child: branch 1); Extruded Leaves(4, 0) on p3;
+ *        (p1's second child: branch 1); Extruded Leaves(4, 0.25) on p3;
  *   A's Extruded Bark(1, C0) on p1; A item 2 Leaves(9, 9) at the root: dropped. */
 static void test_top_before_extruded(void) {
     flat_atlas f;
@@ -168,8 +168,8 @@ static void test_top_before_extruded(void) {
     pgt_grammar g;
     REQUIRE(compile(&g,
                     "A --> Marching(2, 0, 1) {B, Bark(1, C0)} Leaves(9, 9)\n"
-                    "B --> Marching(2, 0, 1) {Leaves(2, 0), Bark(3, C1)}\n"
-                    "      Marching(2, PI / 2, 1) {NIL, Leaves(4, 0)}",
+                    "B --> Marching(2, 0, 1) {Leaves(2, 0.5), Bark(3, C1)}\n"
+                    "      Marching(2, PI / 2, 1) {NIL, Leaves(4, 0.25)}",
                     "order"));
     const pgt_expand_seed seed = {10.5f, 20.5f, 1.0f, 0.0f};
     const pgt_expand_input in = flat_input(&f, &g, &seed, 1);
@@ -180,9 +180,9 @@ static void test_top_before_extruded(void) {
     CHECK(point_is(&o, 2, 14.5f, 20.5f, 1) && point_is(&o, 3, 12.5f, 22.5f, 1));
     CHECK(o.branch[0] == 0 && o.branch[1] == 0 && o.branch[2] == 0 && o.branch[3] == 1);
     const uint32_t L = PGT_GRAMMAR_TERMINAL_LEAVES, B = PGT_GRAMMAR_TERMINAL_BARK;
-    CHECK(terminal_is(&o, 0, 2, L, 2.0f, 0.0f, NONE));
+    CHECK(terminal_is(&o, 0, 2, L, 2.0f, 0.5f, NONE));
     CHECK(terminal_is(&o, 1, 2, B, 3.0f, 2.0f, PGT_GRAMMAR_C1));
-    CHECK(terminal_is(&o, 2, 3, L, 4.0f, 0.0f, NONE));
+    CHECK(terminal_is(&o, 2, 3, L, 4.0f, 0.25f, NONE));
     CHECK(terminal_is(&o, 3, 1, B, 1.0f, 1.0f, PGT_GRAMMAR_C0));
     CHECK(o.dropped_terminals == 1 && o.stopped_marches == 0);
     pgt_expand_destroy(&o);

@@ -271,6 +271,14 @@ static void test_view_and_start(void) {
     pgt_error err = {0};
     CHECK(pgt_march_start(&v, 6.5f, 8.5f, 3.0f, 4.0f, &st, &err) == PGT_OK);
     CHECK(st.chart == 0 && near_f(st.dx, 0.6f, 1e-6f) && near_f(st.dy, 0.8f, 1e-6f));
+    /* finite directions whose squares under- or overflow float: the same heading */
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, 3e-30f, 4e-30f, &st, &err) == PGT_OK);
+    CHECK(near_f(st.dx, 0.6f, 1e-6f) && near_f(st.dy, 0.8f, 1e-6f));
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, -3e37f, 4e37f, &st, &err) == PGT_OK);
+    CHECK(near_f(st.dx, -0.6f, 1e-6f) && near_f(st.dy, 0.8f, 1e-6f));
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, 1e-45f, 0.0f, &st, &err) == PGT_OK);
+    CHECK(st.dx == 1.0f && st.dy == 0.0f);
+    CHECK(pgt_march_start(&v, 6.5f, 8.5f, INFINITY, 1.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);
     CHECK(pgt_march_start(&v, 17.5f, 8.5f, 1.0f, 0.0f, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err.message, "background") != NULL);
     CHECK(pgt_march_start(&v, 15.5f, 8.5f, 1.0f, 0.0f, &st, NULL) == PGT_ERROR_INVALID_ARGUMENT);

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "pgt/parallel.h"
+#include "pgt/terminals.h"
 
 /* Work per seed for pgt_parallel_for_items: a seed is hundreds to thousands of march steps, so
  * every seed is its own block. */
@@ -284,6 +285,20 @@ static pgt_result do_terminal(xrun *r, const pgt_grammar_item *it, const xwork *
         const pgt_result res = eval(r, r->g->args[it->first_arg + k], w, &v[k]);
         if (res != PGT_OK) return res;
     }
+    /* the terminal builder's checks, here where the grammar's place is known */
+    const int bark = it->target == PGT_GRAMMAR_TERMINAL_BARK;
+    const float size = bark ? v[0] : v[1];
+    if (!(size > 0.0f && size <= PGT_TERMINALS_MAX_SIZE))
+        return pgt_error_set(&r->out->err, PGT_ERROR_INVALID_ARGUMENT,
+                             "%s:%u:%u: seed %u (id %u): %s %s %g is not in (0, %g]", file_of(r->g),
+                             it->line, it->col, r->index, r->id, bark ? "Bark" : "Leaves",
+                             bark ? "radius" : "size", (double)size,
+                             (double)PGT_TERMINALS_MAX_SIZE);
+    if (!bark && !(v[0] >= 0.0f && v[0] <= PGT_TERMINALS_MAX_LEAF_DENSITY))
+        return pgt_error_set(&r->out->err, PGT_ERROR_INVALID_ARGUMENT,
+                             "%s:%u:%u: seed %u (id %u): Leaves density %g is not in [0, %g]",
+                             file_of(r->g), it->line, it->col, r->index, r->id, (double)v[0],
+                             (double)PGT_TERMINALS_MAX_LEAF_DENSITY);
     xseed *o = r->out;
     uint32_t seg = w->segment;
     if (seg == PGT_NONE && o->points[w->point].parent != PGT_NONE) seg = w->point;

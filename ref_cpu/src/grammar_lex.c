@@ -48,6 +48,12 @@ static int is_ident_start(int c) {
 static int is_digit(int c) { return c >= '0' && c <= '9'; }
 static int is_ident_char(int c) { return is_ident_start(c) || is_digit(c); }
 
+/* A NUL byte is an error inside comments too (grammars/README.md). */
+static pgt_result comment_nul(lexer *L) {
+    return lex_fail(L, PGT_ERROR_PARSE, L->line, L->col,
+                    "found a NUL byte in a comment, expected grammar text (UTF-8 without NUL)");
+}
+
 /* Skips white space and the three comment forms. */
 static pgt_result lex_skip(lexer *L) {
     for (;;) {
@@ -55,12 +61,17 @@ static pgt_result lex_skip(lexer *L) {
         if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') {
             lex_advance(L, 1);
         } else if (c == '#' || (c == '/' && d == '/')) {
-            while (L->pos < L->size && L->text[L->pos] != '\n') lex_advance(L, 1);
+            while (L->pos < L->size && L->text[L->pos] != '\n') {
+                if (L->text[L->pos] == '\0') return comment_nul(L);
+                lex_advance(L, 1);
+            }
         } else if (c == '/' && d == '*') {
             const uint32_t line = L->line, col = L->col;
             lex_advance(L, 2);
-            while (L->pos < L->size && !(lex_at(L, 0) == '*' && lex_at(L, 1) == '/'))
+            while (L->pos < L->size && !(lex_at(L, 0) == '*' && lex_at(L, 1) == '/')) {
+                if (L->text[L->pos] == '\0') return comment_nul(L);
                 lex_advance(L, 1);
+            }
             if (L->pos >= L->size)
                 return lex_fail(L, PGT_ERROR_PARSE, line, col,
                                 "found a '/*' comment that never ends, expected '*/' before the "

@@ -551,10 +551,18 @@ static uint32_t unbounced_pointer(const pgt_march_atlas *a, uint32_t chart, floa
 
 pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx, float dy,
                            pgt_march_state *out, pgt_error *err) {
-    const float len = sqrtf(dx * dx + dy * dy);
-    if (!isfinite(len) || !(len > 0.0f))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                             "direction (%g, %g) is zero or not finite", (double)dx, (double)dy);
+    float len = sqrtf(dx * dx + dy * dy);
+    if (!isfinite(len) || !(len > 0.0f)) {
+        /* the squares under- or overflow for finite directions below 1e-19 or above 1e19:
+         * such a direction is scaled to its largest component first */
+        const float m = fmaxf(fabsf(dx), fabsf(dy));
+        if (!isfinite(dx) || !isfinite(dy) || !(m > 0.0f))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "direction (%g, %g) is zero or not finite", (double)dx,
+                                 (double)dy);
+        dx /= m, dy /= m;
+        len = sqrtf(dx * dx + dy * dy);
+    }
     const uint32_t t = texel_at(a, x, y);
     if (t == MARCH_NONE)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,

@@ -348,11 +348,11 @@ static pgt_result validate(const pgt_terminals_input *in, pgt_error *err) {
                                  "terminals: terminal %u names segment %u, which is %s", t, s,
                                  s >= n ? "past the points" : "a root (no segment ends there)");
         if (kind == PGT_GRAMMAR_TERMINAL_BARK) {
-            if (!(a > 0.0f) || !isfinite(a))
+            if (!(a > 0.0f && a <= PGT_TERMINALS_MAX_SIZE))
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                      "terminals: terminal %u (Bark on segment %u): radius %g is "
-                                     "not a finite value > 0",
-                                     t, s, (double)a);
+                                     "not in (0, %g]",
+                                     t, s, (double)a, (double)PGT_TERMINALS_MAX_SIZE);
             const uint32_t sm = in->terminal_smoothness[t];
             if (sm != PGT_BEZIER_DISCONTINUOUS && sm != PGT_BEZIER_C0 && sm != PGT_BEZIER_C1)
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
@@ -365,11 +365,11 @@ static pgt_result validate(const pgt_terminals_input *in, pgt_error *err) {
                                      "terminals: terminal %u (Leaves on segment %u): density %g is "
                                      "not in [0, %g]",
                                      t, s, (double)a, (double)PGT_TERMINALS_MAX_LEAF_DENSITY);
-            if (!(b > 0.0f) || !isfinite(b))
+            if (!(b > 0.0f && b <= PGT_TERMINALS_MAX_SIZE))
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                      "terminals: terminal %u (Leaves on segment %u): size %g is "
-                                     "not a finite value > 0",
-                                     t, s, (double)b);
+                                     "not in (0, %g]",
+                                     t, s, (double)b, (double)PGT_TERMINALS_MAX_SIZE);
         } else {
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "terminals: terminal %u on segment %u has unknown kind %u", t, s,

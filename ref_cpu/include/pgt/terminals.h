@@ -83,6 +83,10 @@ extern "C" {
 /* Leaves per record at most: a record's draws must fit the counter's 24-bit field
  * (2 draws per leaf); 2^20 leaves on one segment is far beyond any grammar's use. */
 #define PGT_TERMINALS_MAX_LEAF_DENSITY 1048576.0f
+/* Largest Bark radius and leaf size: a ring or leaf corner is its centre plus about twice the
+ * size, and squares of sizes appear in areas: 1e18 keeps both finite in float (3.4e38), far
+ * above any mesh's scale. */
+#define PGT_TERMINALS_MAX_SIZE 1e18f
 /* Leaves records per segment at most: the counter's 8-bit field k. */
 #define PGT_TERMINALS_MAX_LEAVES_RECORDS 256u
 /* Leaf lift along the normal, as a fraction of the leaf size: enough to leave the surface
