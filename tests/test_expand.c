@@ -429,6 +429,18 @@ static void test_bounds(void) {
     expect_limit(&f, "A --> B A\nB --> NIL", &o, "runaway:1:", "max_depth");
     o.max_depth = 0; /* the default bound */
     expect_limit(&f, "A --> Branch(2){A, A}", &o, "runaway:1:", "max_depth");
+    /* a branching recursion making no points: 2^20 items within every other bound */
+    o.max_items = 1000;
+    expect_limit(&f, "A --> B(0)\nB(n) --> case n < 20 : Branch(2) {B(n + 1), B(n + 1)} else : NIL",
+                 &o, "runaway:2:", "max_items");
+    o.max_items = 0;
+    /* ... and one making 2^12 Bark records on one segment */
+    o.max_terminals = 100;
+    expect_limit(&f,
+                 "A --> Marching(1, 0, 1) {NIL, T(0)}\n"
+                 "T(n) --> case n < 12 : Bark(0.01, C1) Branch(2) {T(n + 1), T(n + 1)} else : NIL",
+                 &o, "runaway:2:24: ", "max_terminals");
+    o.max_terminals = 0;
     /* a length out of range, and split, are errors with their position */
     pgt_grammar g;
     REQUIRE(compile(&g, "A --> Marching(-1, 0, 1){NIL, NIL}", "neg"));

@@ -56,7 +56,7 @@ typedef struct xseed {
 typedef struct xjob {
     const pgt_expand_input *in;
     pgt_march_options march;
-    uint32_t max_points, max_depth, candidates, stream;
+    uint32_t max_points, max_depth, max_terminals, max_items, candidates, stream;
     float cand_angle[PGT_EXPAND_MAX_CANDIDATES];
     xseed *seeds;
 } xjob;
@@ -123,6 +123,7 @@ static const char *file_of(const pgt_grammar *g) { return g->names + g->file_nam
 /* Grows *p (count elements of size, capacity *cap) for one more. */
 static int grow(void **p, uint32_t count, uint32_t *cap, size_t size) {
     if (count < *cap) return 1;
+    if (*cap == UINT32_MAX) return 0; /* no index left to grow to */
     const uint32_t ncap = *cap ? (*cap > UINT32_MAX / 2 ? UINT32_MAX : *cap * 2) : 64u;
     void *np = realloc(*p, (size_t)ncap * size);
     if (!np) return 0;
@@ -138,6 +139,7 @@ typedef struct xrun {
     uint32_t index, id; /* seed index and seed id */
     xwork *stack;
     uint32_t depth, cap;
+    uint32_t items; /* grammar items run (max_items) */
     xcontext ctx;
     pgt_grammar_env env;
 } xrun;
@@ -306,6 +308,8 @@ static pgt_result do_terminal(xrun *r, const pgt_grammar_item *it, const xwork *
         o->dropped++;
         return PGT_OK;
     }
+    if (o->term_count >= r->job->max_terminals)
+        return limit(r, it, "terminals", r->job->max_terminals, "max_terminals");
     if (!grow((void **)&o->terms, o->term_count, &o->term_cap, sizeof(xterm)))
         return pgt_error_set(&o->err, PGT_ERROR_OUT_OF_MEMORY, "seed %u: out of memory", r->index);
     xterm *tm = &o->terms[o->term_count++];
@@ -342,7 +346,7 @@ static pgt_result run_item(xrun *r, const pgt_grammar_item *it, const xwork *w) 
 static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
     const pgt_expand_input *in = job->in;
     const pgt_expand_seed *sd = &in->seeds[index];
-    xrun r = {job, in->grammar, out, index, in->seed_base + index, NULL, 0, 0, {{0}, 0, 0}, {0}};
+    xrun r = {job, in->grammar, out, index, in->seed_base + index, NULL, 0, 0, 0, {{0}, 0, 0}, {0}};
     r.ctx.plane[PGT_GRAMMAR_CONTEXT_MASK] = in->mask;
     r.ctx.plane[PGT_GRAMMAR_CONTEXT_DENSITY] = in->density;
     r.ctx.w = in->atlas->width, r.ctx.h = in->atlas->height;
@@ -367,6 +371,10 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
         const pgt_grammar_sequence *sq = &g->sequences[w.seq];
         if (w.pos >= sq->item_count) continue;
         const pgt_grammar_item *it = &g->items[sq->first_item + w.pos];
+        if (r.items++ == job->max_items) {
+            res = limit(&r, it, "grammar items run", job->max_items, "max_items");
+            break;
+        }
         xwork rest = w; /* no tail-call elimination: see expand.h */
         rest.pos++;
         res = push(&r, it, &rest);
@@ -500,6 +508,8 @@ pgt_result pgt_expand(pgt_expand_output *out, const pgt_expand_input *in,
     job.in = in, job.march = o->march, job.stream = o->stream;
     job.max_points = o->max_points ? o->max_points : PGT_EXPAND_DEFAULT_MAX_POINTS;
     job.max_depth = o->max_depth ? o->max_depth : PGT_EXPAND_DEFAULT_MAX_DEPTH;
+    job.max_terminals = o->max_terminals ? o->max_terminals : PGT_EXPAND_DEFAULT_MAX_TERMINALS;
+    job.max_items = o->max_items ? o->max_items : PGT_EXPAND_DEFAULT_MAX_ITEMS;
     job.candidates = o->no_candidates ? 0u
                      : o->candidates  ? o->candidates
                                       : PGT_EXPAND_DEFAULT_CANDIDATES;

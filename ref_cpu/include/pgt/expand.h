@@ -61,10 +61,12 @@
  *  - RNG: rand uses pgt_rng_float(seed id, options.stream, counter), seed id = seed_base + seed
  *    index, one counter per seed from 0 advancing in expansion order: a seed's output does not
  *    depend on the other seeds, their order or the threads.
- *  - Bounds per seed: max_points (the root included) and max_depth (work items on the stack).
- *    Exceeding one is PGT_ERROR_LIMIT, "FILE:LINE:COL: seed S (id I): ..." naming the item that
- *    hit it and the option (max_points or max_depth). Several failing seeds: the lowest seed
- *    index's error (the same for any thread count).
+ *  - Bounds per seed: max_points (the root included), max_depth (work items on the stack),
+ *    max_terminals (Bark and Leaves records) and max_items (grammar items run: a branching
+ *    recursion that makes no points, such as A --> Branch(2) {B, B} ten levels deep, runs
+ *    exponentially long within the other bounds). Exceeding one is PGT_ERROR_LIMIT,
+ *    "FILE:LINE:COL: seed S (id I): ..." naming the item that hit it and the option. Several
+ *    failing seeds: the lowest seed index's error (the same for any thread count).
  *  - Seeds run in parallel (pgt_parallel_for_items), each into its own buffers, concatenated in
  *    seed order: the output is byte-identical for any thread count.
  *
@@ -95,6 +97,14 @@ extern "C" {
  * Extruded and the rest of the sequences around it), so 2^16 allows chains of ~13k steps, 26
  * times the ivy's 500-step main branch, at most ~6 MB of stack per seed (96-byte items). */
 #define PGT_EXPAND_DEFAULT_MAX_DEPTH (1u << 16)
+
+/* Bark and Leaves records per seed: the densest scene has a few per segment (~2.3k segments a
+ * seed); 2^22 (64 MB of records) leaves room for 600 per segment. */
+#define PGT_EXPAND_DEFAULT_MAX_TERMINALS (1u << 22)
+
+/* Grammar items run per seed: the ivy grammar runs ~10 per point, so 2^26 allows 6.7M points'
+ * worth (6 times max_points) and stops a runaway recursion after a few seconds. */
+#define PGT_EXPAND_DEFAULT_MAX_ITEMS (1u << 26)
 
 /* Candidate directions in the semicircle: 8 is a 22.5-degree spacing, ending at +-90 degrees. */
 #define PGT_EXPAND_DEFAULT_CANDIDATES 8u
@@ -128,6 +138,8 @@ typedef struct pgt_expand_options {
     pgt_march_options march;
     uint32_t max_points; /* per seed; 0: PGT_EXPAND_DEFAULT_MAX_POINTS */
     uint32_t max_depth;  /* per seed; 0: PGT_EXPAND_DEFAULT_MAX_DEPTH */
+    uint32_t max_terminals; /* per seed; 0: PGT_EXPAND_DEFAULT_MAX_TERMINALS */
+    uint32_t max_items;     /* grammar items run per seed; 0: PGT_EXPAND_DEFAULT_MAX_ITEMS */
     uint32_t candidates; /* K; 0: PGT_EXPAND_DEFAULT_CANDIDATES; at most the MAX */
     int no_candidates;   /* 1: no candidate directions (a failing first try stops) */
     uint32_t stream;     /* RNG stream of the grammar's rand */
