@@ -412,6 +412,33 @@ static void test_errors(void) {
     make_one(&s, &g, corners, params, &b);
     corners[3] = NAN;
     CHECK(pgt_facade_scene_check(&s, "one", &err) == PGT_ERROR_NOT_FINITE);
+    /* footprints that are not simple polygons (the renderer's crossing-number roof and the
+     * explicit geometry's ear-clipped one fill different regions): a bow-tie, a corner that
+     * folds back along its edge, an edge through a corner */
+    const float bow[8] = {0, 0, 20, 10, 20, 0, 0, 10}, fold[8] = {0, 0, 0, 10, 0, 5, 20, 0},
+                touch[8] = {0, 0, 20, 0, 20, 10, 10, 0};
+    const float *const bad[3] = {bow, fold, touch};
+    for (int k = 0; k < 3; ++k) {
+        make_one(&s, &g, corners, params, &b);
+        memcpy(corners, bad[k], sizeof bow);
+        memset(&err, 0, sizeof err);
+        CHECK(pgt_facade_scene_check(&s, "one", &err) == PGT_ERROR_INVALID_ARGUMENT);
+        CHECK_MSG(strstr(err.message, "simple polygon") != NULL, "%d: %s", k, err.message);
+    }
+    /* coordinates beyond what float frames resolve (at 3e38 their arithmetic overflowed) */
+    make_one(&s, &g, corners, params, &b);
+    corners[1] = 3e38f;
+    memset(&err, 0, sizeof err);
+    CHECK(pgt_facade_scene_check(&s, "one", &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(err.message, "footprint corner 0") != NULL, "%s", err.message);
+    make_one(&s, &g, corners, params, &b);
+    b.height = 3e38f;
+    memset(&err, 0, sizeof err);
+    CHECK(pgt_facade_scene_check(&s, "one", &err) == PGT_ERROR_INVALID_ARGUMENT);
+    make_one(&s, &g, corners, params, &b);
+    b.base = 2e6f;
+    memset(&err, 0, sizeof err);
+    CHECK(pgt_facade_scene_check(&s, "one", &err) == PGT_ERROR_INVALID_ARGUMENT);
     pgt_grammar_destroy(&g);
 
     /* a grammar without protrusion/recess; one whose terminal sticks out; one with Bark */

@@ -15,6 +15,14 @@
 /* A footprint edge shorter than this (metres) has no facade direction. */
 #define FACADE_MIN_EDGE 1e-4f
 
+/* Largest |coordinate| of a footprint corner, a base or a roof: at 1e6 a float's spacing is
+ * 0.0625, coarser than a window's frame; beyond it facades lose their shape (and at 1e38 the
+ * frames' arithmetic overflows). */
+#define FACADE_MAX_COORD 1e6f
+
+/* The footprint's edges are tested pairwise for crossings (O(n^2)): 4096 corners, 8M tests. */
+#define FACADE_MAX_CORNERS 4096u
+
 /* ---- scene ---- */
 
 static const char *gname(const pgt_grammar *g) { return g->names + g->file_name; }
@@ -62,6 +70,55 @@ static pgt_result check_call_cycles(const pgt_grammar *g, const char *what, pgt_
         }
     free(indeg), free(queue);
     return res;
+}
+
+/* Sign of the turn a -> b -> c in the x-z plane (double: exact enough for float corners). */
+static int orient2(const float *a, const float *b, const float *c) {
+    const double v = ((double)b[0] - a[0]) * ((double)c[1] - a[1]) -
+                     ((double)b[1] - a[1]) * ((double)c[0] - a[0]);
+    return (v > 0.0) - (v < 0.0);
+}
+
+/* q lies on segment [a, b] when the three are collinear. */
+static int within(const float *a, const float *b, const float *q) {
+    return fminf(a[0], b[0]) <= q[0] && q[0] <= fmaxf(a[0], b[0]) && fminf(a[1], b[1]) <= q[1] &&
+           q[1] <= fmaxf(a[1], b[1]);
+}
+
+/* Segments [a, b] and [p, q] share a point. */
+static int segments_meet(const float *a, const float *b, const float *p, const float *q) {
+    const int o1 = orient2(a, b, p), o2 = orient2(a, b, q), o3 = orient2(p, q, a),
+              o4 = orient2(p, q, b);
+    if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) {
+        if (o1 && o2 && o3 && o4) return 1; /* a proper crossing */
+    }
+    return (!o1 && within(a, b, p)) || (!o2 && within(a, b, q)) || (!o3 && within(p, q, a)) ||
+           (!o4 && within(p, q, b));
+}
+
+/* Whether the closed footprint c[0 .. n) (x, z pairs) is not simple: two edges that are not
+ * neighbours share a point, or two neighbours fold back over each other. Sets the edges. */
+static int footprint_crossing(const float *c, uint32_t n, uint32_t *e0, uint32_t *e1) {
+    for (uint32_t i = 0; i < n; ++i) {
+        const float *a = c + 2u * i, *b = c + 2u * ((i + 1u) % n);
+        const float *nx = c + 2u * ((i + 2u) % n); /* the next edge is [b, nx] */
+        if (n > 2 && orient2(a, b, nx) == 0 &&
+            ((double)nx[0] - b[0]) * ((double)b[0] - a[0]) +
+                    ((double)nx[1] - b[1]) * ((double)b[1] - a[1]) <
+                0.0) {
+            *e0 = i, *e1 = (i + 1u) % n;
+            return 1;
+        }
+        for (uint32_t j = i + 2u; j < n; ++j) {
+            if (i == 0 && j == n - 1u) continue; /* neighbours across corner 0 */
+            const float *p = c + 2u * j, *q = c + 2u * ((j + 1u) % n);
+            if (segments_meet(a, b, p, q)) {
+                *e0 = i, *e1 = j;
+                return 1;
+            }
+        }
+    }
+    return 0;
 }
 
 pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, pgt_error *err) {
@@ -132,10 +189,17 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
             return pgt_error_set(err, PGT_ERROR_INDEX_RANGE,
                                  "%s: building %u has params [%u, %u + %u) of %u", what, b,
                                  B->first_param, B->first_param, g->param_count, s->param_count);
-        if (!(isfinite(B->base) && isfinite(B->height) && B->height > 0.0f))
+        if (!(isfinite(B->base) && isfinite(B->height) && B->height > 0.0f &&
+              fabsf(B->base) <= FACADE_MAX_COORD && fabsf(B->base + B->height) <= FACADE_MAX_COORD))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: building %u has base %g and height %g (height > 0)", what, b,
-                                 (double)B->base, (double)B->height);
+                                 "%s: building %u has base %g and height %g (height > 0, base and "
+                                 "roof within +-%g)",
+                                 what, b, (double)B->base, (double)B->height,
+                                 (double)FACADE_MAX_COORD);
+        if (B->corner_count > FACADE_MAX_CORNERS)
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "%s: building %u has %u footprint corners (at most %u)", what, b,
+                                 B->corner_count, FACADE_MAX_CORNERS);
         for (uint32_t k = 0; k < g->param_count; ++k)
             if (!isfinite(s->params[B->first_param + k]))
                 return pgt_error_set(err, PGT_ERROR_NOT_FINITE,
@@ -149,6 +213,13 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  b, (double)F, (double)Bk);
         double area = 0.0;
         const float *c = s->corners + 2u * B->first_corner;
+        for (uint32_t k = 0; k < B->corner_count; ++k)
+            if (!(fabsf(c[2 * k]) <= FACADE_MAX_COORD && fabsf(c[2 * k + 1]) <= FACADE_MAX_COORD))
+                return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                     "%s: building %u: footprint corner %u (%g, %g) is not within "
+                                     "+-%g",
+                                     what, b, k, (double)c[2 * k], (double)c[2 * k + 1],
+                                     (double)FACADE_MAX_COORD);
         for (uint32_t k = 0; k < B->corner_count; ++k) {
             const uint32_t k1 = (k + 1u) % B->corner_count;
             const float dx = c[2 * k1] - c[2 * k], dz = c[2 * k1 + 1] - c[2 * k + 1];
@@ -161,6 +232,12 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
         /* n = t x (0,1,0) = (-t.z, 0, t.x) points out when the x-z signed area is negative:
          * counter-clockwise seen from above (+Y down onto the ground, +X right, +Z down the
          * page) */
+        uint32_t e0, e1;
+        if (footprint_crossing(c, B->corner_count, &e0, &e1))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: building %u: footprint edges %u and %u meet (a footprint "
+                                 "must be a simple polygon: roof and facades would disagree)",
+                                 what, b, e0, e1);
         if (B->corner_count != 0 && !(area < 0.0))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: building %u: footprint corners run the wrong way (signed "
