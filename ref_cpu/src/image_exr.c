@@ -225,6 +225,10 @@ static const char *compression_name(exr_compression_t c) {
         if (rv_ != EXR_ERR_SUCCESS) return read_fail(s, rv_, what, err);                           \
     } while (0)
 
+/* Values in one tile (clipped to the image) at most: the decode's buffers stay under 512 MB
+ * beside the image, while a whole 4096^2 RGBA image in one tile (2^26 values) still reads. */
+#define EXR_MAX_TILE_VALUES (1u << 26)
+
 typedef struct exr_layout {
     int32_t min_x, min_y; /* data window origin */
     uint32_t width, height, channels;
@@ -467,6 +471,15 @@ static pgt_result read_layout(exr_context_t ctxt, exr_stream *s, exr_layout *lay
             return pgt_error_set(err, PGT_ERROR_PARSE, "%s: tiles of %u x %u pixels", name, tw, th);
         lay->tile_w = tw;
         lay->tile_h = th;
+        /* the library decodes a tile through buffers of its (clipped) size, twice over: one
+         * tile of a whole 2^28-value image took 3 GB */
+        const uint64_t tile_values = (uint64_t)(tw < lay->width ? tw : lay->width) *
+                                     (th < lay->height ? th : lay->height) * lay->channels;
+        if (tile_values > EXR_MAX_TILE_VALUES)
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "%s: tiles of %u x %u pixels x %u channels exceed the limit of "
+                                 "%u values a tile",
+                                 name, tw, th, lay->channels, EXR_MAX_TILE_VALUES);
         int32_t lw = 0, lh = 0;
         READ_CALL(exr_get_level_sizes(ctxt, 0, 0, 0, &lw, &lh), "header");
         if ((int64_t)lw != w || (int64_t)lh != h)

@@ -98,8 +98,10 @@ pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, u
  * - PGT_ERROR_TRUNCATED: the file ends inside its header, its offset table or a chunk, or its
  *   offset table points past the end.
  * - PGT_ERROR_LIMIT: width or height above PGT_IMAGE_MAX_SIDE, more than PGT_IMAGE_MAX_CHANNELS
- *   channels, more than PGT_IMAGE_MAX_VALUES values, or a channel name longer than 31.
- * - PGT_ERROR_UNSUPPORTED: a multi-part or deep file, a subsampled channel, or a compression
+ *   channels, more than PGT_IMAGE_MAX_VALUES values, a tile of more than 2^26 values (clipped
+ *   to the image), or a channel name longer than 31.
+ * - PGT_ERROR_UNSUPPORTED: a file of two parts or more (one part with the multipart flag is
+ *   read), a deep file, a subsampled channel, or a compression
  *   the library cannot decode (DWAA, DWAB with OpenEXR 3.1).
  * - PGT_ERROR_OUT_OF_MEMORY. */
 pgt_result pgt_image_read_exr(pgt_image *out, const char *path, pgt_error *err);

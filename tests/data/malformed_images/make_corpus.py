@@ -211,6 +211,11 @@ def corpus():
          header_only_exr([("c%02d" % i, HALF, 1, 1) for i in range(65)], (0, 0, 0, 0))),
         ("exr_long_channel_name.exr", "limit",
          header_only_exr([("n" * 40, FLOAT, 1, 1)], (0, 0, 0, 0), flags=FLAG_LONG_NAMES)),
+        # one tile of 2^27 values: the library's decode buffers would be twice the image
+        ("exr_huge_tile.exr", "limit",
+         header_only_exr([("A", HALF, 1, 1), ("B", HALF, 1, 1)], (0, 0, 8191, 8191),
+                         flags=FLAG_TILED,
+                         extra=attr("tiles", "tiledesc", struct.pack("<IIB", 8192, 8192, 0)))),
         ("exr_huge_chunk_count.exr", "truncated",
          header_only_exr(two, (0, 0, 0, 9999), chunks=1)),
         # EXR: malformed headers and data
