@@ -118,6 +118,18 @@ static void test_paint_matches_brute_force(void) {
     CHECK(pgt_ivy_paint(m1, a, pts, n, first, 3, 0.0f, 1, NULL, &err) ==
           PGT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err.message, "radius") != NULL);
+    /* segments whose boxes cover more grid entries in all than the bound: 300 diagonals of the
+     * cube-sphere's box, each a 64^3 box of cells (300 x 2^18 > 2^26), refused before the
+     * cells are visited */
+    float *zig = malloc(3u * 301u * sizeof(float));
+    REQUIRE(zig);
+    for (uint32_t i = 0; i <= 300; ++i)
+        for (int k = 0; k < 3; ++k) zig[3 * i + k] = i % 2 ? 1.0f : -1.0f;
+    const uint32_t zig_first[2] = {0, 301};
+    pgt_error_clear(&err);
+    CHECK(pgt_ivy_paint(m1, a, zig, 301, zig_first, 1, 1e-3f, 1, NULL, &err) == PGT_ERROR_LIMIT);
+    CHECK_MSG(strstr(err.message, "split them into shorter segments") != NULL, "%s", err.message);
+    free(zig);
     const uint32_t bad_first[4] = {0, 9, 8, 13};
     pgt_error_clear(&err);
     CHECK(pgt_ivy_paint(m1, a, pts, n, bad_first, 3, r, 1, NULL, &err) ==

@@ -2,6 +2,7 @@
  * pipeline (see pgt/ivy.h). */
 #include "pgt/ivy.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -119,17 +120,27 @@ static void paint_rows(void *ctx, uint32_t begin, uint32_t end, uint32_t worker)
     }
 }
 
-/* Visits the cells of segment s's bounding box grown by r: counts (fill == 0) or fills. */
-static void grid_visit(paint_grid *g, const float *a, const float *b, float r, uint32_t s,
-                       uint32_t *cursor, int fill) {
-    uint32_t c0[3], c1[3];
+/* The cell range [c0, c1] of the bounding box of segment (a, b) grown by r; returns its cell
+ * count. */
+static uint64_t grid_box(const paint_grid *g, const float *a, const float *b, float r,
+                         uint32_t c0[3], uint32_t c1[3]) {
+    uint64_t n = 1;
     for (int k = 0; k < 3; ++k) {
         const float lo = fminf(a[k], b[k]) - r, hi = fmaxf(a[k], b[k]) + r;
         float f0 = floorf((lo - g->lo[k]) / g->cell), f1 = floorf((hi - g->lo[k]) / g->cell);
         f0 = f0 < 0.0f ? 0.0f : f0;
         f1 = f1 > (float)(g->dim[k] - 1u) ? (float)(g->dim[k] - 1u) : f1;
         c0[k] = (uint32_t)f0, c1[k] = (uint32_t)f1;
+        n *= c1[k] >= c0[k] ? (uint64_t)(c1[k] - c0[k]) + 1u : 0u;
     }
+    return n;
+}
+
+/* Visits the cells of segment s's bounding box grown by r: counts (fill == 0) or fills. */
+static void grid_visit(paint_grid *g, const float *a, const float *b, float r, uint32_t s,
+                       uint32_t *cursor, int fill) {
+    uint32_t c0[3], c1[3];
+    grid_box(g, a, b, r, c0, c1);
     for (uint32_t z = c0[2]; z <= c1[2]; ++z)
         for (uint32_t y = c0[1]; y <= c1[1]; ++y)
             for (uint32_t x = c0[0]; x <= c1[0]; ++x) {
@@ -209,21 +220,30 @@ pgt_result pgt_ivy_paint(float *mask, const pgt_march_atlas *a, const float *poi
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "paint: out of memory");
         goto done;
     }
+    /* the entries counted from the boxes' sizes first: visiting a million long segments' cells
+     * one by one before refusing them took a minute */
+    uint64_t entries = 0;
+    for (uint32_t s = 0; s < segs && entries <= PGT_IVY_PAINT_MAX_ENTRIES; ++s) {
+        uint32_t c0[3], c1[3];
+        entries += grid_box(&g, &points[3u * (size_t)seg_a[s]], &points[3u * (size_t)seg_b[s]],
+                            radius, c0, c1);
+    }
+    if (entries > PGT_IVY_PAINT_MAX_ENTRIES) {
+        r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                          "paint: the strokes cover more than %u grid cells in all (long "
+                          "segments with a large brush); split them into shorter segments",
+                          PGT_IVY_PAINT_MAX_ENTRIES);
+        goto done;
+    }
     for (uint32_t s = 0; s < segs; ++s)
         grid_visit(&g, &points[3u * (size_t)seg_a[s]], &points[3u * (size_t)seg_b[s]], radius, s,
                    NULL, 0);
     uint64_t total = 0;
     for (size_t c = 0; c < cells; ++c) {
         total += g.first[c + 1];
-        if (total > PGT_IVY_PAINT_MAX_ENTRIES) {
-            r = pgt_error_set(err, PGT_ERROR_LIMIT,
-                              "paint: the strokes cover more than %u grid cells in all (long "
-                              "segments with a large brush); split them into shorter segments",
-                              PGT_IVY_PAINT_MAX_ENTRIES);
-            goto done;
-        }
         g.first[c + 1] = (uint32_t)total;
     }
+    assert(total == entries); /* the same boxes */
     g.seg = malloc((total ? total : 1u) * sizeof(uint32_t));
     uint32_t *cursor = malloc(cells * sizeof(uint32_t));
     if (!g.seg || !cursor) {
