@@ -471,7 +471,8 @@ int pgt_cmd_facade(int argc, char **argv) {
     if (a.explicit_path || a.embree_check) {
         const double e0 = pgt_cli_now_ms();
         if (pgt_facade_explicit(s, facades, facade_count, &mesh, &err) != PGT_OK) {
-            pgt_cli_fail(verb, "--explicit: %s: %s", what, err.message);
+            pgt_cli_fail(verb, "%s: %s: %s", a.explicit_path ? "--explicit" : "--embree-check",
+                         what, err.message);
             goto done;
         }
         const double e1 = pgt_cli_now_ms();

@@ -390,6 +390,15 @@ nz=(facade --scene negzero.scene --camera 11,6,40,11,6,12,0,1,0,40 --width 128 -
 expect facade_signed_zero_args_1 0 "$pgt" "${nz[@]}" -o nz1.exr --threads 1
 expect facade_signed_zero_args_2 0 "$pgt" "${nz[@]}" -o nz2.exr --threads 2
 cmp -s nz1.exr nz2.exr && ok facade_signed_zero_args_threads || bad facade_signed_zero_args_threads "frames differ"
+# an error of the explicit twin names the flag that asked for it (a 40-call chain: the explicit
+# expansion counts a frame per call, deeper than PGT_FACADE_MAX_DEPTH; the renderer reuses them)
+{ printf 'param protrusion = 0.3\nparam recess = 0.3\nF --> R1\n'
+  for k in $(seq 1 39); do printf 'R%d --> R%d\n' "$k" $((k + 1)); done
+  printf 'R40 --> Wall()\n'; } >chain.grammar
+printf 'grammar g chain.grammar\nbuilding g 0 12 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >chain.scene
+expect facade_chain_renders 0 "$pgt" facade --scene chain.scene --width 32 --height 24 -o ch.exr
+expect facade_chain_check 2 "$pgt" facade --scene chain.scene --width 32 --height 24 -o ch.exr --embree-check
+one_line facade_chain_check_names_flag "^pgt facade: --embree-check: chain.scene: .*chain.grammar:"
 expect facade_no_output 2 "$pgt" facade --city 4
 one_line facade_no_output_one_line "no output: give -o FRAME.exr"
 expect facade_city_zero 2 "$pgt" facade --city 0 -o f.exr
