@@ -815,14 +815,20 @@ static void test_malformed_corpus(void) {
 /* Tiles may be larger than the image (OpenEXRCore clips them): a tile's pixel count in 32 bits
  * (2^31 here) wrapped the parallel decode's weights, and threads 1 and 2 read zeros or half of
  * the image (tests/data/valid_images, written by make_corpus.py: pixel y holds y % 7 + 1). */
+/* Reads valid_images/NAME on `threads` threads; 0 (a failed check) when it cannot. */
+static int read_valid(const char *name, uint32_t threads, pgt_image *img) {
+    char path[512];
+    snprintf(path, sizeof(path), "%s/valid_images/%s", PGT_TEST_DATA_DIR, name);
+    pgt_error err = {0};
+    const pgt_result r = pgt_image_read_exr_threads(img, path, threads, &err);
+    CHECK_MSG(r == PGT_OK, "%s", err.message);
+    return r == PGT_OK;
+}
+
 static void test_tiles_larger_than_image(void) {
-    const char *path = PGT_TEST_DATA_DIR "/valid_images/tiles_larger_than_image.exr";
     for (uint32_t threads = 1; threads <= 4; ++threads) {
         pgt_image img;
-        pgt_error err = {0};
-        const pgt_result r = pgt_image_read_exr_threads(&img, path, threads, &err);
-        CHECK_MSG(r == PGT_OK, "%s", err.message);
-        if (r != PGT_OK) continue;
+        if (!read_valid("tiles_larger_than_image.exr", threads, &img)) continue;
         CHECK(img.width == 1 && img.height == 16384 && img.channel_count == 1);
         uint32_t wrong = 0;
         for (uint32_t y = 0; y < img.height; ++y) wrong += img.data[y] != (float)(y % 7u + 1u);
@@ -835,13 +841,9 @@ static void test_tiles_larger_than_image(void) {
  * the file-size checks before the library read as the row and refused the file as truncated):
  * pixel (x, y) holds 10 y + x + 1 (make_corpus.py). */
 static void test_one_part_multipart(void) {
-    const char *path = PGT_TEST_DATA_DIR "/valid_images/one_part_multipart.exr";
     for (uint32_t threads = 1; threads <= 2; ++threads) {
         pgt_image img;
-        pgt_error err = {0};
-        const pgt_result r = pgt_image_read_exr_threads(&img, path, threads, &err);
-        CHECK_MSG(r == PGT_OK, "%s", err.message);
-        if (r != PGT_OK) continue;
+        if (!read_valid("one_part_multipart.exr", threads, &img)) continue;
         CHECK(img.width == 4 && img.height == 3 && img.channel_count == 1);
         for (uint32_t i = 0; i < 12; ++i)
             CHECK(img.data[i] == (float)(10u * (i / 4u) + i % 4u + 1u));

@@ -89,9 +89,7 @@ static int within(const float *a, const float *b, const float *q) {
 static int segments_meet(const float *a, const float *b, const float *p, const float *q) {
     const int o1 = orient2(a, b, p), o2 = orient2(a, b, q), o3 = orient2(p, q, a),
               o4 = orient2(p, q, b);
-    if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) {
-        if (o1 && o2 && o3 && o4) return 1; /* a proper crossing */
-    }
+    if (o1 * o2 < 0 && o3 * o4 < 0) return 1; /* a proper crossing */
     return (!o1 && within(a, b, p)) || (!o2 && within(a, b, q)) || (!o3 && within(p, q, a)) ||
            (!o4 && within(p, q, b));
 }

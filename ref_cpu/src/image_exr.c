@@ -235,6 +235,8 @@ typedef struct exr_layout {
     int tiled;
     uint32_t tile_w, tile_h;
     int32_t scanlines_per_chunk;
+    uint32_t chunk_pixels; /* a chunk's pixels at most: a tile or a block of rows, clipped to the
+                            * image (a file may declare them far larger) */
     int32_t chunks;
     exr_compression_t compression;
 } exr_layout;
@@ -473,13 +475,14 @@ static pgt_result read_layout(exr_context_t ctxt, exr_stream *s, exr_layout *lay
         lay->tile_h = th;
         /* the library decodes a tile through buffers of its (clipped) size, twice over: one
          * tile of a whole 2^28-value image took 3 GB */
-        const uint64_t tile_values = (uint64_t)(tw < lay->width ? tw : lay->width) *
-                                     (th < lay->height ? th : lay->height) * lay->channels;
-        if (tile_values > EXR_MAX_TILE_VALUES)
+        const uint64_t tile_pixels =
+            (uint64_t)(tw < lay->width ? tw : lay->width) * (th < lay->height ? th : lay->height);
+        if (tile_pixels * lay->channels > EXR_MAX_TILE_VALUES)
             return pgt_error_set(err, PGT_ERROR_LIMIT,
                                  "%s: tiles of %u x %u pixels x %u channels exceed the limit of "
                                  "%u values a tile",
                                  name, tw, th, lay->channels, EXR_MAX_TILE_VALUES);
+        lay->chunk_pixels = (uint32_t)tile_pixels;
         int32_t lw = 0, lh = 0;
         READ_CALL(exr_get_level_sizes(ctxt, 0, 0, 0, &lw, &lh), "header");
         if ((int64_t)lw != w || (int64_t)lh != h)
@@ -491,6 +494,8 @@ static pgt_result read_layout(exr_context_t ctxt, exr_stream *s, exr_layout *lay
         if (lay->scanlines_per_chunk < 1)
             return pgt_error_set(err, PGT_ERROR_PARSE, "%s: %d scanlines per chunk", name,
                                  lay->scanlines_per_chunk);
+        const uint32_t rows = (uint32_t)lay->scanlines_per_chunk;
+        lay->chunk_pixels = (rows < lay->height ? rows : lay->height) * lay->width;
     }
     *out_ch = ch;
     return PGT_OK;
@@ -656,13 +661,8 @@ static pgt_result read_pixels(exr_context_t ctxt, exr_stream *s, const exr_layou
         }
     }
     exr_decode_job job = {ctxt, lay, chunks, img, w, dec};
-    /* a chunk weighs its pixels, at most the image's (a file may declare tiles or chunks far
-     * larger than the image: their product would wrap 32 bits) */
-    const uint64_t cw = lay->tiled ? (lay->tile_w < lay->width ? lay->tile_w : lay->width)
-                                   : lay->width,
-                   chh = lay->tiled ? lay->tile_h : (uint64_t)lay->scanlines_per_chunk;
-    const uint32_t weight = (uint32_t)(cw * (chh < lay->height ? chh : lay->height));
-    const int32_t failed = run_chunks(w, workers, s, n, weight, decode_one, &job);
+    /* a chunk weighs its pixels */
+    const int32_t failed = run_chunks(w, workers, s, n, lay->chunk_pixels, decode_one, &job);
     if (failed >= 0)
         r = pgt_error_set(err, dec[failed].err.code, "%s", dec[failed].err.message);
     else if (r != PGT_OK)
