@@ -390,15 +390,33 @@ nz=(facade --scene negzero.scene --camera 11,6,40,11,6,12,0,1,0,40 --width 128 -
 expect facade_signed_zero_args_1 0 "$pgt" "${nz[@]}" -o nz1.exr --threads 1
 expect facade_signed_zero_args_2 0 "$pgt" "${nz[@]}" -o nz2.exr --threads 2
 cmp -s nz1.exr nz2.exr && ok facade_signed_zero_args_threads || bad facade_signed_zero_args_threads "frames differ"
-# an error of the explicit twin names the flag that asked for it (a 40-call chain: the explicit
-# expansion counts a frame per call, deeper than PGT_FACADE_MAX_DEPTH; the renderer reuses them)
+# a chain of 40 rule calls in tail position takes one frame in the renderer and in the explicit
+# twin alike (the twin once took a frame per call, past PGT_FACADE_MAX_DEPTH, and refused it)
 { printf 'param protrusion = 0.3\nparam recess = 0.3\nF --> R1\n'
   for k in $(seq 1 39); do printf 'R%d --> R%d\n' "$k" $((k + 1)); done
   printf 'R40 --> Wall()\n'; } >chain.grammar
 printf 'grammar g chain.grammar\nbuilding g 0 12 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >chain.scene
 expect facade_chain_renders 0 "$pgt" facade --scene chain.scene --width 32 --height 24 -o ch.exr
-expect facade_chain_check 2 "$pgt" facade --scene chain.scene --width 32 --height 24 -o ch.exr --embree-check
-one_line facade_chain_check_names_flag "^pgt facade: --embree-check: chain.scene: .*chain.grammar:"
+expect facade_chain_check 0 "$pgt" facade --scene chain.scene --width 32 --height 24 -o ch.exr --embree-check
+grep -q "agreement 100.0000 %" out.txt && ok facade_chain_check_agrees || bad facade_chain_check_agrees "$(cat out.txt)"
+# an error of the explicit twin names the flag that asked for it: 40 calls each followed by a
+# Wall take 40 frames, more than PGT_FACADE_MAX_DEPTH; the camera looks away, so no ray develops
+# the grammar and only the explicit expansion (every facade, whole) meets the limit
+{ printf 'param protrusion = 0.3\nparam recess = 0.3\nF --> R1\n'
+  for k in $(seq 1 39); do printf 'R%d --> R%d Wall()\n' "$k" $((k + 1)); done
+  printf 'R40 --> Wall()\n'; } >deep.grammar
+printf 'grammar g deep.grammar\nbuilding g 0 12 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >deep.scene
+away=(facade --scene deep.scene --camera 11,6,40,11,6,100,0,1,0,40 --width 32 --height 24 -o dp.exr)
+expect facade_deep_away_renders 0 "$pgt" "${away[@]}"
+expect facade_deep_away_check 2 "$pgt" "${away[@]}" --embree-check
+one_line facade_deep_check_names_flag "^pgt facade: --embree-check: deep.scene: .*deep.grammar:[0-9]*:[0-9]*: .*PGT_FACADE_MAX_DEPTH"
+# an eye on a roof or wall plane: a hit at t = 0 is no hit (Embree's rule too); the ray develops on
+for cam in 11,12,6,11,12,-20 11,12,6,40,12,-20 11,6,12,11,6,40 11,6,12,30,6,-20; do
+  printf 'param protrusion = 0.3\nparam recess = 0.3\nF --> split(y) { ~1 : Wall() | 2 : Ledge(0.2) }\n' >onplane.grammar
+  printf 'grammar g onplane.grammar\nbuilding g 0 12 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >onplane.scene
+  expect "facade_eye_on_plane_$cam" 0 "$pgt" facade --scene onplane.scene --camera "$cam,0,1,0,60" \
+    --width 64 --height 48 -o op.exr --embree-check
+done
 expect facade_no_output 2 "$pgt" facade --city 4
 one_line facade_no_output_one_line "no output: give -o FRAME.exr"
 expect facade_city_zero 2 "$pgt" facade --city 0 -o f.exr

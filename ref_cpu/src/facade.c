@@ -549,7 +549,7 @@ void facade_to_world(const pgt_facade *f, const float p[3], float out[3]) {
     for (int k = 0; k < 3; ++k) out[k] = f->origin[k] + x * f->t[k] + y * f->b[k] + p[2] * f->n[k];
 }
 
-/* Nearest rectangle of q[0 .. n) hit at t in [0, *best): returns its index or PGT_NONE. win
+/* Nearest rectangle of q[0 .. n) hit at t in (0, *best): returns its index or PGT_NONE. win
  * (NULL: the whole facade) is the facade's window in facade space (x0, y0, x1, y1) and off the
  * block's corner (q and a are block-local): a hit outside the window is a part of the terminal
  * that another quad of the mesh shows. A rectangle's plane is placed in facade space as
@@ -566,7 +566,7 @@ static FACADE_ALWAYS_INLINE uint32_t hit_quads(const pgt_facade_quad *q, uint32_
         /* inv is infinite where v is 0: t is then infinite or NaN and fails the test */
         const uint32_t ax = q[k].axis;
         const float t = num[k] * inv[ax]; /* num[k] = q[k].c - a[ax] */
-        if (!(t >= 0.0f && t < *best)) continue;
+        if (!(t > 0.0f && t < *best)) continue;
         const uint32_t o0 = other[ax][0], o1 = other[ax][1];
         const float u0 = a[o0] + t * v[o0], u1 = a[o1] + t * v[o1];
         if (u0 < q[k].lo[0] || u0 > q[k].hi[0] || u1 < q[k].lo[1] || u1 > q[k].hi[1]) continue;
@@ -1511,7 +1511,7 @@ int facade_roof_intersect(const pgt_facade_scene *s, uint32_t b, uint32_t facade
     const float y = B->base + B->height;
     if (dir[1] == 0.0f) return 0;
     const float t = (y - org[1]) / dir[1];
-    if (!(t >= 0.0f && t < hit->t)) return 0;
+    if (!(t > 0.0f && t < hit->t)) return 0;
     const float px = org[0] + t * dir[0], pz = org[2] + t * dir[2];
     const float *c = s->corners + 2u * B->first_corner;
     int in = 0; /* crossing number */

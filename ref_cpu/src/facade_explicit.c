@@ -17,6 +17,7 @@
 typedef struct xframe {
     uint32_t type; /* 0: sequence, 1: split */
     uint32_t key;
+    uint32_t path; /* nodes from the axiom to this one (a tail item's frame counts on) */
     float x0, y0, w, h;
     uint32_t argc;
     float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
@@ -247,7 +248,7 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
     if (seq0 != PGT_NONE) {
         xframe *fr = &stack[sp++];
         fr->type = 0, fr->key = key0, fr->x0 = 0.0f, fr->y0 = 0.0f, fr->w = f->scope_w;
-        fr->h = f->scope_h, fr->argc = 0, fr->seq = seq0, fr->pos = 0;
+        fr->h = f->scope_h, fr->argc = 0, fr->seq = seq0, fr->pos = 0, fr->path = 1;
     }
     while (sp > 0 && !st.errors) {
         xframe *fr = &stack[sp - 1];
@@ -272,7 +273,7 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
                 break;
             }
             xframe *nf = &stack[sp++];
-            nf->type = 0, nf->key = pgt_facade_child_key(fr->key, cur);
+            nf->type = 0, nf->key = pgt_facade_child_key(fr->key, cur), nf->path = fr->path + 1u;
             nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h;
             if (fr->axis == 0)
                 nf->x0 = fr->x0 + ch.start, nf->w = ch.end - ch.start;
@@ -325,33 +326,48 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
             if (r != PGT_OK) return r;
             continue;
         }
-        if (sp == PGT_FACADE_MAX_DEPTH) {
+        /* An item in tail position (the sequence's last) takes over its sequence's frame, as in
+         * facade_intersect: the two count frames alike, so a development that renders also
+         * expands (a chain of 40 rule calls needs one frame, not 40). */
+        const int tail = fr->pos == sq->item_count;
+        if (!tail && sp == PGT_FACADE_MAX_DEPTH) {
             st.errors |= PGT_FACADE_ERR_DEPTH;
             break;
         }
+        /* A rule that calls itself in tail position takes no new frame: the path's length stops
+         * it, as the ray's node budget stops the renderer (a ray that reaches the node has
+         * developed at least the nodes on its path). */
+        if (fr->path >= PGT_FACADE_NODE_BUDGET) {
+            st.errors |= PGT_FACADE_ERR_BUDGET;
+            break;
+        }
+        const uint32_t path = fr->path + 1u;
         if (it->kind == PGT_GRAMMAR_ITEM_CALL) {
-            xframe *nf = &stack[sp];
+            xframe *nf = tail ? fr : &stack[sp];
+            float args[PGT_GRAMMAR_MAX_RULE_PARAMS];
             uint32_t seq;
-            if (!facade_call(&c, it, fr->args, fr->argc, key, nf->args, &seq)) break;
+            if (!facade_call(&c, it, fr->args, fr->argc, key, args, &seq)) break;
             if (seq == PGT_NONE) continue;
-            ++sp;
+            if (!tail) ++sp;
             nf->type = 0, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
-            nf->h = fr->h, nf->argc = it->arg_count, nf->seq = seq, nf->pos = 0;
+            nf->h = fr->h, nf->argc = it->arg_count, nf->seq = seq, nf->pos = 0, nf->path = path;
+            memcpy(nf->args, args, it->arg_count * sizeof(float));
             continue;
         }
         if (it->kind != PGT_GRAMMAR_ITEM_SPLIT || it->target > 1u) {
             st.errors |= PGT_FACADE_ERR_ITEM;
             break;
         }
-        xframe *nf = &stack[sp];
+        xframe *nf = tail ? fr : &stack[sp];
         if (!facade_split(&c, it, fr->args, fr->argc, key, it->target == 0 ? fr->w : fr->h,
                           &nf->split))
             break;
-        ++sp;
-        nf->type = 1, nf->key = key, nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w;
-        nf->h = fr->h, nf->argc = fr->argc;
-        memcpy(nf->args, fr->args, fr->argc * sizeof(float));
-        nf->axis = it->target, nf->next = 0;
+        if (!tail) {
+            ++sp;
+            nf->x0 = fr->x0, nf->y0 = fr->y0, nf->w = fr->w, nf->h = fr->h, nf->argc = fr->argc;
+            memcpy(nf->args, fr->args, fr->argc * sizeof(float));
+        }
+        nf->type = 1, nf->key = key, nf->axis = it->target, nf->next = 0, nf->path = path;
     }
     if (!st.errors) return PGT_OK;
     const uint32_t line = where ? where->line : 1u, col = where ? where->col : 1u;
@@ -361,6 +377,9 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
     const char *why = (st.errors & PGT_FACADE_ERR_DEPTH)
                           ? "the development is deeper than PGT_FACADE_MAX_DEPTH (a rule that "
                             "calls itself without splitting?)"
+                      : (st.errors & PGT_FACADE_ERR_BUDGET)
+                          ? "a path of the development is longer than PGT_FACADE_NODE_BUDGET "
+                            "nodes (a rule that calls itself without splitting?)"
                       : (st.errors & PGT_FACADE_ERR_PARTS)
                           ? "a split has more parts than PGT_FACADE_MAX_PARTS"
                           : "a facade holds split(x), split(y), rule calls and the facade "

@@ -125,7 +125,7 @@ uint32_t facade_gimage_triangles(const pgt_facade_scene *s, float id, const floa
     return g->count;
 }
 
-/* Nearest triangle of the geometry image hit at t in [0, *best) by the block-local ray a + t v
+/* Nearest triangle of the geometry image hit at t in (0, *best) by the block-local ray a + t v
  * (Moller-Trumbore in float, vertices scaled to the scope on the fly); PGT_NONE if none. win
  * (NULL: the whole facade) keeps only hits whose facade-space point, the block-local point plus
  * off (the block's corner, as the explicit twin places the triangle), lies in the window
@@ -152,7 +152,7 @@ gimage_hit(const float *d, uint32_t n, float w, float h, const float a[3], const
         const float vv = (v[0] * r[0] + v[1] * r[1] + v[2] * r[2]) * inv;
         if (vv < 0.0f || u + vv > 1.0f) continue;
         const float t = (e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]) * inv;
-        if (!(t >= 0.0f && t < *best)) continue;
+        if (!(t > 0.0f && t < *best)) continue;
         if (win) {
             const float x = (a[0] + t * v[0]) + off[0], y = (a[1] + t * v[1]) + off[1];
             if (x < win[0] || x > win[2] || y < win[1] || y > win[3]) continue;

@@ -87,7 +87,9 @@ typedef enum pgt_facade_kind {
 } pgt_facade_kind;
 
 /* Depth of the development stack (split and sequence frames): the facade grammar nests 3 deep,
- * a CGA building a dozen. Deeper is an error (PGT_FACADE_ERR_DEPTH), never a crash. */
+ * a CGA building a dozen. A sequence's last item takes over the sequence's frame (a chain of
+ * rule calls costs one frame), in the ray development and the explicit expansion alike. Deeper
+ * is an error (PGT_FACADE_ERR_DEPTH), never a crash. */
 #define PGT_FACADE_MAX_DEPTH 32u
 /* Parts of one split that a ray development can hold (a repeat group's parts included): a frame
  * keeps one pgt_split_slot per part. */
@@ -469,7 +471,8 @@ typedef struct pgt_facade_mesh {
 
 /* Expands every facade completely. Errors: a terminal outside [-recess, protrusion] or outside
  * its scope (the grammar is not a BVH, sec. 8), the errors of pgt_facade_ray_stats (as messages
- * naming the grammar FILE:LINE:COL), more than 2^30 triangles. */
+ * naming the grammar FILE:LINE:COL; the node budget bounds a path from the axiom, which every
+ * ray that reaches its end develops), more than 2^29 triangles. */
 pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
                                uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err);
 
