@@ -275,9 +275,10 @@ int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_
     const char *p = text;
     for (uint32_t k = 0; k < n; ++k) {
         char *end = NULL;
-        errno = 0;
+        /* no errno test: an overflow gives inf (refused), an underflow a denormal or zero, which
+         * is what the number is in float32 (the caller's own checks judge it) */
         const float v = strtof(p, &end);
-        if (end == p || errno || !isfinite(v) || *end != (k + 1 < n ? ',' : '\0')) {
+        if (end == p || !isfinite(v) || *end != (k + 1 < n ? ',' : '\0')) {
             pgt_cli_fail(verb, "%s: expected %u finite numbers separated by commas, got '%s'", flag,
                          n, text);
             return -1;
@@ -291,9 +292,8 @@ int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_
 int pgt_cli_float(const char *verb, const char *flag, const char *text, float lo_excl, float hi,
                   float *out) {
     char *end = NULL;
-    errno = 0;
-    const float v = strtof(text, &end);
-    if (end == text || *end || errno || !isfinite(v) || !(v > lo_excl) || v > hi) {
+    const float v = strtof(text, &end); /* underflow: see pgt_cli_floats */
+    if (end == text || *end || !isfinite(v) || !(v > lo_excl) || v > hi) {
         pgt_cli_fail(verb, "%s: expected a number > %g and <= %g, got '%s'", flag, (double)lo_excl,
                      (double)hi, text);
         return -1;

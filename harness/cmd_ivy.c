@@ -154,9 +154,8 @@ static int parse_numbers(char *s, float *out, int max) {
         if (!*s || *s == '\n' || *s == '#') return n;
         if (n == max) return -1;
         char *end = NULL;
-        errno = 0;
-        const float v = strtof(s, &end);
-        if (end == s || errno || !isfinite(v)) return -1;
+        const float v = strtof(s, &end); /* underflow: a denormal or zero, as in pgt_cli_floats */
+        if (end == s || !isfinite(v)) return -1;
         out[n++] = v;
         s = end;
         if (*s && *s != ' ' && *s != '\t' && *s != '\r' && *s != '\n' && *s != ',' && *s != '#')

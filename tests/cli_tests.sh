@@ -101,6 +101,11 @@ expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
+# a denormal heading is a heading (strtof's underflow is no error); one that rounds to zero is none
+expect march_denormal_dir 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1e-45,0 --step 2 --steps 1 -o pn.csv
+sed -n 2p pn.csv | grep -q "^1,22.5,20.5," && ok march_denormal_dir_heads_right || bad march_denormal_dir_heads_right "$(cat pn.csv)"
+expect march_zero_dir 2 "$pgt" march cs.exr --from 20.5,20.5 --dir 1e-50,0 --step 2 --steps 1 -o pn.csv
+one_line march_zero_dir_one_line "^pgt march: --dir: the direction 0,0 has no heading"
 head -1 p.csv | grep -q "^step,u,v,chart,x,y,z,event" && ok march_csv_header || bad march_csv_header "$(head -1 p.csv)"
 # one row per step (the issue's contract): steps 1..N, events inner/jump/search/stop only
 /usr/bin/python3 -c 'import csv,sys; r=list(csv.DictReader(open("p.csv"))); s=[int(x["step"]) for x in r]
