@@ -421,7 +421,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const char *seed_file = NULL, *mask_path = NULL, *paint_path = NULL, *curves_path = NULL;
     const char *forbid_path = NULL, *mask_mesh = NULL;
     const char *mask_out = NULL, *density_path = NULL;
-    const char *params[PGT_CLI_MAX_PARAM_FLAGS + 1u]; /* + --no-secondary's */
+    const char *params[PGT_CLI_MAX_PARAM_FLAGS];
     uint32_t param_count = 0, seeds = 0, threads = pgt_cli_cpu_count(), res = 1024, seed = 1;
     float brush = 0.0f;
     int have_seeds = 0, no_leaves = 0, no_secondary = 0;
@@ -507,7 +507,6 @@ int pgt_cmd_ivy(int argc, char **argv) {
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
         if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4)) return PGT_EXIT_USAGE;
     }
-    if (no_secondary) params[param_count++] = "secondaryBranches=0"; /* the array's last slot */
 
     pgt_ivy_scene s;
     pgt_ivy_output out;
@@ -519,6 +518,10 @@ int pgt_cmd_ivy(int argc, char **argv) {
     pgt_error err = {0};
     if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) return PGT_EXIT_USAGE;
     if (pgt_ivy_scene_grammar(&s, verb, grammar_path, params, param_count)) goto done;
+    if (no_secondary && pgt_grammar_set_param(&s.grammar, "secondaryBranches", 0.0f, &err)) {
+        pgt_cli_fail(verb, "--no-secondary sets the param secondaryBranches to 0: %s", err.message);
+        goto done;
+    }
     const pgt_march_atlas *a = &s.atlas;
     if (mask_path &&
         pgt_cli_read_context(verb, "--mask", mask_path, "mask", a->width, a->height, &s.mask))

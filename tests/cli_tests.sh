@@ -173,7 +173,7 @@ b1=$(sed -n 's/.* segments, \([0-9]*\) branches.*/\1/p' out.txt)
 [ "$b1" = 3 ] && ok ivy_no_secondary_one_branch_per_seed || bad ivy_no_secondary_one_branch_per_seed "$(cat out.txt)"
 printf 'A --> Marching(1, 0, 1) { NIL, NIL }\n' >plain.grammar
 expect ivy_no_secondary_needs_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar plain.grammar --no-secondary
-one_line ivy_no_secondary_names_param "secondaryBranches"
+one_line ivy_no_secondary_names_param "^pgt ivy: --no-secondary sets the param secondaryBranches to 0: plain.grammar: no param"
 printf '# seeds\ntexel 20.5 20.5 1 0\nbogus 1 2\n' >seeds_bad.txt
 expect ivy_seed_file_bad_line 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bad.txt
 one_line ivy_seed_file_names_line "seeds_bad.txt:3:"
@@ -207,6 +207,13 @@ expect ivy_bark_negative 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar neg_ba
 one_line ivy_bark_negative_names_place "neg_bark.grammar:2:43: seed 0 (id 1): Bark radius -0.01 is not in"
 expect ivy_bark_huge 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --param barkRadius=3e38 "${short[@]}"
 one_line ivy_bark_huge_names_place "ivy.grammar:[0-9]*:[0-9]*: seed 0 (id 1): Bark radius 3e+38 is not in"
+# the terminal builder's bound of 256 Leaves records a segment, checked where the grammar emits them
+for n in 256 257; do
+  printf 'Ivy --> M(0)\nM(n) --> Marching(4, 0, n < 1) {M(n + 1), L(0)}\nL(k) --> case k < %d : Leaves(1, 0.01) L(k + 1)\n         else : Bark(0.01, C1)\n' $n >leaves$n.grammar
+done
+expect ivy_256_leaves_records 0 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar leaves256.grammar
+expect ivy_257_leaves_records 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar leaves257.grammar
+one_line ivy_257_leaves_names_place "leaves257.grammar:3:25: seed 0 (id 1): more than 256 Leaves records on one segment"
 printf 'A --> B(0)\nB(n) --> Marching(2, 0, n < 20 && context.density(texCoord) > 0.5) { B(n + 1), NIL }\n' >dens.grammar
 for d in d255 d128 d0 none; do
   if [ $d = none ]; then dens=(); else dens=(--density $d.png); fi

@@ -35,6 +35,7 @@ typedef struct xwork {
 typedef struct xpoint {
     float p[3], n[3], u, v;
     uint32_t chart, parent, branch, children;
+    uint32_t leaves; /* Leaves records on the segment that ends here */
 } xpoint;
 
 typedef struct xterm {
@@ -174,6 +175,7 @@ static pgt_result add_point(xrun *r, const pgt_grammar_item *it, const pgt_march
     pgt_march_position(r->job->in->atlas, s->x, s->y, p->p);
     normal_at(r->job->in->atlas, r->job->in->normal, s->x, s->y, p->n);
     p->u = s->x, p->v = s->y, p->chart = s->chart, p->parent = parent, p->children = 0;
+    p->leaves = 0;
     if (parent == PGT_NONE || o->points[parent].children > 0)
         p->branch = o->branch_count++;
     else
@@ -310,6 +312,12 @@ static pgt_result do_terminal(xrun *r, const pgt_grammar_item *it, const xwork *
     }
     if (o->term_count >= r->job->max_terminals)
         return limit(r, it, "terminals", r->job->max_terminals, "max_terminals");
+    if (!bark && o->points[seg].leaves++ >= PGT_TERMINALS_MAX_LEAVES_RECORDS)
+        return pgt_error_set(&o->err, PGT_ERROR_LIMIT,
+                             "%s:%u:%u: seed %u (id %u): more than %u Leaves records on one "
+                             "segment (the terminal builder's PGT_TERMINALS_MAX_LEAVES_RECORDS)",
+                             file_of(r->g), it->line, it->col, r->index, r->id,
+                             PGT_TERMINALS_MAX_LEAVES_RECORDS);
     if (!grow((void **)&o->terms, o->term_count, &o->term_cap, sizeof(xterm)))
         return pgt_error_set(&o->err, PGT_ERROR_OUT_OF_MEMORY, "seed %u: out of memory", r->index);
     xterm *tm = &o->terms[o->term_count++];
