@@ -141,6 +141,41 @@ static void test_paint_matches_brute_force(void) {
     free(m1), free(m2);
 }
 
+/* A brush far below the grid's float resolution (1e-9 on a unit sphere: lo - r == lo) still
+ * paints the strokes' own points: a stroke between two texels' positions paints both texels,
+ * whose distance to it is exactly 0. The upper one lies on the grid's top boundary, which the
+ * cell lookup once refused (floor((hi - lo) / cell) == dim) while the segment's box was
+ * clamped into the top cell. */
+static void test_paint_tiny_brush_endpoints(void) {
+    ivy_scene *s = get_scene();
+    REQUIRE(s);
+    const pgt_march_atlas *a = &s->atlas;
+    const size_t texels = (size_t)a->width * a->height;
+    float *m = malloc(texels * sizeof(float));
+    REQUIRE(m);
+    uint32_t ends[2] = {0, 0}, pairs = 0, missed = 0;
+    size_t found = 0;
+    for (size_t i = 0; i < texels && pairs < 200; i += 997) {
+        if ((a->codes[i] & 3u) != PGT_TEXEL_INNER) continue;
+        ends[found++ % 2] = (uint32_t)i;
+        if (found % 2) continue;
+        float pts[6];
+        for (int e = 0; e < 2; ++e)
+            pts[3 * e] = a->texels[ends[e]].x, pts[3 * e + 1] = a->texels[ends[e]].y,
+                    pts[3 * e + 2] = a->texels[ends[e]].z;
+        const uint32_t first[2] = {0, 2};
+        for (size_t t = 0; t < texels; ++t) m[t] = 1.0f;
+        pgt_error err = {0};
+        REQUIRE(pgt_ivy_paint(m, a, pts, 2, first, 1, 1e-9f, 1, NULL, &err) == PGT_OK);
+        missed += (m[ends[0]] != 0.0f) + (m[ends[1]] != 0.0f);
+        pairs++;
+    }
+    printf("  tiny brush: %u strokes, %u of their end texels left unpainted\n", pairs, missed);
+    CHECK(pairs == 200);
+    CHECK(missed == 0);
+    free(m);
+}
+
 /* The ivy grown with and without a mask forbidding the texels of the half-atlas x >= width/2:
  * with it, no point lies in a forbidden texel; without it, some do (so the check has teeth). */
 static void test_mask_forbids(void) {
@@ -253,6 +288,7 @@ static const pgt_test_case cases[] = {
     {"seed_independence", test_seed_independence},
     {"random_seeds", test_random_seeds},
     {"paint_matches_brute_force", test_paint_matches_brute_force},
+    {"paint_tiny_brush_endpoints", test_paint_tiny_brush_endpoints},
     {"mask_forbids", test_mask_forbids},
     {"pipeline_determinism", test_pipeline_determinism},
 };

@@ -82,11 +82,15 @@ static float seg_dist2(const float p[3], const float a[3], const float b[3]) {
     return d2;
 }
 
+/* The cell of p, or 0 when p is more than a cell outside the grid. A point on or just past the
+ * grid's border goes to the border cell, as grid_box clamps segments' boxes: with a brush below
+ * the coordinates' float resolution, lo - r == lo and hi + r == hi, and a stroke's end point
+ * lies on the border (floor((hi - lo) / cell) == dim). The distance test decides. */
 static int grid_cell(const paint_grid *g, const float p[3], uint32_t c[3]) {
     for (int k = 0; k < 3; ++k) {
         const float f = floorf((p[k] - g->lo[k]) / g->cell);
-        if (!(f >= 0.0f) || f >= (float)g->dim[k]) return 0;
-        c[k] = (uint32_t)f;
+        if (!(f >= -1.0f) || f > (float)g->dim[k]) return 0;
+        c[k] = f < 0.0f ? 0u : f >= (float)g->dim[k] ? g->dim[k] - 1u : (uint32_t)f;
     }
     return 1;
 }
