@@ -1013,6 +1013,39 @@ static int cube_sphere_8_atlas(uint32_t res, pgt_image *img) {
     return ok;
 }
 
+/* A chart in the image's first rows and columns (a file given to pgt march need not keep the
+ * builder's band): left of column 0's centres and above row 0's, P is the nearest centres'
+ * (bilinear weights outside the image drop out), inside it the bilinear interpolation of P,
+ * here linear in x and y. The fast path once took x < 0.5 for a full 2 x 2 block at column -1
+ * and read 2^32 texels away. */
+static void test_position_image_border(void) {
+    static const syn_chart corner[1] = {{0, 0, 6, 6, 0, SYN_PLANE, 0.0f, 0.0f, 1.0f}};
+    syn_atlas s;
+    REQUIRE(syn_build(&s, 8, 8, corner, 1));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    static const float at[][4] = {/* x, y, and the texel-space point whose P it is */
+                                  {0.25f, 3.5f, 0.5f, 3.5f},   {3.5f, 0.25f, 3.5f, 0.5f},
+                                  {0.25f, 0.25f, 0.5f, 0.5f},  {0.0f, 2.75f, 0.5f, 2.75f},
+                                  {2.25f, 2.75f, 2.25f, 2.75f}};
+    for (size_t k = 0; k < sizeof at / sizeof at[0]; ++k) {
+        float p[3], q[3];
+        pgt_march_position(&v, at[k][0], at[k][1], p);
+        syn_point(&corner[0], at[k][2], at[k][3], q);
+        CHECK_MSG(near_f(p[0], q[0], 1e-6f) && near_f(p[1], q[1], 1e-6f) && p[2] == 0.0f,
+                  "at (%g, %g): (%g, %g, %g), want (%g, %g, 0)", (double)at[k][0],
+                  (double)at[k][1], (double)p[0], (double)p[1], (double)p[2], (double)q[0],
+                  (double)q[1]);
+    }
+    /* and a march from there: inner steps along row 3 */
+    pgt_march_state st;
+    REQUIRE(pgt_march_start(&v, 0.25f, 3.5f, 1.0f, 0.0f, &st, NULL) == PGT_OK);
+    CHECK(pgt_march_step(&v, NULL, &st, 0.5f, 0.0f, NULL) == PGT_MARCH_INNER);
+    CHECK(near_f(st.x, 0.75f, 1e-6f) && st.y == 3.5f);
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
 static void test_hostile_atlases(void) {
     pgt_image base;
     REQUIRE(cube_sphere_8_atlas(64, &base));
@@ -1775,6 +1808,7 @@ static const pgt_test_case cases[] = {
     {"bounce_across_steps", test_bounce_across_steps},
     {"invalid_atlases", test_invalid_atlases},
     {"random_walks_synthetic", test_random_walks_synthetic},
+    {"position_image_border", test_position_image_border},
     {"hostile_atlases", test_hostile_atlases},
     {"real_cube_sphere_great_circle", test_real_cube_sphere_great_circle},
     {"real_random_marches", test_real_random_marches},

@@ -241,7 +241,9 @@ void pgt_march_position(const pgt_march_atlas *a, float x, float y, float out_p[
      * (int)(x + 1/2) - 1 (x >= 0, so the truncation is a floor without a libm call). */
     const int i0 = (int)(x + 0.5f) - 1, j0 = (int)(y + 0.5f) - 1;
     const float fx = x - 0.5f - (float)i0, fy = y - 0.5f - (float)j0;
-    if ((uint32_t)i0 + 1u < w && (uint32_t)j0 + 1u < a->height) { /* and i0, j0 >= 0 */
+    /* i0 (j0) is -1 left of (above) the centres of column (row) 0: a built atlas keeps its band
+     * there, a file given to pgt march need not */
+    if (i0 >= 0 && j0 >= 0 && (uint32_t)i0 + 1u < w && (uint32_t)j0 + 1u < a->height) {
         const pgt_march_texel *q = a->texels + (size_t)(uint32_t)j0 * w + (uint32_t)i0;
         const uint32_t c = q[0].code;
         /* the texel containing (x, y) is one of the four: when all four carry the same inner
