@@ -155,11 +155,16 @@ int pgt_cli_same_file(const char *a, const char *b) {
 
 int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
                              const char *const *outputs, int n_out) {
-    for (int o = 0; o < n_out; ++o)
+    for (int o = 0; o < n_out; ++o) {
         for (int k = 0; k < n_in; ++k)
             if (outputs[o] && inputs[k] && pgt_cli_same_file(inputs[k], outputs[o]))
                 return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
                                     outputs[o]);
+        for (int k = 0; k < o; ++k) /* one would replace the other */
+            if (outputs[o] && outputs[k] &&
+                (!strcmp(outputs[o], outputs[k]) || pgt_cli_same_file(outputs[o], outputs[k])))
+                return pgt_cli_fail(verb, "%s is named for two outputs", outputs[o]);
+    }
     return 0;
 }
 
@@ -212,16 +217,35 @@ const char *pgt_cli_mesh_label(const char *name) {
     return slash ? slash + 1 : name;
 }
 
+/* The file a mesh name stands for (pgt_cli_load_named's rule), or NULL for a generated one. */
+static const char *named_path(const char *name, const char *shared_dir, char *buf, size_t size) {
+    if (pgt_gen_default_find(name) != PGT_NONE) return NULL;
+    struct stat st;
+    if (stat(name, &st) == 0 || strchr(name, '/')) return name;
+    snprintf(buf, size, "%s/%s", shared_dir, name);
+    return buf;
+}
+
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err) {
-    uint32_t g = pgt_gen_default_find(name);
-    if (g != PGT_NONE) return pgt_gen_default(g, out, err);
+    char buf[4096];
+    const char *path = named_path(name, shared_dir, buf, sizeof buf);
+    if (!path) return pgt_gen_default(pgt_gen_default_find(name), out, err);
     pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
-    struct stat st;
-    if (stat(name, &st) == 0 || strchr(name, '/')) return pgt_mesh_read(out, name, &ro, err);
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s", shared_dir, name);
     return pgt_mesh_read(out, path, &ro, err);
+}
+
+int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint32_t n,
+                                const char *shared_dir, const char *out) {
+    for (uint32_t k = 0; k < n; ++k) {
+        char buf[4096];
+        const char *path = named_path(names[k], shared_dir, buf, sizeof buf);
+        if (path && pgt_cli_same_file(path, out))
+            return pgt_cli_fail(verb, "--out %s is the input mesh %s; pgt never overwrites an "
+                                      "input",
+                                out, names[k]);
+    }
+    return 0;
 }
 
 int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint32_t lo,

@@ -48,9 +48,9 @@ void pgt_cli_date(char *buf, size_t size);
 /* Nonzero when a and b name the same existing file (device and inode). */
 int pgt_cli_same_file(const char *a, const char *b);
 
-/* 0 when none of the n_out outputs is one of the n_in inputs (NULL entries are skipped); else
- * prints "pgt VERB: OUTPUT is an input file; pgt never overwrites an input" and returns
- * PGT_EXIT_USAGE. */
+/* 0 when none of the n_out outputs is one of the n_in inputs and no two outputs are the same
+ * (NULL entries are skipped); else prints "pgt VERB: OUTPUT is an input file; pgt never
+ * overwrites an input" (or "OUTPUT is named for two outputs") and returns PGT_EXIT_USAGE. */
 int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
                              const char *const *outputs, int n_out);
 
@@ -96,6 +96,12 @@ const char *pgt_cli_mesh_label(const char *name);
  * existing file, or a file name inside shared_dir. UVs are kept, so are labels. */
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err);
+
+/* 0 unless out is the file of one of the n mesh names (pgt_cli_load_named's rule); else prints
+ * "pgt VERB: --out OUT is the input mesh NAME; ..." and returns PGT_EXIT_USAGE (a benchmark's
+ * table must not replace its input). */
+int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint32_t n,
+                                const char *shared_dir, const char *out);
 
 /* Parses exactly n comma-separated finite floats ("A,B,C") into out; a single number > lo_excl
  * and <= hi. On failure both print one line naming verb, flag and text and return nonzero. */

@@ -1,8 +1,11 @@
 /* pgt atlas: a multi-chart geometry-image atlas with indirection pointers and rotation angles
  * from a mesh with UVs (paper 000 sections 4 and 5.2; ref_cpu/src/atlas_*.c). */
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "png_io.h"
@@ -148,8 +151,10 @@ int pgt_cmd_atlas(int argc, char **argv) {
         if (pl < 4 || strcmp(png_path + pl - 4, ".png"))
             return pgt_cli_fail(verb, "--png %s: the picture is a .png file", png_path);
     }
-    if (pgt_cli_same_file(in_path, out_path) || (png_path && pgt_cli_same_file(in_path, png_path)))
-        return pgt_cli_fail(verb, "an output is the input file; pgt never overwrites an input");
+    {
+        const char *outputs[2] = {out_path, png_path};
+        if (pgt_cli_refuse_overwrite(verb, &in_path, 1, outputs, 2)) return PGT_EXIT_USAGE;
+    }
 
     pgt_error err = {0};
     pgt_mesh mesh = {0};
@@ -182,10 +187,29 @@ int pgt_cmd_atlas(int argc, char **argv) {
         goto done;
     }
     const double t2 = pgt_cli_now_ms();
-    if (pgt_image_write_exr_threads(&atlas, out_path, threads, &err) != PGT_OK ||
-        (png_path && write_picture(&atlas, png_path, &err) != PGT_OK)) {
-        pgt_cli_fail(verb, "%s", err.message);
-        goto done;
+    {
+        /* both files under temporary names first, renamed only when both are written: a
+         * failed --png leaves no new atlas behind (nor replaces an old one) */
+        char exr_tmp[4200], png_tmp[4200];
+        snprintf(exr_tmp, sizeof exr_tmp, "%s.pending.%ld", out_path, (long)getpid());
+        snprintf(png_tmp, sizeof png_tmp, "%s.pending.%ld", png_path ? png_path : "",
+                 (long)getpid());
+        int ok = pgt_image_write_exr_threads(&atlas, exr_tmp, threads, &err) == PGT_OK &&
+                 (!png_path || write_picture(&atlas, png_tmp, &err) == PGT_OK);
+        if (ok && png_path && rename(png_tmp, png_path) != 0) {
+            pgt_error_set(&err, PGT_ERROR_IO, "cannot write %s: %s", png_path, strerror(errno));
+            ok = 0;
+        }
+        if (ok && rename(exr_tmp, out_path) != 0) {
+            pgt_error_set(&err, PGT_ERROR_IO, "cannot write %s: %s", out_path, strerror(errno));
+            ok = 0;
+        }
+        if (!ok) {
+            remove(exr_tmp);
+            if (png_path) remove(png_tmp);
+            pgt_cli_fail(verb, "%s", err.message);
+            goto done;
+        }
     }
     const double t3 = pgt_cli_now_ms();
     if (json) {

@@ -235,8 +235,15 @@ int pgt_cmd_march(int argc, char **argv) {
     if (!have_steps) return pgt_cli_fail(verb, "no step count: give --steps N");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
     {
+        /* --dump's files too (write_dump's names) */
+        char dump_png[4200], dump_csv[4200];
+        if (dump) {
+            snprintf(dump_png, sizeof dump_png, "%s.atlas.png", dump);
+            snprintf(dump_csv, sizeof dump_csv, "%s.texels.csv", dump);
+        }
         const char *inputs[3] = {in_path, mask_path, density_path};
-        if (pgt_cli_refuse_overwrite(verb, inputs, 3, &out_path, 1)) return PGT_EXIT_USAGE;
+        const char *outputs[3] = {out_path, dump ? dump_png : NULL, dump ? dump_csv : NULL};
+        if (pgt_cli_refuse_overwrite(verb, inputs, 3, outputs, 3)) return PGT_EXIT_USAGE;
     }
 
     const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];
@@ -457,6 +464,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     }
     if (add && pgt_cli_name_list(verb, "--add", add, add_buf, sizeof add_buf, meshes,
                                  BENCH_MARCH_MAX_LIST, &n_meshes))
+        return PGT_EXIT_USAGE;
+    if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, out_path))
         return PGT_EXIT_USAGE;
 
     char tmp[4200];

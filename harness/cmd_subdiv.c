@@ -111,6 +111,9 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     if (pgt_cli_same_file(in_path, out_path))
         return pgt_cli_fail(verb, "-o %s is the input file; pgt never overwrites an input",
                             out_path);
+    if (protect_path && pgt_cli_same_file(protect_path, out_path))
+        return pgt_cli_fail(verb, "-o %s is the --protect file; pgt never overwrites an input",
+                            out_path);
 
     pgt_error err = {0};
     pgt_mesh in = {0}, out = {0};

@@ -137,6 +137,24 @@ one_line march_density_atlas_channels_one_line "no channel 'density', 'Y' or 'R'
 expect march_density_overwrite 2 "$pgt" "${march[@]}" -o d128.png --density d128.png
 one_line march_density_overwrite_one_line "never overwrites an input"
 expect march_bad_seed 2 "$pgt" "${march[@]}" -o px.csv --density d128.png --seed -1
+# --dump's two files are outputs too: they may not replace an input or -o (both ran, exit 0)
+cp d128.png dm.atlas.png
+expect march_dump_over_input 2 "$pgt" "${march[@]}" -o pdm.csv --density dm.atlas.png --dump dm
+one_line march_dump_over_input_one_line "dm.atlas.png is an input file; pgt never overwrites an input"
+cmp -s d128.png dm.atlas.png && ok march_dump_input_kept || bad march_dump_input_kept "changed"
+expect march_dump_over_out 2 "$pgt" "${march[@]}" -o dd.texels.csv --dump dd
+one_line march_dump_over_out_one_line "dd.texels.csv is named for two outputs"
+# a failed --png leaves no new atlas (the EXR was renamed into place before the PNG was tried)
+rm -f nopng.exr
+expect atlas_png_fails 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o nopng.exr --res 64 --png no_such_dir/x.png
+[ ! -e nopng.exr ] && [ -z "$(ls nopng.exr* 2>/dev/null)" ] && ok atlas_png_fails_writes_nothing \
+  || bad atlas_png_fails_writes_nothing "$(ls nopng.exr*)"
+# a benchmark's --out may not be one of its input meshes
+cp "$work/data/cube_sphere_8.obj" bin.obj
+expect bench_atlas_out_is_input 2 "$pgt" bench atlas --meshes ./bin.obj --out bin.obj --repeat 1 --threads 1 --res 64
+one_line bench_atlas_out_is_input_one_line "\-\-out bin.obj is the input mesh ./bin.obj"
+expect bench_march_out_is_input 2 "$pgt" bench march --meshes ./bin.obj --out ./bin.obj --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
+cmp -s bin.obj "$work/data/cube_sphere_8.obj" && ok bench_out_inputs_kept || bad bench_out_inputs_kept "changed"
 # a bench whose mesh cannot be read: the other rows are written, exit 2 naming the file
 expect bench_atlas_missing_mesh 2 "$pgt" bench atlas --meshes no_such_mesh.obj --threads 1 --repeat 1 --out res/t1.csv
 grep -q "no_such_mesh.obj" err.txt && grep -q "^paper,Hebe" res/t1.csv && ok bench_atlas_missing_mesh_named \
@@ -635,6 +653,10 @@ expect protect_file 0 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot.txt
 printf '0 1\n2 99\n' >prot_bad.txt
 expect protect_out_of_range 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_bad.txt
 one_line protect_out_of_range_names_line "prot_bad.txt:2"
+cp prot.txt prot_keep.off # a list under a mesh's extension, so that -o accepts the name
+expect protect_is_output 2 "$pgt" subdiv "$ico" --iters 1 --protect prot_keep.off -o prot_keep.off
+one_line protect_is_output_one_line "\-o prot_keep.off is the \-\-protect file; pgt never overwrites an input"
+cmp -s prot.txt prot_keep.off && ok protect_file_kept || bad protect_file_kept "overwritten"
 printf '0 x1\n' >prot_tok.txt
 expect protect_bad_token 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_tok.txt
 one_line protect_bad_token_names_line "prot_tok.txt:1"
