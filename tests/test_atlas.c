@@ -1013,6 +1013,32 @@ static void test_hostile_inputs(void) {
     bad.indices[4] = bad.vertex_count;
     CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
     pgt_mesh_destroy(&bad);
+
+    /* positions whose squared distances overflow float (1e30: the texel size and every dead-end
+     * reach were inf, so every outer texel got a pointer); PGT_ATLAS_MAX_COORD itself builds */
+    REQUIRE(pgt_mesh_copy(&bad, &m, &err) == PGT_OK);
+    float big = 0.0f;
+    for (uint32_t i = 0; i < 3u * bad.vertex_count; ++i) big = fmaxf(big, fabsf(bad.positions[i]));
+    for (uint32_t i = 0; i < 3u * bad.vertex_count; ++i) bad.positions[i] *= 1e30f / big;
+    CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(err.message, "is beyond +-1e+18") != NULL, "%s", err.message);
+    for (uint32_t i = 0; i < 3u * bad.vertex_count; ++i)
+        bad.positions[i] *= PGT_ATLAS_MAX_COORD / 1e30f;
+    CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_OK);
+    CHECK(isfinite(st.texel_size) && st.texel_size > 0.0 && check_contract(&img, st.band) == 0);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&bad);
+
+    /* one chart far smaller than a texel, away from the border (its UVs kept): no inner texel,
+     * an atlas pgt march would refuse; --repack scales it up */
+    REQUIRE(make_confetti(&bad, 1, &err) == PGT_OK);
+    for (uint32_t i = 0; i < 6u; ++i) bad.uvs[i] = 0.5f + bad.uvs[i] * 1e-4f;
+    CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_LIMIT);
+    CHECK_MSG(strstr(err.message, "no chart covers a texel centre at 64 x 64") != NULL, "%s",
+              err.message);
+    CHECK(build(&bad, 64, 1, 1, &img, &st, &err) == PGT_OK && st.inner_texels > 0);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&bad);
     pgt_error_clear(&err);
     CHECK(pgt_atlas_build(&img, NULL, NULL, NULL, &err) == PGT_ERROR_INVALID_ARGUMENT);
     pgt_mesh_destroy(&m);

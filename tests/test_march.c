@@ -1043,6 +1043,13 @@ static void test_position_image_border(void) {
     CHECK(pgt_march_step(&v, NULL, &st, 0.5f, 0.0f, NULL) == PGT_MARCH_INNER);
     CHECK(near_f(st.x, 0.75f, 1e-6f) && st.y == 3.5f);
     pgt_march_atlas_destroy(&v);
+    /* a position whose squared distances overflow float is refused, naming the texel */
+    syn_plane(&s, s.ch.py)[3u * 8u + 2u] = 1e30f;
+    pgt_error err = {0};
+    CHECK(pgt_march_atlas_create(&v, &s.img, "big", &err) == PGT_ERROR_PARSE);
+    CHECK_MSG(strstr(err.message, "big: texel (2, 3): position (") != NULL &&
+                  strstr(err.message, "beyond +-1e+18") != NULL,
+              "%s", err.message);
     syn_destroy(&s);
 }
 

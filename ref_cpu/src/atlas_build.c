@@ -77,11 +77,18 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "--dead-end: %g is not a positive number of texel sizes",
                              (double)dead_end);
-    for (uint64_t i = 0; i < 3ull * mesh->vertex_count; ++i)
+    for (uint64_t i = 0; i < 3ull * mesh->vertex_count; ++i) {
         if (!isfinite(mesh->positions[i]))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: vertex %u has a non-finite position", what,
                                  (uint32_t)(i / 3u));
+        if (fabsf(mesh->positions[i]) > PGT_ATLAS_MAX_COORD)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: vertex %u: coordinate %g is beyond +-%g (squared distances "
+                                 "in float would overflow; scale the mesh down)",
+                                 what, (uint32_t)(i / 3u), (double)mesh->positions[i],
+                                 (double)PGT_ATLAS_MAX_COORD);
+    }
     for (uint64_t i = 0; i < 3ull * mesh->face_count; ++i)
         if (mesh->indices[i] >= mesh->vertex_count)
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
@@ -145,6 +152,13 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     if (r != PGT_OK) goto done;
     st.repacked = layout.repacked;
     st.uv_scale = layout.repacked ? layout.scale : 0.0;
+    if (rc.inner == 0) {
+        r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                          "%s: no chart covers a texel centre at %u x %u (every chart is smaller "
+                          "than a texel there): raise --res, or --repack to scale the UVs up",
+                          what, W, H);
+        goto done;
+    }
     st.inner_texels = rc.inner;
     st.fold_over_texels = rc.fold_over;
     st.packing_efficiency = (double)rc.inner / ((double)W * H);

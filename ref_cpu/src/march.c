@@ -133,6 +133,15 @@ pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, 
             return pgt_error_set(err, PGT_ERROR_PARSE, "%s: texel (%u, %u): position is not finite",
                                  what, x, y);
         }
+        if (fabsf(px[i]) > PGT_ATLAS_MAX_COORD || fabsf(py[i]) > PGT_ATLAS_MAX_COORD ||
+            fabsf(pz[i]) > PGT_ATLAS_MAX_COORD) {
+            free(tex), free(codes), free(jumps);
+            return pgt_error_set(err, PGT_ERROR_PARSE,
+                                 "%s: texel (%u, %u): position (%g, %g, %g) beyond +-%g (squared "
+                                 "distances in float would overflow)",
+                                 what, x, y, (double)px[i], (double)py[i], (double)pz[i],
+                                 (double)PGT_ATLAS_MAX_COORD);
+        }
         const uint32_t ci = (uint32_t)c;
         tex[i].code = codes[i] = PGT_MARCH_CODE((uint32_t)k, ci);
         if (ci + 1 > charts) charts = ci + 1;

@@ -54,6 +54,12 @@ enum {
     PGT_TEXEL_DEAD_END = 3
 };
 
+/* Largest |coordinate| of a 3D position in an atlas (and of a mesh given to the builder): squared
+ * 3D distances (kd-tree, texel size, the march's step lengths) are float, and the square of a
+ * distance across 2e18 in three axes, 1.2e37, stays below FLT_MAX (3.4e38); at 1.8e19 it
+ * overflows and every pointer, texel size and Jacobian turns into inf. */
+#define PGT_ATLAS_MAX_COORD 1e18f
+
 /* Smallest free band around a chart, in texels (the paper's one pixel, plus one so that a
  * one-ring search around an outer-boundary texel never meets another chart). */
 #define PGT_ATLAS_MIN_BAND 2u

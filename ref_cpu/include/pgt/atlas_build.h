@@ -134,9 +134,11 @@ typedef struct pgt_atlas_stats {
  * - PGT_ERROR_EMPTY: no faces, or every UV triangle is degenerate;
  * - PGT_ERROR_INVALID_ARGUMENT: a size below PGT_ATLAS_MIN_RES, a band above
  *   PGT_ATLAS_MAX_BAND, k outside 1..PGT_ATLAS_MAX_K, a dead-end threshold not finite or <= 0
- *   (each message names the flag: --res, --band, --k, --dead-end), non-finite positions/UVs;
- * - PGT_ERROR_LIMIT: a size above PGT_ATLAS_MAX_RES (--res), or charts that cannot be packed
- *   with the band at this resolution (message says which --res would be needed, if any);
+ *   (each message names the flag: --res, --band, --k, --dead-end), non-finite positions/UVs,
+ *   a coordinate beyond +-PGT_ATLAS_MAX_COORD;
+ * - PGT_ERROR_LIMIT: a size above PGT_ATLAS_MAX_RES (--res), charts that cannot be packed with
+ *   the band at this resolution (message says which --res would be needed, if any), or no
+ *   chart covering a texel centre (an atlas without inner texels, which pgt march refuses);
  * - PGT_ERROR_OUT_OF_MEMORY. */
 pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas_options *options,
                            pgt_atlas_stats *out_stats, pgt_error *err);
