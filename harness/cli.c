@@ -241,8 +241,9 @@ int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint
         char buf[4096];
         const char *path = named_path(names[k], shared_dir, buf, sizeof buf);
         if (path && pgt_cli_same_file(path, out))
-            return pgt_cli_fail(verb, "--out %s is the input mesh %s; pgt never overwrites an "
-                                      "input",
+            return pgt_cli_fail(verb,
+                                "--out %s is the input mesh %s; pgt never overwrites an "
+                                "input",
                                 out, names[k]);
     }
     return 0;

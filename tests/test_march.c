@@ -1025,17 +1025,18 @@ static void test_position_image_border(void) {
     pgt_march_atlas v;
     REQUIRE(view(&v, &s));
     static const float at[][4] = {/* x, y, and the texel-space point whose P it is */
-                                  {0.25f, 3.5f, 0.5f, 3.5f},   {3.5f, 0.25f, 3.5f, 0.5f},
-                                  {0.25f, 0.25f, 0.5f, 0.5f},  {0.0f, 2.75f, 0.5f, 2.75f},
+                                  {0.25f, 3.5f, 0.5f, 3.5f},
+                                  {3.5f, 0.25f, 3.5f, 0.5f},
+                                  {0.25f, 0.25f, 0.5f, 0.5f},
+                                  {0.0f, 2.75f, 0.5f, 2.75f},
                                   {2.25f, 2.75f, 2.25f, 2.75f}};
     for (size_t k = 0; k < sizeof at / sizeof at[0]; ++k) {
         float p[3], q[3];
         pgt_march_position(&v, at[k][0], at[k][1], p);
         syn_point(&corner[0], at[k][2], at[k][3], q);
         CHECK_MSG(near_f(p[0], q[0], 1e-6f) && near_f(p[1], q[1], 1e-6f) && p[2] == 0.0f,
-                  "at (%g, %g): (%g, %g, %g), want (%g, %g, 0)", (double)at[k][0],
-                  (double)at[k][1], (double)p[0], (double)p[1], (double)p[2], (double)q[0],
-                  (double)q[1]);
+                  "at (%g, %g): (%g, %g, %g), want (%g, %g, 0)", (double)at[k][0], (double)at[k][1],
+                  (double)p[0], (double)p[1], (double)p[2], (double)q[0], (double)q[1]);
     }
     /* and a march from there: inner steps along row 3 */
     pgt_march_state st;
