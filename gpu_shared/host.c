@@ -35,14 +35,7 @@ void pgt_gpu_sqrt3_input_free(pgt_gpu_sqrt3_input *p) {
 pgt_result pgt_gpu_sqrt3_prepare(pgt_gpu_sqrt3_input *out, const pgt_mesh *in,
                                  const pgt_sqrt3_options *opts, pgt_error *err) {
     memset(out, 0, sizeof(*out));
-    if (!in || (in->face_count && (!in->indices || !in->positions)) ||
-        (in->vertex_count && !in->positions))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no input mesh");
-    if (opts->iterations > PGT_SQRT3_MAX_ITERATIONS)
-        return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)",
-                             opts->iterations, PGT_SQRT3_MAX_ITERATIONS);
-    pgt_result r =
-        pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, opts->iterations, NULL, NULL, err);
+    pgt_result r = pgt_sqrt3_check_input(in, opts->iterations, err);
     if (r != PGT_OK) return r;
     r = pgt_adjacency_build(&out->adj, in, 1, err);
     if (r != PGT_OK) return r;

@@ -653,10 +653,16 @@ expect protect_file 0 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot.txt
 printf '0 1\n2 99\n' >prot_bad.txt
 expect protect_out_of_range 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_bad.txt
 one_line protect_out_of_range_names_line "prot_bad.txt:2"
+printf 'OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n' >pillow.off
+expect subdiv_pillow 2 "$pgt" subdiv pillow.off --iters 1 -o pillow_out.off
+one_line subdiv_pillow_names_line "^pgt subdiv: pillow.off:6: sqrt3 input: faces 0 and 1 (0-based) share two edges"
 cp prot.txt prot_keep.off # a list under a mesh's extension, so that -o accepts the name
 expect protect_is_output 2 "$pgt" subdiv "$ico" --iters 1 --protect prot_keep.off -o prot_keep.off
 one_line protect_is_output_one_line "\-o prot_keep.off is the \-\-protect file; pgt never overwrites an input"
 cmp -s prot.txt prot_keep.off && ok protect_file_kept || bad protect_file_kept "overwritten"
+printf '1\0005\n' >prot_nul.txt # strtoull read '1' and dropped the '5'
+expect protect_nul 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_nul.txt
+one_line protect_nul_names_line "prot_nul.txt:1: a NUL byte"
 printf '0 x1\n' >prot_tok.txt
 expect protect_bad_token 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_tok.txt
 one_line protect_bad_token_names_line "prot_tok.txt:1"

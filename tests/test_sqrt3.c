@@ -530,12 +530,16 @@ static void refuses_non_manifold(void) {
     uint32_t later_degen[] = {5, 6, 7, 0, 1, 2, 0, 2, 2, 1, 1, 3};
     uint32_t later_edge[] = {5, 6, 7, 1, 0, 3, 0, 1, 2, 0, 1, 4};
     uint32_t later_bowtie[] = {2, 1, 7, 0, 1, 2, 0, 5, 6};
+    /* a triangle on both sides: a 2-manifold whose flips would give one edge twice (the output
+     * of one step had an edge of 6 faces) */
+    uint32_t later_pillow[] = {5, 6, 7, 0, 1, 2, 0, 2, 1};
     const struct {
         uint32_t *faces, count, face;
         pgt_result code;
     } located[] = {{later_degen, 4, 2, PGT_ERROR_DEGENERATE},
                    {later_edge, 4, 1, PGT_ERROR_NON_MANIFOLD},
                    {later_bowtie, 3, 1, PGT_ERROR_NON_MANIFOLD},
+                   {later_pillow, 3, 1, PGT_ERROR_NON_MANIFOLD},
                    {fan3, 3, 0, PGT_ERROR_NON_MANIFOLD}};
     for (size_t i = 0; i < sizeof(located) / sizeof(located[0]); ++i) {
         pgt_mesh lm = {8, located[i].count, p, located[i].faces, NULL, NULL};
@@ -566,6 +570,29 @@ static void refuses_non_manifold(void) {
     pgt_error_clear(&err);
     CHECK(pgt_sqrt3_subdivide(&out, &big, &o12, &err) == PGT_ERROR_LIMIT);
     pgt_mesh_destroy(&big);
+    /* coordinates whose float sums overflow (an icosahedron at 3e38: the relaxed vertices were
+     * inf) are refused; at PGT_SQRT3_MAX_COORD every output coordinate is finite */
+    pgt_mesh ico = gen("icosphere_l0");
+    float big_c = 0.0f;
+    for (uint32_t i = 0; i < 3u * ico.vertex_count; ++i)
+        big_c = fmaxf(big_c, fabsf(ico.positions[i]));
+    for (uint32_t i = 0; i < 3u * ico.vertex_count; ++i)
+        ico.positions[i] = ico.positions[i] / big_c * 3e38f;
+    pgt_error_clear(&err);
+    CHECK(pgt_sqrt3_subdivide(&out, &ico, NULL, &err) == PGT_ERROR_LIMIT);
+    CHECK_MSG(strstr(err.message, "beyond +-1e+18") != NULL, "%s", err.message);
+    for (uint32_t i = 0; i < 3u * ico.vertex_count; ++i)
+        ico.positions[i] *= PGT_SQRT3_MAX_COORD / 3e38f;
+    pgt_sqrt3_options o3 = {3, 1, NULL, NULL, NULL, NULL};
+    pgt_error_clear(&err);
+    const pgt_result r3 = pgt_sqrt3_subdivide(&out, &ico, &o3, &err);
+    CHECK_MSG(r3 == PGT_OK, "%s", err.message);
+    if (r3 != PGT_OK) return;
+    uint32_t finite = 0;
+    for (uint32_t i = 0; i < 3u * out.vertex_count; ++i) finite += isfinite(out.positions[i]) != 0;
+    CHECK(finite == 3u * out.vertex_count);
+    pgt_mesh_destroy(&out);
+    pgt_mesh_destroy(&ico);
 }
 
 /* eq. 4.1-4.2 on one interior vertex, re-derived in double: the regular valence-6 vertex of a

@@ -80,6 +80,7 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
     memset(out, 0, sizeof(*out));
     out->bad_edge[0] = out->bad_edge[1] = out->bad_vertex = out->bad_face = PGT_NONE;
     out->bad_edge_face = out->bad_vertex_face = PGT_NONE;
+    out->bad_pair_face[0] = out->bad_pair_face[1] = PGT_NONE;
     if (!mesh || (mesh->face_count && (!mesh->indices || !mesh->positions)))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "adjacency: no mesh");
     const uint32_t V = mesh->vertex_count, F = mesh->face_count, H = 3 * F;
@@ -142,6 +143,18 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
             out->bad_vertex = v;
             out->bad_vertex_face = list[start[v]].h / 3u; /* ascending h within a bucket */
         }
+    /* two of a face's edges to one face (a triangle on both sides) */
+    for (uint32_t f = 0; f < F; ++f) {
+        const uint32_t *o = out->opposite + 3 * (size_t)f;
+        const uint32_t n0 = o[0] == PGT_NONE ? PGT_NONE : o[0] / 3u,
+                       n1 = o[1] == PGT_NONE ? PGT_NONE : o[1] / 3u,
+                       n2 = o[2] == PGT_NONE ? PGT_NONE : o[2] / 3u;
+        const uint32_t twice = n0 != PGT_NONE && (n0 == n1 || n0 == n2) ? n0
+                               : n1 != PGT_NONE && n1 == n2             ? n1
+                                                                        : PGT_NONE;
+        if (twice != PGT_NONE && out->double_neighbour_faces++ == 0)
+            out->bad_pair_face[0] = f, out->bad_pair_face[1] = twice;
+    }
 
     free(start), free(list), free(degenerate), free(bad), free(fill);
     return PGT_OK;
@@ -170,6 +183,12 @@ pgt_result pgt_adjacency_require_manifold(const pgt_adjacency *adj, const char *
                              "%s: non-manifold vertex %u (0-based): its faces form more than one "
                              "fan (%u such vertices)",
                              what, adj->bad_vertex, adj->non_manifold_vertices);
+    if (adj->double_neighbour_faces)
+        return pgt_error_set(err, PGT_ERROR_NON_MANIFOLD,
+                             "%s: faces %u and %u (0-based) share two edges (one triangle on both "
+                             "sides): sqrt(3) would flip them into one edge (%u such faces)",
+                             what, adj->bad_pair_face[0], adj->bad_pair_face[1],
+                             adj->double_neighbour_faces);
     return PGT_OK;
 }
 
@@ -177,5 +196,6 @@ uint32_t pgt_adjacency_error_face(const pgt_adjacency *adj) {
     if (adj->degenerate_faces) return adj->bad_face;
     if (adj->non_manifold_edges) return adj->bad_edge_face;
     if (adj->non_manifold_vertices) return adj->bad_vertex_face;
+    if (adj->double_neighbour_faces) return adj->bad_pair_face[0];
     return PGT_NONE;
 }

@@ -19,6 +19,10 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
     pgt_result r = PGT_OK;
     do {
         c = fgetc(f);
+        if (c == 0) { /* C strings would end the token there and drop what follows */
+            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: a NUL byte", path, line);
+            break;
+        }
         int sep = c == EOF || c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == ',';
         if (!in_comment && c == '#') {
             in_comment = 1;

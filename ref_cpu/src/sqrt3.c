@@ -813,20 +813,38 @@ pgt_result pgt_sqrt3_bound(uint32_t vertex_count, uint32_t face_count, uint32_t 
     return PGT_OK;
 }
 
+pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_error *err) {
+    if (!in || (in->face_count && (!in->indices || !in->positions)) ||
+        (in->vertex_count && !in->positions))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no input mesh");
+    if (iterations > PGT_SQRT3_MAX_ITERATIONS)
+        return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)", iterations,
+                             PGT_SQRT3_MAX_ITERATIONS);
+    const pgt_result r =
+        pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, iterations, NULL, NULL, err);
+    if (r != PGT_OK) return r;
+    for (size_t i = 0; i < 3u * (size_t)in->vertex_count; ++i)
+        if (!(fabsf(in->positions[i]) <= PGT_SQRT3_MAX_COORD))
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "sqrt3 input: vertex %zu (0-based): coordinate %g is beyond +-%g "
+                                 "(sums of neighbours in float would overflow)",
+                                 i / 3u, (double)in->positions[i], (double)PGT_SQRT3_MAX_COORD);
+    for (size_t i = 0; in->uvs && i < 6u * (size_t)in->face_count; ++i)
+        if (!(fabsf(in->uvs[i]) <= PGT_SQRT3_MAX_COORD))
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "sqrt3 input: face %zu (0-based): UV %g is beyond +-%g", i / 6u,
+                                 (double)in->uvs[i], (double)PGT_SQRT3_MAX_COORD);
+    return PGT_OK;
+}
+
 pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
                                const pgt_sqrt3_options *opts, pgt_error *err) {
     pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
     if (!opts) opts = &defaults;
     memset(out, 0, sizeof(*out));
-    if (!in_mesh || (in_mesh->face_count && (!in_mesh->indices || !in_mesh->positions)))
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no input mesh");
-    if (opts->iterations > PGT_SQRT3_MAX_ITERATIONS)
-        return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)",
-                             opts->iterations, PGT_SQRT3_MAX_ITERATIONS);
-    const uint32_t k = opts->iterations, threads = opts->threads ? opts->threads : 1;
-    pgt_result r =
-        pgt_sqrt3_bound(in_mesh->vertex_count, in_mesh->face_count, 0, k, NULL, NULL, err);
+    pgt_result r = pgt_sqrt3_check_input(in_mesh, opts->iterations, err);
     if (r != PGT_OK) return r;
+    const uint32_t k = opts->iterations, threads = opts->threads ? opts->threads : 1;
 
     pgt_adjacency adj;
     r = pgt_adjacency_build(&adj, in_mesh, threads, err);

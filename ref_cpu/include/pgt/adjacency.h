@@ -32,6 +32,11 @@ typedef struct pgt_adjacency {
     uint32_t bad_face;        /* the first degenerate face found, or PGT_NONE */
     uint32_t bad_edge_face;   /* the first face with bad_edge, or PGT_NONE */
     uint32_t bad_vertex_face; /* the first face at bad_vertex, or PGT_NONE */
+    /* faces that share two edges with one other face (then all three: the same triangle on both
+     * sides, its vertices of valence 2); a 2-manifold, but sqrt(3) would flip those edges into one
+     * edge between the same two face points */
+    uint32_t double_neighbour_faces;
+    uint32_t bad_pair_face[2]; /* the first such face and its neighbour, or PGT_NONE */
 } pgt_adjacency;
 
 static inline uint32_t pgt_half_edge_next(uint32_t h) { return h % 3u == 2u ? h - 2u : h + 1u; }
@@ -44,10 +49,11 @@ pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_
 
 void pgt_adjacency_destroy(pgt_adjacency *adj);
 
-/* PGT_OK when the mesh is a 2-manifold (with or without border) with consistent orientation and
- * no degenerate face; otherwise PGT_ERROR_NON_MANIFOLD (or PGT_ERROR_DEGENERATE) with a message
- * naming `what` (a file name or "input") and one offending edge, vertex or face (0-based ids).
- * Checked in this order: degenerate faces, non-manifold edges, non-manifold vertices. */
+/* PGT_OK when the mesh is a 2-manifold (with or without border) with consistent orientation, no
+ * degenerate face and no two faces sharing two edges (what sqrt(3) needs); otherwise
+ * PGT_ERROR_NON_MANIFOLD (or PGT_ERROR_DEGENERATE) with a message naming `what` (a file name or
+ * "input") and one offending edge, vertex or face (0-based ids). Checked in this order:
+ * degenerate faces, non-manifold edges, non-manifold vertices, double neighbours. */
 pgt_result pgt_adjacency_require_manifold(const pgt_adjacency *adj, const char *what,
                                           pgt_error *err);
 

@@ -32,6 +32,11 @@ extern "C" {
 /* Most iterations one call accepts (3^12 x faces overflows 32-bit indices for any real input). */
 #define PGT_SQRT3_MAX_ITERATIONS 12u
 
+/* Largest |coordinate| (positions and UVs) of an input: a face point sums three corners and the
+ * relaxation a vertex's neighbours (fewer than 2^32) in float before dividing, and 2^32 x 1e18
+ * = 4.3e27 stays finite; near FLT_MAX (3.4e38) the sums overflowed and wrote inf, exit 0. */
+#define PGT_SQRT3_MAX_COORD 1e18f
+
 typedef struct pgt_sqrt3_options {
     uint32_t iterations;            /* k >= 0 (0 copies the input) */
     uint32_t threads;               /* 0 or 1: single-threaded */
@@ -42,6 +47,12 @@ typedef struct pgt_sqrt3_options {
     uint32_t *out_opposite; /* optional, caller-owned, >= 3 x bound faces: output adjacency,
                                derived from the input's (see pgt_adjacency_build) */
 } pgt_sqrt3_options;
+
+/* The checks of an input that every backend makes before it builds the adjacency: arrays
+ * present, iterations at most PGT_SQRT3_MAX_ITERATIONS, output sizes within bounds
+ * (pgt_sqrt3_bound), coordinates within +-PGT_SQRT3_MAX_COORD (PGT_ERROR_LIMIT naming the
+ * vertex). */
+pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_error *err);
 
 /* Upper bound of the output sizes for k iterations (exact when no face is protected and the mesh
  * has no border). Returns PGT_ERROR_LIMIT when they would exceed PGT_MESH_MAX_ELEMENTS. */
