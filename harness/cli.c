@@ -205,7 +205,7 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
     const uint32_t before = *n;
     for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
          tok = strtok_r(NULL, ",", &save)) {
-        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u meshes in all", flag, max);
+        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u names in all", flag, max);
         out[(*n)++] = tok;
     }
     if (*n == before) return pgt_cli_fail(verb, "%s: empty list", flag);

@@ -104,10 +104,14 @@ int pgt_cmd_bench_woven(int argc, char **argv) {
     int wanted[PGT_WOVEN_RESOLUTION_COUNT];
     for (uint32_t r = 0; r < PGT_WOVEN_RESOLUTION_COUNT; ++r) wanted[r] = res_list == NULL;
     if (res_list) {
+        /* an empty or too long list is an error, not an empty table (pgt_cli_name_list) */
         char buf[256];
-        snprintf(buf, sizeof buf, "%s", res_list);
-        for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-             tok = strtok_r(NULL, ",", &save)) {
+        const char *names[64];
+        uint32_t n_names = 0;
+        if (pgt_cli_name_list("bench", "--res", res_list, buf, sizeof buf, names, 64, &n_names))
+            return PGT_EXIT_USAGE;
+        for (uint32_t q = 0; q < n_names; ++q) {
+            const char *tok = names[q];
             uint32_t r = 0;
             while (r < PGT_WOVEN_RESOLUTION_COUNT && strcmp(tok, pgt_woven_resolutions[r].name))
                 ++r;

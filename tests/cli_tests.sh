@@ -390,6 +390,12 @@ for flag in --out --frames --repeat --threads --res --seed --quick; do
 done
 expect bench_woven_bad_res 2 "$pgt" bench woven --res 7k
 one_line bench_woven_bad_res_one_line "\-\-res: unknown resolution '7k'"
+# an empty list is an error, not an empty table over the old one
+for empty in "" ","; do
+  expect "bench_woven_empty_res_'$empty'" 2 "$pgt" bench woven --res "$empty" --out res/woven_empty.csv
+  one_line "bench_woven_empty_res_'$empty'_one_line" "\-\-res: empty list"
+done
+[ ! -e res/woven_empty.csv ] && ok bench_woven_empty_res_writes_nothing || bad bench_woven_empty_res_writes_nothing "written"
 expect bench_woven 0 "$pgt" bench woven --res 5k,22k --frames 2 --threads 2 --out res/woven.csv
 grep -q "^# machine: " res/woven.csv && grep -q "^# commit: " res/woven.csv && grep -q "^# date: " res/woven.csv \
   && ok bench_woven_header || bad bench_woven_header "$(head -5 res/woven.csv)"
