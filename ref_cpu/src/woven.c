@@ -102,16 +102,19 @@ static uint32_t draw_below(uint64_t r, uint32_t n) {
     return (uint32_t)((hi + (lo >> 32)) >> 32);
 }
 
-/* Curve c's keys (woven.h, 2.): Floyd's set, then a Fisher-Yates shuffle. */
-static void draw_keys(uint32_t *key, uint32_t c, uint32_t P, uint32_t K, uint32_t seed) {
+/* Curve c's keys (woven.h, 2.): Floyd's set, then a Fisher-Yates shuffle. taken is a bitmap of
+ * P bits, all clear on entry and on return: membership in O(1) (a scan of the keys drawn so far
+ * made a curve O(K^2), 22 minutes for the largest parameters allowed). */
+static void draw_keys(uint32_t *key, uint64_t *taken, uint32_t c, uint32_t P, uint32_t K,
+                      uint32_t seed) {
     const uint64_t base = (uint64_t)c << 32;
     for (uint32_t d = 0; d < K; ++d) {
-        const uint32_t j = P - K + d;
+        const uint32_t j = P - K + d; /* above every key drawn so far: never taken */
         const uint32_t t = draw_below(pgt_rng_u64(seed, PGT_WOVEN_STREAM_SUBSET, base + d), j + 1u);
-        int taken = 0;
-        for (uint32_t q = 0; q < d && !taken; ++q) taken = key[q] == t;
-        key[d] = taken ? j : t;
+        key[d] = (taken[t >> 6] >> (t & 63u)) & 1u ? j : t;
+        taken[key[d] >> 6] |= (uint64_t)1 << (key[d] & 63u);
     }
+    for (uint32_t d = 0; d < K; ++d) taken[key[d] >> 6] &= ~((uint64_t)1 << (key[d] & 63u));
     for (uint32_t i = K - 1u, d = K; i > 0; --i, ++d) {
         const uint32_t k = draw_below(pgt_rng_u64(seed, PGT_WOVEN_STREAM_SUBSET, base + d), i + 1u);
         const uint32_t tmp = key[i];
@@ -157,8 +160,15 @@ pgt_result pgt_woven_create(pgt_woven *out, const pgt_woven_params *p, uint32_t 
             w.velocities[3u * i + a] = (float)((double)PGT_WOVEN_SPEED * dir[a]);
     }
     /* 2. subsets */
+    uint64_t *taken = calloc((P + 63u) / 64u, sizeof(uint64_t));
+    if (!taken) {
+        pgt_woven_destroy(&w);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "woven: out of memory (P = %u)",
+                             p->particles);
+    }
     for (uint32_t c = 0; c < p->curves; ++c)
-        draw_keys(&w.keys[(size_t)c * K], c, p->particles, p->keys, seed);
+        draw_keys(&w.keys[(size_t)c * K], taken, c, p->particles, p->keys, seed);
+    free(taken);
     /* the B-spline table: span and weights of every sample, exact integer parameters */
     const uint64_t spans = p->keys - 3u;
     for (uint32_t j = 0; j < p->samples; ++j) {

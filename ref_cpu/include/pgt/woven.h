@@ -127,8 +127,8 @@ extern "C" {
 /* Bounds of the parameters. Minima: a cubic B-spline span needs 4 keys; a tube needs 3
  * distinct sides (U - 1, the seam vertex repeats the first); a curve needs its 2 ends.
  * Maxima: far beyond any use, they keep a wrapped negative value (-1 passed as 4294967295)
- * an error naming it, and bound creation's work: the subset draws cost O(K^2) per curve
- * (membership by scan), and P particles take 24 bytes each. */
+ * an error naming it, and bound creation's work: the subset draws cost O(K) per curve (a
+ * bitmap of P bits), and P particles take 24 bytes each. */
 #define PGT_WOVEN_MIN_KEYS 4u
 #define PGT_WOVEN_MIN_RING 4u
 #define PGT_WOVEN_MIN_SAMPLES 2u
