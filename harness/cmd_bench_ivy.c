@@ -65,8 +65,8 @@ static const char *bench_ivy_usage =
     "  --out FILE      Table 2 CSV (default results/table2.csv; temporary file + rename):\n"
     "                  fig1b (human_neutral, 18 seeds, painted guidance; paper 8.84M polygons,\n"
     "                  336 ms), fig10c (spot, 10 seeds, painted; 2.5M, 257 ms), fig1a (bob, 25\n"
-    "                  seeds, recursive branching without control; 4.48M, 136 ms); paper times\n"
-    "                  on a GTX 480\n"
+    "                  seeds, recursive branching without control; 4.48M, 136 ms); the paper\n"
+    "                  names its GPU (a GTX 480) for Fig. 11 only\n"
     "  --fig11 FILE    Figure 11 CSV (default results/fig11.csv): time vs seeds 1..64 on spot\n"
     "                  with painted strokes, scenario main (main branch only, no leaves) and\n"
     "                  full (secondary branches and leaves)\n"
@@ -236,7 +236,8 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
             repeat, threads);
     fprintf(csv, "# cold_ms: the warm-up run (fresh buffers: first-touch page faults of the output "
                  "included); the timed runs reuse its buffers\n");
-    fprintf(csv, "# polygons = bark quads (216 per segment) + leaves; paper_ms: GTX 480; "
+    fprintf(csv, "# polygons = bark quads (216 per segment) + leaves; paper_ms: the paper's GPU "
+                 "(it names a GTX 480 for Fig. 11, none for Table 2); "
                  "speedup = paper_ms / total_ms; polygons_ratio = polygons / paper_polygons\n");
     fprintf(csv,
             "# bark radius %.2f and leaf size %.2f median texel sizes; strokes: "

@@ -6,7 +6,7 @@ usage: ivy_seeds.py FIG11_CSV TABLE2_CSV OUT_PREFIX
 
 Left panel: median generation time (expand + Bezier + terminals, ms) against seeds 1..64 for the
 two scenarios (main branch only, guided by painting; with secondary branches and leaves), with
-the polygon count on a second axis. Right panel: Table 2, ours against the paper's GTX 480 times
+the polygon count on a second axis. Right panel: Table 2, ours against the paper's GPU times (a GTX 480 is named for Fig. 11 only)
 per scene, with the polygon counts as labels. Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf
 and prints the growth of time with seeds (ms per added seed, least squares) to stdout. An empty
 or malformed file is an error (exit 2).
@@ -89,7 +89,7 @@ def main():
     paper = [fnum(r, "paper_ms", t2) for r in table]
     x = range(len(table))
     w = 0.38
-    bx.bar([i - w / 2 for i in x], paper, w, color=COLOURS["paper"], label="paper (GTX 480)")
+    bx.bar([i - w / 2 for i in x], paper, w, color=COLOURS["paper"], label="paper (GPU; a GTX 480 is named for Fig. 11)")
     bx.bar([i + w / 2 for i in x], ours, w, color=COLOURS["full"],
            label=f"ours ({table[0]['threads']} CPU threads)")
     for i, r in enumerate(table):
