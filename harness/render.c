@@ -53,6 +53,14 @@ pgt_result pgt_render_camera_check(const pgt_render_camera *cam, pgt_error *err)
             if (!isfinite(vals[i][k]))
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                      "camera: a coordinate is not a finite number");
+    for (int i = 0; i < 2; ++i)
+        for (int k = 0; k < 3; ++k)
+            if (fabsf(vals[i][k]) > PGT_RENDER_MAX_EYE)
+                return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                     "camera: the %s's coordinate %g is beyond +-%g (Embree's "
+                                     "rays start within 1.8e18)",
+                                     i ? "look-at point" : "eye", (double)vals[i][k],
+                                     (double)PGT_RENDER_MAX_EYE);
     if (!isfinite(cam->fov_deg) || !(cam->fov_deg > 0.0f) || !(cam->fov_deg < 180.0f))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "camera: the field of view %g is not in (0, 180) degrees",
@@ -132,8 +140,23 @@ void pgt_render_auto_camera(const pgt_render_mesh *meshes, uint32_t count, doubl
     out->fov_deg = PGT_RENDER_AUTO_FOV;
 }
 
+/* PGT_ERROR_INVALID_ARGUMENT for a coordinate beyond PGT_RENDER_MAX_COORD (or not finite);
+ * the message starts with prefix ("" or "render: mesh 2: "). */
+static pgt_result check_coordinates(const pgt_mesh *mesh, const char *prefix, pgt_error *err) {
+    for (size_t i = 0; i < 3u * (size_t)mesh->vertex_count; ++i)
+        if (!(fabsf(mesh->positions[i]) <= PGT_RENDER_MAX_COORD))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%svertex %zu (0-based): coordinate %g is beyond +-%g (Embree's "
+                                 "rays must start within 1.8e18; scale the mesh down)",
+                                 prefix, i / 3u, (double)mesh->positions[i],
+                                 (double)PGT_RENDER_MAX_COORD);
+    return PGT_OK;
+}
+
 pgt_result pgt_render_pad_positions(pgt_mesh *mesh, pgt_error *err) {
     const size_t n = 3u * (size_t)mesh->vertex_count;
+    const pgt_result r = check_coordinates(mesh, "", err);
+    if (r != PGT_OK) return r;
     float *p = realloc(mesh->positions, (n + 1u) * sizeof(float));
     if (!p)
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
@@ -242,9 +265,13 @@ static void shade_sample(trace_job *job, struct RTCIntersectContext *ctx, float 
         return;
     }
     float n[3] = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
-    const float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    /* Ng is the unnormalised cross product of two edges: its square overflows float for edges
+     * beyond ~3e9 and underflows below ~1e-10, so the length is taken in double (the shading
+     * does not depend on the mesh's scale) */
+    const double nd[3] = {n[0], n[1], n[2]};
+    const double nl = sqrt(d3_dot(nd, nd));
     const float flip = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]) > 0.0f ? -1.0f : 1.0f;
-    for (int k = 0; k < 3; ++k) n[k] *= flip / nl; /* two-sided: face the viewer */
+    for (int k = 0; k < 3; ++k) n[k] = (float)(flip * nd[k] / nl); /* two-sided: face the viewer */
     float lambert = n[0] * job->light[0] + n[1] * job->light[1] + n[2] * job->light[2];
     if (!(lambert > 0.0f)) lambert = 0.0f;
     if (lambert > 0.0f && job->shadows) {
@@ -329,6 +356,10 @@ static pgt_result check_inputs(uint32_t w, uint32_t h, const pgt_render_mesh *me
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                      "render: mesh %u: colour component %g not in [0, 1]", i,
                                      (double)meshes[i].rgb[k]);
+        char where[40];
+        snprintf(where, sizeof where, "render: mesh %u: ", i);
+        const pgt_result rc = check_coordinates(m, where, err);
+        if (rc != PGT_OK) return rc;
         /* Embree reads indices unchecked: one pass here (about 1 ms per million triangles) */
         const uint32_t *ix = m->indices, V = m->vertex_count;
         for (size_t c = 0; c < 3u * (size_t)m->face_count; ++c)

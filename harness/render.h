@@ -51,6 +51,13 @@
  * of the scene cast no shadow. */
 #define PGT_RENDER_SHADOW_OFFSET_REL 1e-4f
 
+/* Largest |coordinate| of a mesh vertex and of the camera's eye and look-at point. Embree
+ * (3.13, assertions on in Debian's build) aborts on a ray whose origin lies beyond about 1.8e18
+ * (ray.valid()); the automatic camera stands a few bounding radii away (PGT_RENDER_AUTO_FOV),
+ * so meshes within 1e15 keep it far inside, and an explicit eye within 1e17 too. */
+#define PGT_RENDER_MAX_COORD 1e15f
+#define PGT_RENDER_MAX_EYE 1e17f
+
 /* A camera is degenerate when the sine of the angle between up and the view direction is below
  * this (the right vector would be rounding noise; 1e-6 rad is far below any intended camera). */
 #define PGT_RENDER_MIN_UP_SINE 1e-6
@@ -122,7 +129,8 @@ void pgt_render_auto_camera(const pgt_render_mesh *meshes, uint32_t count, doubl
 
 /* Grows mesh->positions by one float (set to 0) so Embree can share it (positions_padded = 1).
  * realloc: usually in place or a remap, at most one copy. PGT_ERROR_OUT_OF_MEMORY leaves the
- * mesh unchanged. */
+ * mesh unchanged; a coordinate beyond +-PGT_RENDER_MAX_COORD is PGT_ERROR_INVALID_ARGUMENT
+ * (pgt_render refuses it too), before the automatic camera is placed from the meshes. */
 pgt_result pgt_render_pad_positions(pgt_mesh *mesh, pgt_error *err);
 
 #endif

@@ -117,7 +117,7 @@ ivy_scene() { # NAME MESH VIEW EXTRA_ARGS...: grows $work/ivy/NAME.cmd's scene a
   local extra=()
   if [ -s "$work/$name.paint.ply" ]; then extra=("$work/$name.paint.ply@0.8,0.1,0.1"); fi
   "$pgt" render "$meshes/$mesh" "$work/$name.ply@0.25,0.55,0.2" "${extra[@]}" \
-    -o "$figs/ivy_$name.png" --width "$side" --height "$side" --view "$view" >/dev/null 2>&1
+    -o "$figs/ivy_$name.png" --width "$side" --height "$side" --view "$view" >/dev/null
   written+=("$figs/ivy_$name.png")
 }
 ivy_scene fig1a bob_tri.obj 30,20
@@ -153,7 +153,7 @@ step 14 "figure: woven sphere ms per frame, ours vs the paper's -> $figs/woven_b
 written+=("$figs/woven_bars.png" "$figs/woven_bars.pdf")
 "$pgt" woven --res 179k --frames 1 -o "$work/woven.ply" >/dev/null
 "$pgt" render "$work/woven.ply@0.75,0.45,0.2" -o "$figs/woven_sphere.png" --width "$side" --height "$side" \
-  --view 30,25 >/dev/null 2>&1
+  --view 30,25 >/dev/null
 written+=("$figs/woven_sphere.png")
 
 step 15 "table: pgt bench facade -> $res/facade.csv (procedural facades vs Embree on the explicit city, paper 003 sec. 9)"

@@ -310,6 +310,20 @@ expect render_camera_up_parallel 2 "$pgt" render "$ico" -o r.png --camera 0,5,0,
 one_line render_camera_up_parallel_names_flag "\-\-camera .*parallel"
 expect render_camera_fov 2 "$pgt" render "$ico" -o r.png --camera 0,5,5,0,0,0,0,1,0,180
 one_line render_camera_fov_names_flag "\-\-camera .*field of view"
+# Embree (assertions on in Debian's build) aborted on ray origins beyond ~1.8e18: refused first
+expect render_camera_far 2 "$pgt" render "$ico" -o r.png --camera 0,0,2e18,0,0,0,0,1,0,30
+one_line render_camera_far_names_flag "\-\-camera .*eye's coordinate 2e+18 is beyond"
+awk '/^v /{printf "v %.9g %.9g %.9g\n", $2 * 1e16, $3 * 1e16, $4 * 1e16; next} {print}' "$work/data/cube_sphere_8.obj" >huge.obj
+expect render_mesh_far 2 "$pgt" render huge.obj -o r.png
+one_line render_mesh_far_names_file "^pgt render: huge.obj: vertex 0 (0-based): coordinate .* is beyond"
+# the shading does not depend on the mesh's scale (the normal's length was squared in float:
+# edges of 1e10 or 1e-13 lost their lambert term)
+for s in 1 1e10 1e-13; do
+  printf 'v 0 0 0\nv %s 0 0\nv 0 %s 0\nf 1 2 3\n' $s $s >scale_$s.obj
+  expect "render_scale_$s" 0 "$pgt" render scale_$s.obj -o scale_$s.png --width 32 --height 32 --view 0,0 --no-shadows
+done
+cmp -s scale_1.png scale_1e10.png && cmp -s scale_1.png scale_1e-13.png && ok render_scale_invariant \
+  || bad render_scale_invariant "pictures differ"
 expect render_camera_and_view 2 "$pgt" render "$ico" -o r.png --camera 0,5,5,0,0,0,0,1,0,40 --view 10,10
 one_line render_camera_and_view_one_line "\-\-camera"
 expect render_bad_view 2 "$pgt" render "$ico" -o r.png --view 0,90
