@@ -33,7 +33,8 @@ static const char *diff_usage =
     "\n"
     "Environment: PGT_VK_VALIDATION=1 turns on the Vulkan validation layer (any message fails).\n"
     "Exit 0 when every case is within tolerance, 1 when one is not, 2 on a bad flag, a bad\n"
-    "input or a backend error.\n";
+    "input (a case both sides refuse with the same error compares nothing: exit 2) or a\n"
+    "backend error.\n";
 
 #define DIFF_MAX_LIST 64
 
@@ -74,7 +75,7 @@ static int diff_list(const char *flag, const char *text, diff_cfg *c, int iters)
 
 /* sqrt3 over every input x pattern x k; returns the number of failing cases, or -1 on an error
  * that stops the run (message printed). */
-static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases) {
+static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases, uint32_t *refused) {
     int failures = 0;
     for (uint32_t i = 0; i < c->n_inputs; ++i) {
         pgt_mesh m = {0};
@@ -106,6 +107,7 @@ static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases) {
                 pgt_diff_sqrt3_print(stdout, label, &d, c->json);
                 fflush(stdout);
                 (*cases)++;
+                *refused += d.pass && d.ref_failed; /* agreement, but nothing compared */
                 if (!d.pass) {
                     failures++;
                     /* A backend error on an input the reference accepts is an error, not a
@@ -189,21 +191,31 @@ int pgt_cmd_diff(int argc, char **argv) {
     if (pgt_backend_open(&b, kind, device, c.profile, &err) != PGT_OK)
         return pgt_cli_fail(verb, "%s", err.message);
     if (!c.json) printf("diff: reference vs %s\n", b.name);
-    uint32_t cases = 0;
+    uint32_t cases = 0, refused = 0;
     const double t0 = pgt_cli_now_ms();
-    const int failures = diff_sqrt3(&b, &c, &cases); /* every algorithm pgt has: sqrt3 today */
+    const int failures =
+        diff_sqrt3(&b, &c, &cases, &refused); /* every algorithm pgt has: sqrt3 today */
     const double ms = pgt_cli_now_ms() - t0;
     if (failures >= 0) {
         if (c.json) {
             printf("{\"summary\":true,\"backend\":");
             pgt_cli_json_string(stdout, b.name);
-            printf(",\"cases\":%u,\"failed\":%d,\"ms\":%.1f}\n", cases, failures, ms);
+            printf(",\"cases\":%u,\"failed\":%d,\"refused_by_both\":%u,\"ms\":%.1f}\n", cases,
+                   failures, refused, ms);
         } else {
-            printf("diff: %u cases, %d outside tolerance (%.1f s)\n", cases, failures, ms / 1e3);
+            printf("diff: %u cases, %d outside tolerance, %u refused by both (%.1f s)\n", cases,
+                   failures, refused, ms / 1e3);
         }
     }
     if (c.profile) pgt_backend_print_profile(&b, c.json ? stderr : stdout);
     pgt_backend_close(&b);
     if (failures < 0) return PGT_EXIT_USAGE;
-    return failures ? PGT_EXIT_FAIL : PGT_EXIT_OK;
+    if (failures) return PGT_EXIT_FAIL;
+    /* a case both sides refused compared nothing: the input is bad (the usage's exit 2) */
+    if (refused)
+        return pgt_cli_fail(verb,
+                            "%u of %u cases were refused by both sides (a bad input or "
+                            "--iters): nothing was compared there",
+                            refused, cases);
+    return PGT_EXIT_OK;
 }

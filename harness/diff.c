@@ -45,11 +45,37 @@ static uint64_t count_u32(const uint32_t *a, const uint32_t *b, uint64_t n, uint
     return c;
 }
 
-typedef struct diff_run {
-    pgt_mesh out;
-    uint32_t *opp, *parent;
-    uint8_t *prot;
-} diff_run;
+typedef pgt_diff_sqrt3_output diff_run;
+
+void pgt_diff_sqrt3_compare(pgt_diff_sqrt3 *d, const pgt_diff_sqrt3_output *ref,
+                            const pgt_diff_sqrt3_output *got) {
+    const pgt_mesh *ro = &ref->out, *go = &got->out;
+    if (!d->tolerance) d->tolerance = pgt_tolerance_find("sqrt3", "positions");
+    d->first_triangle = UINT64_MAX;
+    d->ref_vertices = ro->vertex_count, d->got_vertices = go->vertex_count;
+    d->ref_faces = ro->face_count, d->got_faces = go->face_count;
+    d->diagonal = pgt_mesh_bbox_diagonal(ro);
+    const int same_counts = d->ref_vertices == d->got_vertices && d->ref_faces == d->got_faces;
+    if (same_counts) {
+        const uint64_t F = ro->face_count, V = ro->vertex_count;
+        d->triangles = count_u32(ro->indices, go->indices, 3 * F, &d->first_triangle);
+        if (d->first_triangle != UINT64_MAX) d->first_triangle /= 3;
+        d->opposite = count_u32(ref->opp, got->opp, 3 * F, NULL);
+        d->parents = count_u32(ref->parent, got->parent, F, NULL);
+        for (uint64_t f = 0; f < F; ++f) d->protected_flags += ref->prot[f] != got->prot[f];
+        if (ro->labels || go->labels) {
+            if (!ro->labels || !go->labels)
+                d->labels = F;
+            else
+                d->labels =
+                    count_u32((const uint32_t *)ro->labels, (const uint32_t *)go->labels, F, NULL);
+        }
+        pgt_diff_floats_run(&d->positions, ro->positions, go->positions, 3 * V,
+                            d->tolerance->max_ulp, d->tolerance->max_abs_rel * d->diagonal);
+    }
+    d->pass = same_counts && d->triangles == 0 && d->opposite == 0 && d->parents == 0 &&
+              d->protected_flags == 0 && d->labels == 0 && d->positions.outside == 0;
+}
 
 static void diff_run_free(diff_run *r) {
     pgt_mesh_destroy(&r->out);
@@ -98,32 +124,17 @@ pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t itera
         diff_run_free(&runs[0]), diff_run_free(&runs[1]);
         return PGT_OK;
     }
-    const pgt_mesh *ro = &runs[0].out, *go = &runs[1].out;
-    d->ref_vertices = ro->vertex_count, d->got_vertices = go->vertex_count;
-    d->ref_faces = ro->face_count, d->got_faces = go->face_count;
-    d->diagonal = pgt_mesh_bbox_diagonal(ro);
-    const int same_counts = d->ref_vertices == d->got_vertices && d->ref_faces == d->got_faces;
-    if (same_counts) {
-        const uint64_t F = ro->face_count, V = ro->vertex_count;
-        d->triangles = count_u32(ro->indices, go->indices, 3 * F, &d->first_triangle);
-        if (d->first_triangle != UINT64_MAX) d->first_triangle /= 3;
-        d->opposite = count_u32(runs[0].opp, runs[1].opp, 3 * F, NULL);
-        d->parents = count_u32(runs[0].parent, runs[1].parent, F, NULL);
-        for (uint64_t f = 0; f < F; ++f) d->protected_flags += runs[0].prot[f] != runs[1].prot[f];
-        if (ro->labels || go->labels) {
-            if (!ro->labels || !go->labels)
-                d->labels = F;
-            else
-                d->labels =
-                    count_u32((const uint32_t *)ro->labels, (const uint32_t *)go->labels, F, NULL);
-        }
-        pgt_diff_floats_run(&d->positions, ro->positions, go->positions, 3 * V,
-                            d->tolerance->max_ulp, d->tolerance->max_abs_rel * d->diagonal);
-    }
-    d->pass = same_counts && d->triangles == 0 && d->opposite == 0 && d->parents == 0 &&
-              d->protected_flags == 0 && d->labels == 0 && d->positions.outside == 0;
+    pgt_diff_sqrt3_compare(d, &runs[0], &runs[1]);
     diff_run_free(&runs[0]), diff_run_free(&runs[1]);
     return PGT_OK;
+}
+
+/* A JSON number, or null for NaN and infinities (JSON has neither). */
+static void json_number(FILE *f, double x) {
+    if (isfinite(x))
+        fprintf(f, "%.9g", x);
+    else
+        fputs("null", f);
 }
 
 void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, int json) {
@@ -133,6 +144,8 @@ void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, i
         pgt_cli_json_string(f, label);
         fprintf(f, ",\"pass\":%s", d->pass ? "true" : "false");
         if (d->ref_failed || d->got_failed) {
+            fprintf(f, ",\"refused_by_both\":%s",
+                    d->ref_failed && d->got_failed ? "true" : "false");
             fprintf(f, ",\"reference_error\":");
             pgt_cli_json_string(f, d->ref_failed ? pgt_result_name(d->ref_code) : "");
             fprintf(f, ",\"backend_error\":");
@@ -145,25 +158,31 @@ void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, i
         fprintf(f,
                 ",\"vertices\":[%u,%u],\"faces\":[%u,%u],\"mismatches\":{\"triangles\":%llu,"
                 "\"opposite\":%llu,\"parents\":%llu,\"protected\":%llu,\"labels\":%llu},"
-                "\"positions\":{\"max_abs\":%.9g,\"max_abs_over_diagonal\":%.9g,\"max_ulp\":%llu,"
-                "\"worst\":%llu,\"worst_ref\":%.9g,\"worst_got\":%.9g,\"outside\":%llu},"
-                "\"tolerance\":{\"max_ulp\":%u,\"max_abs_rel\":%g},\"reference_ms\":%.3f,"
-                "\"backend_ms\":%.3f}\n",
+                "\"positions\":{\"max_abs\":",
                 d->ref_vertices, d->got_vertices, d->ref_faces, d->got_faces,
                 (unsigned long long)d->triangles, (unsigned long long)d->opposite,
                 (unsigned long long)d->parents, (unsigned long long)d->protected_flags,
-                (unsigned long long)d->labels, d->positions.max_abs,
-                d->diagonal > 0 ? d->positions.max_abs / d->diagonal : 0.0,
-                (unsigned long long)d->positions.max_ulp, (unsigned long long)d->positions.worst,
-                d->positions.worst_ref, d->positions.worst_got,
+                (unsigned long long)d->labels);
+        /* a NaN or infinite output is what a diff exists to show: JSON null, not 'nan' */
+        json_number(f, d->positions.max_abs);
+        fputs(",\"max_abs_over_diagonal\":", f);
+        json_number(f, d->diagonal > 0 ? d->positions.max_abs / d->diagonal : 0.0);
+        fprintf(f, ",\"max_ulp\":%llu,\"worst\":%llu,\"worst_ref\":",
+                (unsigned long long)d->positions.max_ulp, (unsigned long long)d->positions.worst);
+        json_number(f, d->positions.worst_ref);
+        fputs(",\"worst_got\":", f);
+        json_number(f, d->positions.worst_got);
+        fprintf(f,
+                ",\"outside\":%llu},\"tolerance\":{\"max_ulp\":%u,\"max_abs_rel\":%g},"
+                "\"reference_ms\":%.3f,\"backend_ms\":%.3f}\n",
                 (unsigned long long)d->positions.outside, d->tolerance->max_ulp,
                 d->tolerance->max_abs_rel, d->ref_ms, d->got_ms);
         return;
     }
     if (d->ref_failed || d->got_failed) {
         if (d->pass)
-            fprintf(f, "sqrt3 %s: both refuse (%s): %s: ok\n", label, pgt_result_name(d->ref_code),
-                    d->ref_message);
+            fprintf(f, "sqrt3 %s: both refuse (%s): %s: agree, nothing compared\n", label,
+                    pgt_result_name(d->ref_code), d->ref_message);
         else
             fprintf(f, "sqrt3 %s: reference %s, backend %s: %s: FAIL\n", label,
                     d->ref_failed ? pgt_result_name(d->ref_code) : "ok",

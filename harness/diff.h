@@ -44,6 +44,20 @@ typedef struct pgt_diff_sqrt3 {
     double ref_ms, got_ms;
 } pgt_diff_sqrt3;
 
+/* One side's outputs: the mesh and the per-face arrays pgt_sqrt3_options fills (out_opposite,
+ * out_face_parent, out_protected), face_count entries each (opposite: 3 per face). */
+typedef struct pgt_diff_sqrt3_output {
+    pgt_mesh out;
+    uint32_t *opp, *parent;
+    uint8_t *prot;
+} pgt_diff_sqrt3_output;
+
+/* Compares two sides' outputs into d's counts, positions and pass (d's run fields, ms and
+ * error codes untouched; d->tolerance is the sqrt3 entry unless set). What pgt_diff_sqrt3_run
+ * does after both calls succeed. */
+void pgt_diff_sqrt3_compare(pgt_diff_sqrt3 *d, const pgt_diff_sqrt3_output *ref,
+                            const pgt_diff_sqrt3_output *got);
+
 /* Runs both and compares. Returns PGT_OK when the comparison could be made (a refusal by both
  * with the same code counts as a comparison); an error only for what stops it (out of memory). */
 pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t iterations,

@@ -4,6 +4,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -84,11 +85,106 @@ static void reference_against_itself(void) {
     pgt_backend_close(&cpu);
 }
 
+/* One sqrt(3) output (k = 2, a quarter protected) with its per-face arrays, into o. */
+static int reference_output(const pgt_mesh *m, pgt_diff_sqrt3_output *o) {
+    memset(o, 0, sizeof *o);
+    uint32_t vb = 0, fb = 0;
+    if (pgt_sqrt3_bound(m->vertex_count, m->face_count, 0, 2, &vb, &fb, NULL) != PGT_OK) return 0;
+    uint8_t *prot = calloc(m->face_count, 1);
+    o->opp = malloc(3u * (size_t)fb * sizeof(uint32_t));
+    o->parent = malloc((size_t)fb * sizeof(uint32_t));
+    o->prot = malloc(fb);
+    if (!prot || !o->opp || !o->parent || !o->prot) return free(prot), 0;
+    for (uint32_t f = 0; f < m->face_count; f += 4) prot[f] = 1;
+    pgt_sqrt3_options opt = {2, 1, prot, o->prot, o->parent, o->opp};
+    const int ok = pgt_sqrt3_subdivide(&o->out, m, &opt, NULL) == PGT_OK;
+    free(prot);
+    return ok;
+}
+
+static int copy_output(const pgt_diff_sqrt3_output *a, pgt_diff_sqrt3_output *b) {
+    memset(b, 0, sizeof *b);
+    const size_t F = a->out.face_count;
+    b->opp = malloc(3u * F * sizeof(uint32_t)), b->parent = malloc(F * sizeof(uint32_t));
+    b->prot = malloc(F);
+    if (!b->opp || !b->parent || !b->prot || pgt_mesh_copy(&b->out, &a->out, NULL) != PGT_OK)
+        return 0;
+    memcpy(b->opp, a->opp, 3u * F * sizeof(uint32_t));
+    memcpy(b->parent, a->parent, F * sizeof(uint32_t));
+    memcpy(b->prot, a->prot, F);
+    return 1;
+}
+
+static void free_output(pgt_diff_sqrt3_output *o) {
+    pgt_mesh_destroy(&o->out);
+    free(o->opp), free(o->parent), free(o->prot);
+}
+
+/* Every output the diff compares, changed in one element, fails the case and is counted where
+ * it belongs (a diff that skipped one array would pass these): a triangle's corner, an
+ * adjacency entry, a parent, a protected flag, a position beyond the tolerance, a NaN, and a
+ * vertex count. */
+static void compare_catches_each_output(void) {
+    pgt_mesh m;
+    REQUIRE(pgt_cli_load_named("hemisphere_jagged_12x32", ".", &m, NULL) == PGT_OK);
+    pgt_diff_sqrt3_output ref, got;
+    REQUIRE(reference_output(&m, &ref));
+    pgt_diff_sqrt3 d;
+    for (int kind = -1; kind < 7; ++kind) {
+        REQUIRE(copy_output(&ref, &got));
+        const uint32_t t = got.out.face_count / 2u, v = got.out.vertex_count / 2u;
+        switch (kind) {
+        case 0:
+            got.out.indices[3u * t + 1u] = got.out.indices[3u * t + 2u];
+            break;
+        case 1:
+            got.opp[3u * t] ^= 1u;
+            break;
+        case 2:
+            got.parent[t] += 1u;
+            break;
+        case 3:
+            got.prot[t] = (uint8_t)!got.prot[t];
+            break;
+        case 4:
+            got.out.positions[3u * v] += 1e-3f;
+            break; /* ~1e-3 of the unit hemisphere */
+        case 5:
+            got.out.positions[3u * v + 1u] = NAN;
+            break;
+        case 6:
+            got.out.vertex_count -= 1u;
+            break;
+        default:
+            break; /* -1: the copy itself */
+        }
+        memset(&d, 0, sizeof d);
+        pgt_diff_sqrt3_compare(&d, &ref, &got);
+        const uint64_t counts[7] = {d.triangles,
+                                    d.opposite,
+                                    d.parents,
+                                    d.protected_flags,
+                                    d.positions.outside,
+                                    d.positions.outside,
+                                    d.ref_vertices != d.got_vertices};
+        CHECK_MSG(d.pass == (kind < 0), "kind %d: pass %d", kind, d.pass);
+        for (int k = 0; k < 7; ++k)
+            CHECK_MSG(counts[k] ==
+                          (uint64_t)(k == kind || (kind == 4 && k == 5) || (kind == 5 && k == 4)),
+                      "kind %d: count %d is %llu", kind, k, (unsigned long long)counts[k]);
+        if (kind == 0) CHECK(d.first_triangle == t);
+        free_output(&got);
+    }
+    free_output(&ref);
+    pgt_mesh_destroy(&m);
+}
+
 static const pgt_test_case cases[] = {
     {"ulp_known_answers", ulp_known_answers},
     {"floats_find_the_worst", floats_find_the_worst},
     {"tolerance_table_entries", tolerance_table_entries},
     {"reference_against_itself", reference_against_itself},
+    {"compare_catches_each_output", compare_catches_each_output},
 };
 
 PGT_TEST_MAIN(cases)
