@@ -30,10 +30,11 @@ static double arc(double ax, double az, double a) {
 pgt_result pgt_gen_tower(pgt_facade_quads *out, double ax, double az, double height,
                          double twist_deg, uint32_t segments, uint32_t rows, pgt_error *err) {
     memset(out, 0, sizeof *out);
-    if (!(ax > 0.0 && az > 0.0 && height > 0.0 && isfinite(ax) && isfinite(az) &&
-          isfinite(height) && ax <= 1e4 && az <= 1e4 && height <= 1e4))
+    /* at least 1e-3: float positions and the normal's squared length stay far from underflow
+     * (1e-300 wrote 0 positions and NaN normals) */
+    if (!(ax >= 1e-3 && az >= 1e-3 && height >= 1e-3 && ax <= 1e4 && az <= 1e4 && height <= 1e4))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                             "pgt_gen_tower: semi-axes %g, %g and height %g must be in (0, 1e4]",
+                             "pgt_gen_tower: semi-axes %g, %g and height %g must be in [1e-3, 1e4]",
                              ax, az, height);
     if (!(fabs(twist_deg) <= 90.0))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,

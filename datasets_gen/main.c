@@ -123,6 +123,11 @@ static int city_main(int argc, char **argv) {
     }
     if (nums < 2) return bad_usage("%s", "city: expected N and SEED (city N SEED -o FILE.scene)");
     if (!out) return bad_usage("%s", "city: no output: give -o FILE.scene");
+    struct stat so, sg; /* the same existing file (pgt_cli_same_file's test; cli.c is not linked) */
+    if (stat(out, &so) == 0 && stat(grammar, &sg) == 0 && so.st_dev == sg.st_dev &&
+        so.st_ino == sg.st_ino)
+        return bad_usage(
+            "city: -o %s is the --grammar file; pgt_datasets never overwrites an input", out);
     unsigned long long v[2];
     for (int k = 0; k < 2; ++k) {
         char *end = NULL;

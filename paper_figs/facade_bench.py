@@ -56,8 +56,10 @@ def read(path):
     meta, _, rows = results_csv.read(path, "facade_bench", REQUIRED)
     ours, paper = [], []
     for ln, row in rows:
-        r = {"line": ln, "source": row["source"].strip(),
-             "res": f"{row['width'].strip()}x{row['height'].strip()}"}
+        w, h = row["width"].strip(), row["height"].strip()
+        if not (w.isdigit() and h.isdigit() and int(w) > 0 and int(h) > 0):
+            die(f"{path}:{ln}: width '{w}' and height '{h}' are not whole numbers > 0")
+        r = {"line": ln, "source": row["source"].strip(), "res": f"{w}x{h}"}
         for k in REQUIRED[1:]:
             if k not in ("width", "height"):
                 r[k] = num(row, k, path, ln)

@@ -586,6 +586,11 @@ one_line facade_mesh_save_scene_one_line "\-\-save-scene is for \-\-city and \-\
 expect facade_mesh_and_city 2 "$pgt" facade --mesh tower.obj --city 3 -o x.exr
 one_line facade_mesh_and_city_one_line "exactly one of"
 expect datasets_city_zero 2 "$gen" city 0 5 -o gen0.scene
+cp "$src/grammars/facade.grammar" own.grammar
+expect datasets_city_over_grammar 2 "$gen" city 2 1 -o own.grammar --grammar own.grammar
+cmp -s own.grammar "$src/grammars/facade.grammar" && ok datasets_city_grammar_kept || bad datasets_city_grammar_kept "overwritten"
+expect datasets_tower_tiny 2 "$gen" tower -o tiny.obj 1e-300 1e-300 1e-300 0 3 1
+[ ! -e tiny.obj ] && ok datasets_tower_tiny_writes_nothing || bad datasets_tower_tiny_writes_nothing "$(head -c 200 tiny.obj)"
 expect bench_facade_help 0 "$pgt" bench facade --help
 for flag in --out --buildings --res --threads --frames --grammar --seed --quick; do
   grep -q -- "$flag" out.txt && ok "bench_facade_help_documents_$flag" || bad "bench_facade_help_documents_$flag" "missing"
