@@ -113,6 +113,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
      * checkout's absolute path: the tables are compared across machines */
     const char *grammar_name = grammar ? grammar : "grammars/facade.grammar";
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
+    if (pgt_cli_refuse_overwrite(verb, &grammar, 1, &out_path, 1)) return PGT_EXIT_USAGE;
     double *ms = malloc(6u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");
     char tmp[4200];

@@ -222,6 +222,11 @@ static int parse_args(int argc, char **argv, facade_args *a) {
             if (outs[o] && ins[k] && pgt_cli_same_file(outs[o], ins[k]))
                 return pgt_cli_fail(verb, "%s %s is the input %s; pgt never overwrites an input",
                                     flags[o], outs[o], ins[k]);
+    for (int o = 0; o < 4; ++o) /* one output would replace another */
+        for (int k = 0; k < o; ++k)
+            if (outs[o] && outs[k] &&
+                (!strcmp(outs[o], outs[k]) || pgt_cli_same_file(outs[o], outs[k])))
+                return pgt_cli_fail(verb, "%s %s is also %s's output", flags[o], outs[o], flags[k]);
     if (!a->grammar_path) a->grammar_path = PGT_FACADE_DEFAULT_GRAMMAR;
     return 0;
 }
@@ -325,6 +330,19 @@ int pgt_cmd_facade(int argc, char **argv) {
     } else if (pgt_facade_file_city(&file, a.grammar_path, a.city, a.seed, &err) != PGT_OK) {
         pgt_cli_fail(verb, "--city %u: %s", a.city, err.message);
         goto done;
+    }
+    { /* the grammar files a scene names are inputs too */
+        const char *outs[4] = {a.out_path, a.png_path, a.explicit_path, a.save_path};
+        const char *flags[4] = {"-o", "--png", "--explicit", "--save-scene"};
+        for (uint32_t k = 0; k < file.grammar_count; ++k)
+            for (int o = 0; o < 4; ++o)
+                if (outs[o] && pgt_cli_same_file(outs[o], file.paths[k])) {
+                    pgt_cli_fail(verb,
+                                 "%s %s is the grammar %s of %s; pgt never overwrites an "
+                                 "input",
+                                 flags[o], outs[o], file.names[k], what);
+                    goto done;
+                }
     }
     const pgt_facade_scene *s = &file.scene;
     if (pgt_facade_scene_check(s, what, &err) != PGT_OK) {

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef struct fbuf {
     float *v;
@@ -159,8 +160,11 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
 
 pgt_result pgt_facade_quads_write_obj(const pgt_facade_quads *m, const char *path,
                                       const char *comment, pgt_error *err) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create: %s", path, strerror(errno));
+    /* a temporary file beside it, renamed when complete: a failed write keeps the old file */
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create: %s", tmp, strerror(errno));
     if (comment) fprintf(f, "# %s\n", comment);
     fprintf(f, "# %u vertices, %u quads; vt = (u, v) in facade space, metres\n", m->vertex_count,
             m->quad_count);
@@ -179,6 +183,14 @@ pgt_result pgt_facade_quads_write_obj(const pgt_facade_quads *m, const char *pat
         fputc('\n', f);
     }
     const int bad = ferror(f);
-    if (fclose(f) != 0 || bad) return pgt_error_set(err, PGT_ERROR_IO, "%s: write error", path);
+    if (fclose(f) != 0 || bad) {
+        remove(tmp);
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: write error", path);
+    }
+    if (rename(tmp, path) != 0) {
+        const int e = errno;
+        remove(tmp);
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot rename %s: %s", path, tmp, strerror(e));
+    }
     return PGT_OK;
 }

@@ -245,7 +245,8 @@ static pgt_result read_building(reader *rd, char *rest, pgt_error *err) {
                              rd->line, tok[3]);
     char *end = NULL;
     const unsigned long colour = strtoul(tok[4], &end, 16);
-    if (strlen(tok[4]) != 6 || *end || tok[4][0] == '+' || tok[4][0] == '-')
+    /* six hex digits exactly: strtoul also takes a sign, spaces and "0x" */
+    if (strlen(tok[4]) != 6 || strspn(tok[4], "0123456789abcdefABCDEF") != 6 || *end)
         return pgt_error_set(err, PGT_ERROR_PARSE,
                              "%s:%u: colour '%s' is not RRGGBB (6 hexadecimal digits)", rd->path,
                              rd->line, tok[4]);

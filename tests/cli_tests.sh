@@ -587,6 +587,37 @@ one_line facade_mesh_save_scene_one_line "\-\-save-scene is for \-\-city and \-\
 expect facade_mesh_and_city 2 "$pgt" facade --mesh tower.obj --city 3 -o x.exr
 one_line facade_mesh_and_city_one_line "exactly one of"
 expect datasets_city_zero 2 "$gen" city 0 5 -o gen0.scene
+# outputs never replace inputs or each other: a grammar the scene names, -o as --save-scene,
+# bench facade's --out as its --grammar; pgt_datasets tower writes through a temporary file
+printf 'grammar g own_fc.grammar\nbuilding g 0 19.2 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >own_fc.scene
+cp "$src/grammars/facade.grammar" own_fc.grammar
+expect facade_save_over_grammar 2 "$pgt" facade --scene own_fc.scene --save-scene own_fc.grammar -o ofc.exr --width 32 --height 32
+one_line facade_save_over_grammar_one_line "\-\-save-scene own_fc.grammar is the grammar g of own_fc.scene"
+expect facade_save_is_frame 2 "$pgt" facade --scene own_fc.scene --save-scene ofc.exr -o ofc.exr --width 32 --height 32
+one_line facade_save_is_frame_one_line "\-\-save-scene ofc.exr is also \-o's output"
+expect bench_facade_out_is_grammar 2 "$pgt" bench facade --grammar own_fc.grammar --out own_fc.grammar --buildings 1 --res 32x32 --frames 1 --threads 1
+cmp -s own_fc.grammar "$src/grammars/facade.grammar" && ok facade_inputs_kept || bad facade_inputs_kept "overwritten"
+"$gen" tower -o keep_tower.obj >/dev/null 2>&1 && cp keep_tower.obj keep_tower.ref
+( trap '' XFSZ; ulimit -f 10; "$gen" tower -o keep_tower.obj >/dev/null 2>&1 )
+[ $? -ne 0 ] && cmp -s keep_tower.obj keep_tower.ref && ok datasets_tower_failed_write_keeps_file \
+  || bad datasets_tower_failed_write_keeps_file "$(wc -c <keep_tower.obj) bytes"
+# protrusion and recess within the coordinates' bound (1.2e9 lost hits to rounding in t)
+printf 'grammar g own_fc.grammar\nbuilding g 0 19.2 7 E6D2B4 recess=1e10 protrusion=1e10 : 0 0 0 12 22 12 22 0\n' >deep_fc.scene
+expect facade_protrusion_huge 2 "$pgt" facade --scene deep_fc.scene -o ofc.exr --width 32 --height 32
+one_line facade_protrusion_huge_one_line "protrusion 1e+10 and recess 1e+10 must be in \[0, 1e+06\]"
+# a vertex shared by 600 quads (1200 neighbours): refused before the quadratic pair search
+/usr/bin/python3 -c '
+import math
+n = 600
+print("v 0 0 0\nvt 0 0\nvn 0 0 1")
+for i in range(3 * n):
+    a = 2 * math.pi * i / (3 * n); r = 10 + (i % 3)
+    print("v %.6f %.6f 0\nvt %.6f %.6f\nvn 0 0 1" % (r * math.cos(a), r * math.sin(a), r * math.cos(a), r * math.sin(a)))
+for q in range(n):
+    a, b, c = 2 + 3 * q, 3 + 3 * q, 4 + 3 * q
+    print("f 1/1/1 %d/%d/%d %d/%d/%d %d/%d/%d" % (a, a, a, b, b, b, c, c, c))' >fan.obj
+expect facade_mesh_fan 2 "$pgt" facade --mesh fan.obj -o ofc.exr --width 32 --height 32
+one_line facade_mesh_fan_one_line "vertex 0 has 1200 neighbours (at most 1024"
 cp "$src/grammars/facade.grammar" own.grammar
 expect datasets_city_over_grammar 2 "$gen" city 2 1 -o own.grammar --grammar own.grammar
 cmp -s own.grammar "$src/grammars/facade.grammar" && ok datasets_city_grammar_kept || bad datasets_city_grammar_kept "overwritten"

@@ -205,10 +205,11 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                      g->names + g->params[k].name);
         const float F = s->params[B->first_param + pgt_grammar_find_param(g, "protrusion")];
         const float Bk = s->params[B->first_param + pgt_grammar_find_param(g, "recess")];
-        if (!(F >= 0.0f && Bk >= 0.0f))
+        /* bounded as the coordinates are: 1.2e9 already lost hits to float rounding in t */
+        if (!(F >= 0.0f && Bk >= 0.0f && F <= FACADE_MAX_COORD && Bk <= FACADE_MAX_COORD))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: building %u: protrusion %g and recess %g must be >= 0", what,
-                                 b, (double)F, (double)Bk);
+                                 "%s: building %u: protrusion %g and recess %g must be in [0, %g]",
+                                 what, b, (double)F, (double)Bk, (double)FACADE_MAX_COORD);
         double area = 0.0;
         const float *c = s->corners + 2u * B->first_corner;
         for (uint32_t k = 0; k < B->corner_count; ++k)

@@ -31,6 +31,11 @@
  * this: below it eq. 6-7 divide by (almost) zero. 1e-3 is an angle of 0.06 degrees, far below
  * any UV layout an artist makes and far above float32 rounding of metre-sized offsets. */
 #define FACADE_MESH_MIN_UV_SIN 1e-3f
+
+/* Distinct neighbours of one vertex at most: the pair search below is quadratic in them (a fan of
+ * 40,000 quads around one vertex took 23 s); a quad mesh's vertex has 4 to a few dozen, a pole
+ * of a 1024-sided cylinder cap 1024. */
+#define FACADE_MESH_MAX_NEIGHBOURS 1024u
 /* eq. 8's w (h) within this much, relative to the UV coordinates' size, of the quad's UV extent
  * is taken as that extent: float32 rounding of positions and of eq. 5 and 8 (a few ulps of the
  * coordinates, ~1e-6 relative) stays far inside; a real difference (a chord against its arc,
@@ -133,6 +138,13 @@ pgt_result pgt_facade_mesh_frames(float *out_t, float *out_b, uint32_t *out_pair
         uint32_t k = 0;
         for (uint32_t i = 0; i < cnt; ++i) /* unique */
             if (k == 0 || nb[k - 1u] != nb[i]) nb[k++] = nb[i];
+        if (k > FACADE_MESH_MAX_NEIGHBOURS) {
+            r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                              "quad mesh: vertex %u has %u neighbours (at most %u: the search for "
+                              "its two tangent neighbours is quadratic)",
+                              v, k, FACADE_MESH_MAX_NEIGHBOURS);
+            break;
+        }
         const float *p = m->positions + 3u * v;
         float n[3] = {m->normals[3u * v], m->normals[3u * v + 1u], m->normals[3u * v + 2u]};
         if (!unit(n)) {
