@@ -487,6 +487,12 @@ expect facade_camera_eye_at 2 "$pgt" facade --city 4 -o f.exr --camera 1,1,1,1,1
 one_line facade_camera_eye_at_one_line "\-\-camera 1,1,1,1,1,1,0,1,0,40: "
 expect facade_camera_fov 2 "$pgt" facade --city 4 -o f.exr --camera 0,5,5,0,0,0,0,1,0,180
 one_line facade_camera_fov_one_line "\-\-camera 0,5,5,0,0,0,0,1,0,180: "
+# an eye at 1e19 aborted Embree in the --embree-check twin (ray origins within ~1.8e18); 1e30 was
+# "eye and at coincide" (a squared length overflowed)
+for far in 1e19 1e30; do
+  expect "facade_camera_far_$far" 2 "$pgt" facade --city 4 -o f.exr --camera "$far,5,5,0,0,0,0,1,0,40" --width 16 --height 16 --embree-check
+  one_line "facade_camera_far_${far}_one_line" "coordinates must be within +-1e+09"
+done
 expect facade_camera_up 2 "$pgt" facade --city 4 -o f.exr --camera 0,5,0,0,0,0,0,1,0,40
 one_line facade_camera_up_one_line "\-\-camera 0,5,0,0,0,0,0,1,0,40: "
 expect facade_bad_width 2 "$pgt" facade --city 4 -o f.exr --width 0

@@ -332,6 +332,12 @@ pgt_result pgt_facade_camera_init(pgt_facade_camera *cam, const float eye[3], co
     for (int k = 0; k < 3; ++k)
         if (!isfinite(eye[k]) || !isfinite(at[k]) || !isfinite(up[k]))
             return pgt_error_set(err, PGT_ERROR_NOT_FINITE, "camera: a coordinate is not finite");
+    for (int k = 0; k < 3; ++k)
+        if (!(fabsf(eye[k]) <= PGT_FACADE_MAX_EYE && fabsf(at[k]) <= PGT_FACADE_MAX_EYE))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "camera: eye and look-at coordinates must be within +-%g (the "
+                                 "scene's are within +-1e6)",
+                                 (double)PGT_FACADE_MAX_EYE);
     if (!(fov_deg > 0.0f && fov_deg < 180.0f))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "camera: fov %g degrees, expected 0 < fov < 180", (double)fov_deg);

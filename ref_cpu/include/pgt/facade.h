@@ -102,6 +102,12 @@ typedef enum pgt_facade_kind {
 /* Rectangles of one terminal at most (the window block has 27). */
 #define PGT_FACADE_MAX_QUADS 32u
 
+/* Largest |coordinate| of the camera's eye and look-at point: 1000 x the scene's bound (+-1e6),
+ * far inside what Embree's --embree-check twin takes (ray origins within ~1.8e18: an eye at 1e19
+ * aborted it), and squared distances from it stay finite in float (an eye at 1e30 was refused as
+ * "eye and at coincide"). */
+#define PGT_FACADE_MAX_EYE 1e9f
+
 /* Facades per scene, and pixels per image side, at most (sizes stay far inside 32 bits). */
 #define PGT_FACADE_MAX_FACADES (1u << 26)
 #define PGT_FACADE_MAX_SIDE 16384u
