@@ -153,6 +153,10 @@ int pgt_cli_same_file(const char *a, const char *b) {
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+int pgt_cli_same_output(const char *a, const char *b) {
+    return !strcmp(a, b) || pgt_cli_same_file(a, b);
+}
+
 int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
                              const char *const *outputs, int n_out) {
     for (int o = 0; o < n_out; ++o) {
@@ -161,8 +165,7 @@ int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_
                 return pgt_cli_fail(verb, "%s is an input file; pgt never overwrites an input",
                                     outputs[o]);
         for (int k = 0; k < o; ++k) /* one would replace the other */
-            if (outputs[o] && outputs[k] &&
-                (!strcmp(outputs[o], outputs[k]) || pgt_cli_same_file(outputs[o], outputs[k])))
+            if (outputs[o] && outputs[k] && pgt_cli_same_output(outputs[o], outputs[k]))
                 return pgt_cli_fail(verb, "%s is named for two outputs", outputs[o]);
     }
     return 0;

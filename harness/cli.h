@@ -48,6 +48,10 @@ void pgt_cli_date(char *buf, size_t size);
 /* Nonzero when a and b name the same existing file (device and inode). */
 int pgt_cli_same_file(const char *a, const char *b);
 
+/* Nonzero when two output paths would write one file: the same text (neither exists yet) or
+ * the same existing file. */
+int pgt_cli_same_output(const char *a, const char *b);
+
 /* 0 when none of the n_out outputs is one of the n_in inputs and no two outputs are the same
  * (NULL entries are skipped); else prints "pgt VERB: OUTPUT is an input file; pgt never
  * overwrites an input" (or "OUTPUT is named for two outputs") and returns PGT_EXIT_USAGE. */

@@ -224,8 +224,7 @@ static int parse_args(int argc, char **argv, facade_args *a) {
                                     flags[o], outs[o], ins[k]);
     for (int o = 0; o < 4; ++o) /* one output would replace another */
         for (int k = 0; k < o; ++k)
-            if (outs[o] && outs[k] &&
-                (!strcmp(outs[o], outs[k]) || pgt_cli_same_file(outs[o], outs[k])))
+            if (outs[o] && outs[k] && pgt_cli_same_output(outs[o], outs[k]))
                 return pgt_cli_fail(verb, "%s %s is also %s's output", flags[o], outs[o], flags[k]);
     if (!a->grammar_path) a->grammar_path = PGT_FACADE_DEFAULT_GRAMMAR;
     return 0;

@@ -109,9 +109,19 @@ static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
     rgb[2] = (uint8_t)lround(b * 255);
 }
 
-static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_image *img) {
+/* --dump PREFIX's two files, PREFIX.atlas.png and PREFIX.texels.csv. */
+typedef struct dump_paths {
+    char png[4200], csv[4200];
+} dump_paths;
+
+static void dump_paths_of(const char *prefix, dump_paths *d) {
+    snprintf(d->png, sizeof d->png, "%s.atlas.png", prefix);
+    snprintf(d->csv, sizeof d->csv, "%s.texels.csv", prefix);
+}
+
+static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_image *img) {
     const uint32_t w = a->width, h = a->height;
-    char path[4096], tmp[4200];
+    char tmp[4300];
     uint8_t *px = malloc((size_t)w * h * 3);
     if (!px) return pgt_cli_fail("march", "out of memory"), -1;
     size_t inner = 0;
@@ -131,17 +141,15 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
         }
     }
     pgt_error err = {0};
-    snprintf(path, sizeof path, "%s.atlas.png", prefix);
-    const pgt_result r = pgt_png_write(path, w, h, 3, px, &err);
+    const pgt_result r = pgt_png_write(d->png, w, h, 3, px, &err);
     free(px);
     if (r != PGT_OK) return pgt_cli_fail("march", "--dump: %s", err.message), -1;
-    snprintf(path, sizeof path, "%s.texels.csv", prefix);
-    FILE *f = pgt_cli_tmp_open(path, tmp, sizeof tmp);
+    FILE *f = pgt_cli_tmp_open(d->csv, tmp, sizeof tmp);
     if (!f) return pgt_cli_fail("march", "cannot write %s: %s", tmp, strerror(errno)), -1;
     uint32_t stride = (uint32_t)ceil(sqrt((double)inner / MARCH_DUMP_POINTS));
     if (stride < 1) stride = 1;
     pgt_atlas_channels ch;
-    if (pgt_atlas_channels_find(img, prefix, &ch, &err) != PGT_OK) { /* checked before: a bug */
+    if (pgt_atlas_channels_find(img, d->csv, &ch, &err) != PGT_OK) { /* checked before: a bug */
         fclose(f);
         remove(tmp);
         return pgt_cli_fail("march", "%s", err.message), -1;
@@ -158,7 +166,7 @@ static int write_dump(const char *prefix, const pgt_march_atlas *a, const pgt_im
                     (t->code >> 2) - 1u, (double)t->x, (double)t->y, (double)t->z, (double)nx[i],
                     (double)ny[i], (double)nz[i]);
         }
-    return pgt_cli_table_close(f, tmp, path, "march") ? -1 : 0;
+    return pgt_cli_table_close(f, tmp, d->csv, "march") ? -1 : 0;
 }
 
 int pgt_cmd_march(int argc, char **argv) {
@@ -234,15 +242,11 @@ int pgt_cmd_march(int argc, char **argv) {
     if (!have_step) return pgt_cli_fail(verb, "no step length: give --step S (texels)");
     if (!have_steps) return pgt_cli_fail(verb, "no step count: give --steps N");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
+    dump_paths dumped;
+    if (dump) dump_paths_of(dump, &dumped);
     {
-        /* --dump's files too (write_dump's names) */
-        char dump_png[4200], dump_csv[4200];
-        if (dump) {
-            snprintf(dump_png, sizeof dump_png, "%s.atlas.png", dump);
-            snprintf(dump_csv, sizeof dump_csv, "%s.texels.csv", dump);
-        }
         const char *inputs[3] = {in_path, mask_path, density_path};
-        const char *outputs[3] = {out_path, dump ? dump_png : NULL, dump ? dump_csv : NULL};
+        const char *outputs[3] = {out_path, dump ? dumped.png : NULL, dump ? dumped.csv : NULL};
         if (pgt_cli_refuse_overwrite(verb, inputs, 3, outputs, 3)) return PGT_EXIT_USAGE;
     }
 
@@ -274,7 +278,7 @@ int pgt_cmd_march(int argc, char **argv) {
                      (double)dy, in_path, err.message);
         goto done;
     }
-    if (dump && write_dump(dump, &atlas, &img)) goto done;
+    if (dump && write_dump(&dumped, &atlas, &img)) goto done;
     const double t1 = pgt_cli_now_ms();
 
     char tmp[4200];

@@ -45,8 +45,6 @@ static uint64_t count_u32(const uint32_t *a, const uint32_t *b, uint64_t n, uint
     return c;
 }
 
-typedef pgt_diff_sqrt3_output diff_run;
-
 void pgt_diff_sqrt3_compare(pgt_diff_sqrt3 *d, const pgt_diff_sqrt3_output *ref,
                             const pgt_diff_sqrt3_output *got) {
     const pgt_mesh *ro = &ref->out, *go = &got->out;
@@ -77,7 +75,7 @@ void pgt_diff_sqrt3_compare(pgt_diff_sqrt3 *d, const pgt_diff_sqrt3_output *ref,
               d->protected_flags == 0 && d->labels == 0 && d->positions.outside == 0;
 }
 
-static void diff_run_free(diff_run *r) {
+static void output_free(pgt_diff_sqrt3_output *r) {
     pgt_mesh_destroy(&r->out);
     free(r->opp), free(r->parent), free(r->prot);
     memset(r, 0, sizeof(*r));
@@ -90,17 +88,17 @@ pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t itera
     d->tolerance = pgt_tolerance_find("sqrt3", "positions");
     uint32_t vb = 0, fb = 0;
     pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, iterations, &vb, &fb, NULL);
-    diff_run runs[2];
+    pgt_diff_sqrt3_output runs[2];
     memset(runs, 0, sizeof runs);
     pgt_backend cpu;
     pgt_backend_open(&cpu, PGT_BACKEND_CPU, 0, 0, NULL);
     for (int i = 0; i < 2; ++i) {
-        diff_run *r = &runs[i];
+        pgt_diff_sqrt3_output *r = &runs[i];
         r->opp = malloc(((size_t)fb * 3 + 1) * sizeof(uint32_t));
         r->parent = malloc(((size_t)fb + 1) * sizeof(uint32_t));
         r->prot = malloc((size_t)fb + 1);
         if (!r->opp || !r->parent || !r->prot) {
-            diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+            output_free(&runs[0]), output_free(&runs[1]);
             return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "diff: out of memory (%u faces)",
                                  fb);
         }
@@ -121,11 +119,11 @@ pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t itera
     pgt_backend_close(&cpu);
     if (d->ref_failed || d->got_failed) {
         d->pass = d->ref_failed && d->got_failed && d->ref_code == d->got_code;
-        diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+        output_free(&runs[0]), output_free(&runs[1]);
         return PGT_OK;
     }
     pgt_diff_sqrt3_compare(d, &runs[0], &runs[1]);
-    diff_run_free(&runs[0]), diff_run_free(&runs[1]);
+    output_free(&runs[0]), output_free(&runs[1]);
     return PGT_OK;
 }
 
