@@ -14,9 +14,9 @@
  * from here on). */
 #define PGT_ALLOC_HUGE_MIN ((size_t)8 << 20)
 
-void *pgt_alloc_large(size_t bytes) {
+void *pgt_alloc_huge(size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= PGT_ALLOC_HUGE_MIN) {
+    if (bytes >= PGT_ALLOC_HUGE_PAGE) {
         const size_t rounded = (bytes + PGT_ALLOC_HUGE_PAGE - 1u) & ~(PGT_ALLOC_HUGE_PAGE - 1u);
         /* a size within a huge page of SIZE_MAX wraps: malloc refuses it below */
         void *p = rounded >= bytes ? aligned_alloc(PGT_ALLOC_HUGE_PAGE, rounded) : NULL;
@@ -27,4 +27,8 @@ void *pgt_alloc_large(size_t bytes) {
     }
 #endif
     return malloc(bytes);
+}
+
+void *pgt_alloc_large(size_t bytes) {
+    return bytes >= PGT_ALLOC_HUGE_MIN ? pgt_alloc_huge(bytes) : malloc(bytes);
 }

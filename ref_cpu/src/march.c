@@ -24,6 +24,7 @@
 
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
+#include "alloc_internal.h"
 #include "vec3_internal.h"
 
 #define MARCH_NONE UINT32_MAX
@@ -99,9 +100,11 @@ pgt_result pgt_march_atlas_create(pgt_march_atlas *out, const pgt_image *atlas, 
     if (w > PGT_IMAGE_MAX_SIDE || h > PGT_IMAGE_MAX_SIDE)
         return pgt_error_set(err, PGT_ERROR_LIMIT, "%s: %u x %u texels, more than %u on a side",
                              what, w, h, PGT_IMAGE_MAX_SIDE);
-    pgt_march_texel *tex = malloc(n * sizeof(pgt_march_texel));
-    uint32_t *codes = malloc(n * sizeof(uint32_t));
-    pgt_march_jump *jumps = calloc(n, sizeof(pgt_march_jump));
+    /* huge pages: walkers read the three arrays at random (see pgt_alloc_huge) */
+    pgt_march_texel *tex = pgt_alloc_huge(n * sizeof(pgt_march_texel));
+    uint32_t *codes = pgt_alloc_huge(n * sizeof(uint32_t));
+    pgt_march_jump *jumps = pgt_alloc_huge(n * sizeof(pgt_march_jump));
+    if (jumps) memset(jumps, 0, n * sizeof(pgt_march_jump));
     if (!tex || !codes || !jumps) {
         free(tex), free(codes), free(jumps);
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
