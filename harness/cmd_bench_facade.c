@@ -150,8 +150,9 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "twin's arrays (positions, indices, per-triangle ids); embree = its reported "
                  "peak + vertex and index buffers; memory_ratio = embree / procedural\n");
     fprintf(csv, "# agreement: per pixel both miss or same (facade, node, kind, surface) within "
-                 "1e-4 relative depth; near_edge: disagreements within 1e-4 t of a rectangle "
-                 "edge\n");
+                 "1e-4 relative depth; ties: disagreements where both hit at that depth on "
+                 "coincident faces (harness/facade_embree.h); near_edge: the others within "
+                 "1e-4 t of a rectangle edge\n");
     fprintf(csv, "# source=paper: paper 003 sec. 9, 10K facades at 1280x720, 7 fps on a GeForce "
                  "GTX 480, ~650 KB vs ~400 MB (its explicit bytes include normals and texture "
                  "coordinates)\n");
@@ -160,8 +161,8 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "ours_over_embree,embree_build_ms,procedural_bytes,facades_bytes,"
                  "explicit_triangles,explicit_bytes,embree_bytes,memory_ratio,agreement_pct,"
                  "disagreements,near_edge,nodes_per_ray,trace_ms,ours_trace_mrays,"
-                 "shaded_over_embree,best_over_embree,single_trace_ms,packet_speedup\n");
-    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,,,,,,,\n",
+                 "shaded_over_embree,best_over_embree,single_trace_ms,packet_speedup,ties\n");
+    fprintf(csv, "paper,,%u,1280,720,,,%.0f,,,%.2f,,,,,,,%.0f,,,%.0f,,%.0f,,,,,,,,,,,\n",
             PAPER_FACADES, PAPER_MS, 1280.0 * 720.0 / (PAPER_MS * 1e3), PAPER_PROCEDURAL_BYTES,
             PAPER_EXPLICIT_BYTES, PAPER_EXPLICIT_BYTES / PAPER_PROCEDURAL_BYTES);
     int failures = 0;
@@ -247,7 +248,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
             const double single_med = pgt_cli_median(single, frames);
             fprintf(csv,
                     "ours,%u,%u,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%.3f,%.3f,%.3f,%.0f,%zu,"
-                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+                    "%zu,%u,%zu,%zu,%.0f,%.4f,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%llu\n",
                     buildings[c], fc, rw[r], rh[r], threads, frames, med, best,
                     pgt_cli_median(cover, frames), ours_mr, emb_mr, fast ? "streams" : "packets",
                     pixels / (mode_med[0] * 1e3), pixels / (mode_med[1] * 1e3), trace_mr / emb_mr,
@@ -257,7 +258,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                     (unsigned long long)chk.near_edge,
                     st.rays.volume_hits ? (double)st.rays.nodes / (double)st.rays.volume_hits : 0.0,
                     trace_med, trace_mr, ours_mr / emb_mr, best_ratio, single_med,
-                    single_med / trace_med);
+                    single_med / trace_med, (unsigned long long)chk.ties);
             fflush(csv);
             fprintf(stderr,
                     "pgt bench facade: %u facades, %ux%u, %u threads: ours %.1f ms shaded "

@@ -338,6 +338,30 @@ static double rect_edge_dist(const pgt_facade_mesh *m, const uint32_t *tris, uin
     return best;
 }
 
+/* Distance from p to triangle (a, b, c) (the closest point by the triangle's Voronoi regions,
+ * Ericson, Real-Time Collision Detection 5.1.5), in double. */
+static double tri_dist(const double p[3], const float *fa, const float *fb, const float *fc) {
+    double a[3], ab[3], ac[3], ap[3], q[3];
+    for (int k = 0; k < 3; ++k) {
+        a[k] = fa[k], ab[k] = (double)fb[k] - fa[k], ac[k] = (double)fc[k] - fa[k];
+        ap[k] = p[k] - a[k];
+    }
+    const double d1 = ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2];
+    const double d2 = ac[0] * ap[0] + ac[1] * ap[1] + ac[2] * ap[2];
+    const double aa = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    const double cc = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+    const double bc = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+    const double den = aa * cc - bc * bc;
+    double v = den > 0.0 ? (cc * d1 - bc * d2) / den : -1.0;
+    double w = den > 0.0 ? (aa * d2 - bc * d1) / den : -1.0;
+    if (v >= 0.0 && w >= 0.0 && v + w <= 1.0) { /* inside: the plane's distance */
+        for (int k = 0; k < 3; ++k) q[k] = a[k] + v * ab[k] + w * ac[k] - p[k];
+        return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    }
+    /* outside (or degenerate): the nearest of the three edges */
+    return fmin(seg_dist(p, fa, fb), fmin(seg_dist(p, fb, fc), seg_dist(p, fc, fa)));
+}
+
 /* A disagreement being explained: its keys and where their triangles are. */
 typedef struct wanted {
     rect_key key;
@@ -429,6 +453,11 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             px.edge[0] = px.edge[1] = INFINITY;
             px.facade[0] = px.facade[1] = PGT_NONE;
             px.t[0] = frame->depth[i], px.t[1] = hits->t[i];
+            /* both hit at one distance, different rectangles: a tie when ours is in the
+             * explicit mesh at that point too (two faces in one place; a label of ours that
+             * names no face there is no tie) */
+            int tie = frame->facade[i] != PGT_NONE && hits->tri[i] != PGT_NONE &&
+                      fabs((double)px.t[0] - px.t[1]) <= PGT_FACADE_CHECK_DEPTH_TOL_REL * px.t[0];
             if (frame->facade[i] != PGT_NONE) {
                 wanted probe;
                 probe.key = (rect_key){frame->facade[i], frame->node[i],
@@ -440,6 +469,14 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 double p[3];
                 for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
                 if (r && r->n) px.edge[0] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / t);
+                double on = INFINITY;
+                for (uint32_t k = 0; tie && r && k < r->n; ++k) {
+                    const uint32_t *tv = mesh->indices + 3u * (size_t)r->tris[k];
+                    on = fmin(on, tri_dist(p, mesh->positions + 3u * (size_t)tv[0],
+                                           mesh->positions + 3u * (size_t)tv[1],
+                                           mesh->positions + 3u * (size_t)tv[2]));
+                }
+                tie = tie && on <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t;
             }
             const uint32_t et = hits->tri[i];
             if (et != PGT_NONE) {
@@ -459,8 +496,10 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 if (r && r->n)
                     px.edge[1] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / hits->t[i]);
             }
-            if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||
-                px.edge[1] <= PGT_FACADE_CHECK_EDGE_EPS_REL)
+            if (tie)
+                out->ties++;
+            else if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||
+                     px.edge[1] <= PGT_FACADE_CHECK_EDGE_EPS_REL)
                 out->near_edge++;
             else if (out->reported < PGT_FACADE_CHECK_MAX_REPORTED)
                 out->far[out->reported++] = px;
@@ -470,7 +509,8 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
     free(bad);
 finish:
     out->agreement_pct = n ? 100.0 * (double)out->agree / (double)n : 100.0;
-    return out->disagree == out->near_edge && out->agreement_pct >= PGT_FACADE_CHECK_MIN_AGREEMENT;
+    return out->disagree == out->near_edge + out->ties &&
+           100.0 * (double)(out->agree + out->ties) >= PGT_FACADE_CHECK_MIN_AGREEMENT * (double)n;
 }
 
 /* ---- PLY ---- */

@@ -12,8 +12,15 @@
  *
  * Comparison per pixel with a rendered frame (frame.facade, node, terminal, surface, depth):
  * agreement is both missing, or both hitting the same (facade, node, kind, surface) at distances
- * t (ours) and t' (Embree) with |t - t'| <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t. A disagreement
- * is "near an edge" when the hit point of either side lies within PGT_FACADE_CHECK_EDGE_EPS_REL
+ * t (ours) and t' (Embree) with |t - t'| <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t. Both hitting at
+ * such distances but naming different rectangles is a tie when the rectangle ours names passes
+ * through the hit point as well (within PGT_FACADE_CHECK_DEPTH_TOL_REL * t, in the explicit
+ * mesh): the ray meets two coincident faces at one point and which one a nearest-hit query
+ * names is float rounding on both sides (on a
+ * generic mesh, --mesh, the terminals of neighbouring quads that protrude or recede past the
+ * quad's sides overlap: tower quads 1.7 cm wide give thousands). Ties are counted apart and
+ * do not fail the check. A disagreement is "near an edge" when the hit point of either side lies
+ * within PGT_FACADE_CHECK_EDGE_EPS_REL
  * * t of the boundary of the rectangle it hit (the rectangle found as its two triangles in the
  * explicit mesh; the shared diagonal is not a boundary): there one float rounding decides which
  * of two touching or overlapping rectangles a ray meets first. */
@@ -94,7 +101,12 @@ typedef struct pgt_facade_check_pixel {
 #define PGT_FACADE_CHECK_MAX_REPORTED 8u
 
 typedef struct pgt_facade_check {
-    uint64_t pixels, agree, both_miss, disagree, near_edge;
+    uint64_t pixels, agree, both_miss;
+    uint64_t disagree;  /* every pixel that does not agree, ties included */
+    uint64_t ties;      /* both hit at the same distance (PGT_FACADE_CHECK_DEPTH_TOL_REL) but name
+                           different rectangles, and ours lies in the explicit mesh at that
+                           point too: coincident faces, either is the nearest hit */
+    uint64_t near_edge; /* the other disagreements near an edge */
     double max_abs_dt, max_rel_dt; /* among agreeing hits */
     double agreement_pct;
     uint32_t reported;
@@ -103,7 +115,8 @@ typedef struct pgt_facade_check {
 } pgt_facade_check;
 
 /* Compares a rendered frame with Embree's hits of the same camera. Nonzero return = the check
- * passes: every disagreement near an edge and agreement >= PGT_FACADE_CHECK_MIN_AGREEMENT. */
+ * passes: every disagreement a tie or near an edge, and agreement with the ties counted in >=
+ * PGT_FACADE_CHECK_MIN_AGREEMENT. */
 int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam,
                               const pgt_facade_frame *frame, const pgt_facade_embree_hits *hits,
                               pgt_facade_check *out);
