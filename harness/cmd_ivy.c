@@ -14,6 +14,7 @@
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
 #include "png_io.h"
+#include "text_line.h"
 
 /* Most seeds: each seed keeps its own output buffers while the seeds expand; 2^20 is far beyond
  * the paper's 64 and bounds a typo's memory. */
@@ -176,10 +177,16 @@ static int read_points(const char *verb, const char *flag, const char *path, int
     uint32_t line = 0;
     int rc = -1;
     if (strokes && stroke_push(out)) goto oom;
-    while (fgets(buf, sizeof buf, f)) {
+    pgt_text_line got;
+    size_t len;
+    while ((got = pgt_text_line_read(f, buf, IVY_MAX_LINE + 1, &len)) != PGT_TEXT_LINE_END) {
         ++line;
-        if (!strchr(buf, '\n') && !feof(f)) {
+        if (got == PGT_TEXT_LINE_LONG) {
             pgt_cli_fail(verb, "%s:%u: line longer than %d characters", path, line, IVY_MAX_LINE);
+            goto done;
+        }
+        if (got == PGT_TEXT_LINE_NUL) {
+            pgt_cli_fail(verb, "%s:%u:%zu: a NUL byte (expected text)", path, line, len + 1u);
             goto done;
         }
         char *p = buf;

@@ -1,5 +1,6 @@
 /* pgt harness: quad meshes with UVs and normals as OBJ (facade_quads.h). */
 #include "facade_quads.h"
+#include "text_line.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -52,11 +53,19 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
     char line[4096];
     unsigned lineno = 0;
     pgt_result r = PGT_OK;
-    while (r == PGT_OK && fgets(line, sizeof line, f)) {
+    pgt_text_line got;
+    size_t len;
+    while (r == PGT_OK &&
+           (got = pgt_text_line_read(f, line, sizeof line, &len)) != PGT_TEXT_LINE_END) {
         ++lineno;
-        if (!strchr(line, '\n') && !feof(f)) {
+        if (got == PGT_TEXT_LINE_LONG) {
             r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: line longer than %zu bytes", path,
                               lineno, sizeof line - 1u);
+            break;
+        }
+        if (got == PGT_TEXT_LINE_NUL) {
+            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u:%zu: a NUL byte (expected text)", path,
+                              lineno, len + 1u);
             break;
         }
         char *save = NULL, *tok = strtok_r(line, " \t\r\n", &save);

@@ -4,6 +4,7 @@
 #include "facade_scene.h"
 
 #include "gen.h"
+#include "text_line.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -381,11 +382,19 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
         goto done;
     }
-    while (fgets(buf, (int)PGT_FACADE_FILE_MAX_LINE + 2, fp)) {
+    pgt_text_line got;
+    size_t len;
+    while ((got = pgt_text_line_read(fp, buf, PGT_FACADE_FILE_MAX_LINE + 1u, &len)) !=
+           PGT_TEXT_LINE_END) {
         ++rd.line;
-        if (!strchr(buf, '\n') && !feof(fp)) {
+        if (got == PGT_TEXT_LINE_LONG) {
             r = pgt_error_set(err, PGT_ERROR_LIMIT, "%s:%u: line longer than %u characters", path,
                               rd.line, PGT_FACADE_FILE_MAX_LINE);
+            goto done;
+        }
+        if (got == PGT_TEXT_LINE_NUL) {
+            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u:%zu: a NUL byte (expected text)", path,
+                              rd.line, len + 1u);
             goto done;
         }
         char *rest = buf;

@@ -201,6 +201,9 @@ one_line ivy_no_secondary_names_param "^pgt ivy: --no-secondary sets the param s
 printf '# seeds\ntexel 20.5 20.5 1 0\nbogus 1 2\n' >seeds_bad.txt
 expect ivy_seed_file_bad_line 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bad.txt
 one_line ivy_seed_file_names_line "seeds_bad.txt:3:"
+printf 'texel 20.5 20.5 1 0\n\000point 1 0 0\n' >seeds_nul.txt
+expect ivy_seed_file_nul 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_nul.txt
+one_line ivy_seed_file_nul_one_line "seeds_nul.txt:2:1: a NUL byte"
 printf 'texel 0.5 0.5\n' >seeds_bg.txt
 expect ivy_seed_not_inner 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bg.txt
 one_line ivy_seed_not_inner_one_line "seeds_bg.txt:1: texel 0.5 0.5 is not on an inner texel"
@@ -558,6 +561,14 @@ scene_case short "2: expected 'building" "grammar g $g" "building g 0 10"
 scene_case bad_base "2: BASE 'x' is not a finite number" "grammar g $g" "building g x 10 1 FFFFFF $B"
 scene_case bad_height "2: HEIGHT '-3'" "grammar g $g" "building g 0 -3 1 FFFFFF $B"
 scene_case bad_seed "2: SEED '1.5'" "grammar g $g" "building g 0 10 1.5 FFFFFF $B"
+# a NUL byte: line 2 was once "longer than 65536 characters", and text after a NUL on the last
+# line (no newline) was dropped without a word
+printf 'grammar g %s\nbuil\000ding g 0 10 1 FFFFFF %s\n' "$g" "$B" >nul.scene
+expect facade_scene_nul 2 "$pgt" facade --scene nul.scene -o x.exr
+one_line facade_scene_nul_names_column "nul.scene:2:5: a NUL byte"
+printf 'grammar g %s\nbuilding g 0 10 1 FFFFFF %s\000 10 0' "$g" "$B" >nul_end.scene
+expect facade_scene_nul_last_line 2 "$pgt" facade --scene nul_end.scene -o x.exr
+one_line facade_scene_nul_last_line_one_line "nul_end.scene:2:$((26 + ${#B})): a NUL byte"
 scene_case bad_colour "2: colour 'FFFFF'" "grammar g $g" "building g 0 10 1 FFFFF $B"
 scene_case unknown_param "2: grammar 'g' has no param 'nope'" "grammar g $g" "building g 0 10 1 FFFFFF nope=3 $B"
 scene_case param_twice "2: param 'recess' given twice" "grammar g $g" "building g 0 10 1 FFFFFF recess=0.1 recess=0.2 $B"
@@ -595,6 +606,9 @@ grep -Eq "^check: .*disagreements \([1-9][0-9]* ties: coincident faces at one di
 printf 'v 0 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n' >tri.obj
 expect facade_mesh_triangle 2 "$pgt" facade --mesh tri.obj -o x.exr
 one_line facade_mesh_triangle_one_line "tri.obj:4: a face of 3 corners"
+printf 'v 0 0 0\000\nvt 0 0\n' >nul.obj
+expect facade_mesh_nul 2 "$pgt" facade --mesh nul.obj -o x.exr
+one_line facade_mesh_nul_one_line "nul.obj:1:8: a NUL byte"
 expect facade_mesh_save_scene 2 "$pgt" facade --mesh tower.obj -o x.exr --save-scene x.scene
 one_line facade_mesh_save_scene_one_line "\-\-save-scene is for \-\-city and \-\-scene"
 expect facade_mesh_and_city 2 "$pgt" facade --mesh tower.obj --city 3 -o x.exr

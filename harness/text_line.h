@@ -1,0 +1,40 @@
+/* pgt harness: one line of a text input (scene files, quad OBJs, ivy seed and stroke files).
+ *
+ * Header-only: pgt_datasets compiles facade_scene.c and facade_quads.c without the harness
+ * library. fgets cannot tell a NUL byte from the end of the line (the line's C string ends at
+ * the NUL and what follows is dropped or taken for an over-long line), so lines are read a byte
+ * at a time and a NUL is its own error. */
+#ifndef PGT_TEXT_LINE_H
+#define PGT_TEXT_LINE_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+typedef enum pgt_text_line {
+    PGT_TEXT_LINE_OK = 0, /* a line (the last one may lack its '\n') */
+    PGT_TEXT_LINE_END,    /* no more lines (or a read error: check ferror) */
+    PGT_TEXT_LINE_LONG,   /* more than size - 1 characters before the '\n' */
+    PGT_TEXT_LINE_NUL     /* a NUL byte at column *out_len + 1 */
+} pgt_text_line;
+
+/* Reads the next line of f into buf (size >= 2 bytes) as a C string without its '\n'; *out_len
+ * gets its length (on PGT_TEXT_LINE_NUL, the characters before the NUL). */
+static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, size_t *out_len) {
+    size_t n = 0;
+    int c = getc(f);
+    if (c == EOF) {
+        buf[0] = '\0', *out_len = 0;
+        return PGT_TEXT_LINE_END;
+    }
+    for (; c != EOF && c != '\n'; c = getc(f)) {
+        if (c == 0 || n + 1 >= size) {
+            buf[n] = '\0', *out_len = n;
+            return c == 0 ? PGT_TEXT_LINE_NUL : PGT_TEXT_LINE_LONG;
+        }
+        buf[n++] = (char)c;
+    }
+    buf[n] = '\0', *out_len = n;
+    return PGT_TEXT_LINE_OK;
+}
+
+#endif
