@@ -3,6 +3,7 @@
 #include "text_line.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,6 +81,16 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                 if (!t || *end != '\0')
                     r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: %s needs %u numbers", path,
                                       lineno, tok, need);
+                else if (!isfinite(x[k]))
+                    r = pgt_error_set(err, PGT_ERROR_NOT_FINITE,
+                                      "%s:%u: %s value '%s' is not a "
+                                      "finite float",
+                                      path, lineno, tok, t);
+                else if (!is_vn && !(fabsf(x[k]) <= PGT_FACADE_MAX_COORD))
+                    r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                                      "%s:%u: %s value %s beyond +-%g metres (a facade's float "
+                                      "arithmetic loses its windows beyond)",
+                                      path, lineno, tok, t, (double)PGT_FACADE_MAX_COORD);
             }
             fbuf *b = is_v ? &pos : (is_vt ? &uv : &nrm);
             if (r == PGT_OK && b->n / need >= PGT_FACADE_QUADS_MAX)

@@ -588,7 +588,8 @@ static void test_obj_round_trip(void) {
     remove(bpath);
 }
 
-/* Bad meshes: an index out of range, a zero normal, collinear UVs, mirrored UVs, negative UVs. */
+/* Bad meshes: an index out of range, a zero normal, collinear UVs, mirrored UVs, negative UVs,
+ * a bow-tie, coordinates beyond PGT_FACADE_MAX_COORD; normals of any length. */
 /* pgt_facade_mesh_facades with a cleared error (an error keeps its first message). */
 static pgt_result facade_of(pgt_facade *f, const pgt_facade_quads *m, const pgt_facade_scene *s,
                             uint32_t building, pgt_error *err) {
@@ -612,6 +613,29 @@ static void test_mesh_errors(void) {
     CHECK_MSG(pgt_facade_mesh_facades(&f, &m, &s, 0, 0.0f, 0.0f, &err) == PGT_OK, "%s",
               err.message);
     CHECK(fabsf(f.width - 1.0f) < 1e-6f && fabsf(f.height - 1.0f) < 1e-6f);
+    /* a normal's length does not matter, however far from 1 (its squares would overflow or
+     * underflow: 'vn 0 0 1e30' was "a zero normal") */
+    const pgt_facade f_unit = f;
+    for (int e = 0; e < 2; ++e) {
+        for (int k = 0; k < 4; ++k) nrm[3 * k + 2] = e ? 1e-30f : 1e30f;
+        CHECK_MSG(facade_of(&f, &m, &s, 0, &err) == PGT_OK, "%s", err.message);
+        CHECK(!memcmp(&f, &f_unit, sizeof f));
+    }
+    for (int k = 0; k < 4; ++k) nrm[3 * k + 2] = 1.0f;
+    /* a bow-tie: the last two corners swapped in UV */
+    const float uv_square[8] = {0, 0, 1, 0, 1, 1, 0, 1}, uv_bow[8] = {0, 0, 1, 0, 0, 1, 1, 1};
+    memcpy(uv, uv_bow, sizeof uv);
+    CHECK(facade_of(&f, &m, &s, 0, &err) == PGT_ERROR_DEGENERATE);
+    CHECK_MSG(strstr(err.message, "bow-tie") != NULL, "%s", err.message);
+    memcpy(uv, uv_square, sizeof uv);
+    /* positions and UVs beyond PGT_FACADE_MAX_COORD (UVs of 1e30 were "building 0 has base 0
+     * and height 1e+30") */
+    pos[3] = 2e6f;
+    CHECK(facade_of(&f, &m, &s, 0, &err) == PGT_ERROR_LIMIT);
+    pos[3] = 1.0f, uv[2] = 2e6f;
+    CHECK(facade_of(&f, &m, &s, 0, &err) == PGT_ERROR_LIMIT);
+    uv[2] = 1.0f;
+    CHECK(facade_of(&f, &m, &s, 0, &err) == PGT_OK);
     CHECK(facade_of(&f, &m, &s, 1, &err) == PGT_ERROR_INDEX_RANGE);
     idx[2] = 4;
     CHECK(facade_of(&f, &m, &s, 0, &err) == PGT_ERROR_INDEX_RANGE);

@@ -15,11 +15,6 @@
 /* A footprint edge shorter than this (metres) has no facade direction. */
 #define FACADE_MIN_EDGE 1e-4f
 
-/* Largest |coordinate| of a footprint corner, a base or a roof: at 1e6 a float's spacing is
- * 0.0625, coarser than a window's frame; beyond it facades lose their shape (and at 1e38 the
- * frames' arithmetic overflows). */
-#define FACADE_MAX_COORD 1e6f
-
 /* The footprint's edges are tested pairwise for crossings (O(n^2)): 4096 corners, 8M tests. */
 #define FACADE_MAX_CORNERS 4096u
 
@@ -188,12 +183,13 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  "%s: building %u has params [%u, %u + %u) of %u", what, b,
                                  B->first_param, B->first_param, g->param_count, s->param_count);
         if (!(isfinite(B->base) && isfinite(B->height) && B->height > 0.0f &&
-              fabsf(B->base) <= FACADE_MAX_COORD && fabsf(B->base + B->height) <= FACADE_MAX_COORD))
+              fabsf(B->base) <= PGT_FACADE_MAX_COORD &&
+              fabsf(B->base + B->height) <= PGT_FACADE_MAX_COORD))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: building %u has base %g and height %g (height > 0, base and "
                                  "roof within +-%g)",
                                  what, b, (double)B->base, (double)B->height,
-                                 (double)FACADE_MAX_COORD);
+                                 (double)PGT_FACADE_MAX_COORD);
         if (B->corner_count > FACADE_MAX_CORNERS)
             return pgt_error_set(err, PGT_ERROR_LIMIT,
                                  "%s: building %u has %u footprint corners (at most %u)", what, b,
@@ -206,19 +202,20 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
         const float F = s->params[B->first_param + pgt_grammar_find_param(g, "protrusion")];
         const float Bk = s->params[B->first_param + pgt_grammar_find_param(g, "recess")];
         /* bounded as the coordinates are: 1.2e9 already lost hits to float rounding in t */
-        if (!(F >= 0.0f && Bk >= 0.0f && F <= FACADE_MAX_COORD && Bk <= FACADE_MAX_COORD))
+        if (!(F >= 0.0f && Bk >= 0.0f && F <= PGT_FACADE_MAX_COORD && Bk <= PGT_FACADE_MAX_COORD))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: building %u: protrusion %g and recess %g must be in [0, %g]",
-                                 what, b, (double)F, (double)Bk, (double)FACADE_MAX_COORD);
+                                 what, b, (double)F, (double)Bk, (double)PGT_FACADE_MAX_COORD);
         double area = 0.0;
         const float *c = s->corners + 2u * B->first_corner;
         for (uint32_t k = 0; k < B->corner_count; ++k)
-            if (!(fabsf(c[2 * k]) <= FACADE_MAX_COORD && fabsf(c[2 * k + 1]) <= FACADE_MAX_COORD))
+            if (!(fabsf(c[2 * k]) <= PGT_FACADE_MAX_COORD &&
+                  fabsf(c[2 * k + 1]) <= PGT_FACADE_MAX_COORD))
                 return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                      "%s: building %u: footprint corner %u (%g, %g) is not within "
                                      "+-%g",
                                      what, b, k, (double)c[2 * k], (double)c[2 * k + 1],
-                                     (double)FACADE_MAX_COORD);
+                                     (double)PGT_FACADE_MAX_COORD);
         for (uint32_t k = 0; k < B->corner_count; ++k) {
             const uint32_t k1 = (k + 1u) % B->corner_count;
             const float dx = c[2 * k1] - c[2 * k], dz = c[2 * k1 + 1] - c[2 * k + 1];

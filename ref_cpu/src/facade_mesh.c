@@ -52,8 +52,12 @@ void pgt_facade_quads_destroy(pgt_facade_quads *q) {
 }
 
 static int unit(float v[3]) {
+    /* scaled to its largest component first: the squares of a finite vector over- or underflow
+     * beyond ~1e19 or below ~1e-19 (an OBJ normal 'vn 0 0 1e30' is a direction like any other) */
+    const float m = fmaxf(fabsf(v[0]), fmaxf(fabsf(v[1]), fabsf(v[2])));
+    if (!(m > 0.0f) || !isfinite(m)) return 0;
+    v[0] /= m, v[1] /= m, v[2] /= m;
     const float l = sqrtf(dot3(v, v));
-    if (!(l > 0.0f) || !isfinite(l)) return 0;
     v[0] /= l, v[1] /= l, v[2] /= l;
     return 1;
 }
@@ -61,6 +65,21 @@ static int unit(float v[3]) {
 static int cmp_u32(const void *a, const void *b) {
     const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
     return x < y ? -1 : (x > y);
+}
+
+/* Orientation of c against the line a -> b in the UV plane (double: the products of metre-sized
+ * UV differences are exact enough that touching corners are told from crossing ones). */
+static double orient2(const float *a, const float *b, const float *c) {
+    return ((double)b[0] - a[0]) * ((double)c[1] - a[1]) -
+           ((double)b[1] - a[1]) * ((double)c[0] - a[0]);
+}
+
+/* Whether segments ab and cd cross at a point inside both (not at a shared or touching end). */
+static int segments_cross(const float *a, const float *b, const float *c, const float *d) {
+    const double o1 = orient2(a, b, c), o2 = orient2(a, b, d);
+    const double o3 = orient2(c, d, a), o4 = orient2(c, d, b);
+    return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
+           ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
 }
 
 /* Checks indices and values. */
@@ -89,6 +108,26 @@ static pgt_result check_mesh(const pgt_facade_quads *m, pgt_error *err) {
         if (!isfinite(m->uvs[2u * v]) || !isfinite(m->uvs[2u * v + 1u]))
             return pgt_error_set(err, PGT_ERROR_NOT_FINITE, "quad mesh: vertex %u: UV not finite",
                                  v);
+        const float *p = m->positions + 3u * v, *t = m->uvs + 2u * v;
+        if (!(fabsf(p[0]) <= PGT_FACADE_MAX_COORD && fabsf(p[1]) <= PGT_FACADE_MAX_COORD &&
+              fabsf(p[2]) <= PGT_FACADE_MAX_COORD && fabsf(t[0]) <= PGT_FACADE_MAX_COORD &&
+              fabsf(t[1]) <= PGT_FACADE_MAX_COORD))
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "quad mesh: vertex %u: position (%g, %g, %g) or UV (%g, %g) "
+                                 "beyond +-%g metres (PGT_FACADE_MAX_COORD)",
+                                 v, (double)p[0], (double)p[1], (double)p[2], (double)t[0],
+                                 (double)t[1], (double)PGT_FACADE_MAX_COORD);
+    }
+    /* a bow-tie: corners not in order around the quad, two opposite sides cross in UV */
+    for (uint32_t q = 0; q < m->quad_count; ++q) {
+        const uint32_t *c = m->indices + 4u * q;
+        const float *t0 = m->uvs + 2u * c[0], *t1 = m->uvs + 2u * c[1], *t2 = m->uvs + 2u * c[2],
+                    *t3 = m->uvs + 2u * c[3];
+        if (segments_cross(t0, t1, t2, t3) || segments_cross(t1, t2, t3, t0))
+            return pgt_error_set(err, PGT_ERROR_DEGENERATE,
+                                 "quad mesh: quad %u: two opposite sides cross in UV (a bow-tie: "
+                                 "the corners must go in order around the quad)",
+                                 q);
     }
     return PGT_OK;
 }

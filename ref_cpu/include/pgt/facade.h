@@ -102,6 +102,11 @@ typedef enum pgt_facade_kind {
 /* Rectangles of one terminal at most (the window block has 27). */
 #define PGT_FACADE_MAX_QUADS 32u
 
+/* Largest |coordinate| of a footprint corner, a base or a roof, and of a --mesh quad mesh's
+ * positions and UVs (metres): at 1e6 a float's spacing is 0.0625, coarser than a window's frame;
+ * beyond it facades lose their shape (and at 1e38 the frames' arithmetic overflows). */
+#define PGT_FACADE_MAX_COORD 1e6f
+
 /* Largest |coordinate| of the camera's eye and look-at point: 1000 x the scene's bound (+-1e6),
  * far inside what Embree's --embree-check twin takes (ray origins within ~1.8e18: an eye at 1e19
  * aborted it), and squared distances from it stay finite in float (an eye at 1e30 was refused as
