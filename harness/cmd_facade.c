@@ -447,7 +447,16 @@ int pgt_cmd_facade(int argc, char **argv) {
     if (first.rays.errors) {
         char buf[600];
         ray_errors(first.rays.errors, buf, sizeof buf);
-        pgt_cli_fail(verb, "%s: the grammar failed while rendering: %s", what, buf);
+        const uint32_t fe = first.error_facade;
+        char where[160] = "";
+        if (fe < facade_count && a.mesh_path)
+            snprintf(where, sizeof where, " on quad %u", facades[fe].edge);
+        else if (fe < facade_count)
+            snprintf(where, sizeof where, " on building %u%s, footprint edge %u",
+                     facades[fe].building,
+                     a.scene_path ? " (the file's building lines counted from 0)" : "",
+                     facades[fe].edge);
+        pgt_cli_fail(verb, "%s: the grammar failed while rendering%s: %s", what, where, buf);
         goto done;
     }
     const double frame_ms = pgt_cli_median(ms, a.frames),

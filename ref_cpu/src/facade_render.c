@@ -159,6 +159,7 @@ typedef struct render_ctx {
     uint32_t *tile_first; /* tiles + 1 */
     uint32_t *tile_list;
     pgt_facade_ray_stats *wstats; /* per worker */
+    uint32_t *werror;             /* per worker: the lowest facade whose rays set an error bit */
     uint64_t *wcovered;           /* per worker */
     facade_cache *caches;         /* per worker */
     facade_packet_work **packets; /* per worker (NULL entries with single_rays) */
@@ -425,10 +426,14 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
             c->wcovered[worker] += n;
             const float zs = zscale_of(c->sh, cv->dist);
             /* in packets (pw NULL: every ray alone), the same hits */
+            const uint32_t errors = st->errors;
+            st->errors = 0; /* this facade's errors alone, to name it */
             for (uint32_t i = 0; i < n; i += FACADE_PACKET)
                 facade_intersect_packet(c->s, &c->f[fi], fi, cam->eye, (const float(*)[3])dirs,
                                         idx + i, n - i < FACADE_PACKET ? n - i : FACADE_PACKET,
                                         hits, dev, st, cache, pw, zs);
+            if (st->errors && fi < c->werror[worker]) c->werror[worker] = fi;
+            st->errors |= errors;
         }
         /* shading */
         for (uint32_t y = Y0; y < Y1; ++y)
@@ -514,6 +519,7 @@ static void render_tiles(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
                     if (facade_intersect(c->s, f, h->facade, so, L, &shh, &ss, cache, zs))
                         diffuse = 0.0f;
                     st->errors |= ss.errors;
+                    if (ss.errors && h->facade < c->werror[worker]) c->werror[worker] = h->facade;
                 }
                 if (diffuse < 0.0f) diffuse = 0.0f;
                 const albedo_rgb a =
@@ -567,7 +573,10 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
                              pgt_facade_frame *frame, pgt_facade_render_stats *stats,
                              pgt_error *err) {
     const double t_start = pgt_now_ms();
-    if (stats) memset(stats, 0, sizeof *stats);
+    if (stats) {
+        memset(stats, 0, sizeof *stats);
+        stats->error_facade = PGT_NONE;
+    }
     if (frame->width != cam->width || frame->height != cam->height)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "render: frame %u x %u for a camera of %u x %u", frame->width,
@@ -582,6 +591,8 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
     c.order = malloc((size_t)(prims ? prims : 1) * sizeof *c.order);
     c.tile_first = calloc((size_t)tiles + 1u, sizeof *c.tile_first);
     c.wstats = calloc(PGT_MAX_THREADS, sizeof *c.wstats);
+    c.werror = malloc(PGT_MAX_THREADS * sizeof *c.werror);
+    for (uint32_t w = 0; c.werror && w < PGT_MAX_THREADS; ++w) c.werror[w] = PGT_NONE;
     c.wcovered = calloc(PGT_MAX_THREADS, sizeof *c.wcovered);
     const uint32_t workers = pgt_parallel_workers(threads);
     c.caches = malloc(workers * sizeof *c.caches);
@@ -600,8 +611,8 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
         c.caches[w].collapse = (const uint32_t *const *)collapse;
     }
     pgt_result r = PGT_OK;
-    if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.wcovered || !c.caches || !draws_ok ||
-        !packets_ok) {
+    if (!c.cov || !c.order || !c.tile_first || !c.wstats || !c.werror || !c.wcovered || !c.caches ||
+        !draws_ok || !packets_ok) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "render: out of memory");
         goto done;
     }
@@ -654,6 +665,7 @@ pgt_result pgt_facade_render(const pgt_facade_scene *s, const pgt_facade *facade
             stats->rays.rays += ws->rays, stats->rays.volume_hits += ws->volume_hits;
             stats->rays.nodes += ws->nodes, stats->rays.terminals += ws->terminals;
             stats->rays.quads += ws->quads, stats->rays.errors |= ws->errors;
+            if (c.werror[w] < stats->error_facade) stats->error_facade = c.werror[w];
             stats->covered_pixels += c.wcovered[w];
         }
         stats->visible_facades = 0;
@@ -668,6 +680,7 @@ done:
     free(c.tile_first);
     free(c.tile_list);
     free(c.wstats);
+    free(c.werror);
     free(c.wcovered);
     free(c.caches);
     for (uint32_t w = 0; c.packets && w < workers; ++w) facade_packet_work_destroy(c.packets[w]);
