@@ -111,8 +111,13 @@ void pgt_cli_machine(char *buf, size_t size) {
         }
         fclose(f);
     }
-    double gib = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE) / 1073741824.0;
+    const double gib = (double)pgt_cli_memory_bytes() / 1073741824.0;
     snprintf(buf, size, "%s, %u cores, %.0f GiB", model, pgt_cli_cpu_count(), gib);
+}
+
+uint64_t pgt_cli_memory_bytes(void) {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page : 0u;
 }
 
 void pgt_cli_commit(char *buf, size_t size) {

@@ -42,6 +42,8 @@ void pgt_cli_json_string(FILE *f, const char *s);
  * "unknown" (-dirty: a tracked file differs from HEAD; results/ and paper_figs/out/, which the
  * main job rewrites, do not count); UTC date-time in ISO 8601. Each writes into buf. */
 void pgt_cli_machine(char *buf, size_t size);
+/* Bytes of physical memory (sysconf), 0 when unknown. */
+uint64_t pgt_cli_memory_bytes(void);
 void pgt_cli_commit(char *buf, size_t size);
 void pgt_cli_date(char *buf, size_t size);
 

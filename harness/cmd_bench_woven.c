@@ -158,7 +158,7 @@ int pgt_cmd_bench_woven(int argc, char **argv) {
         const uint32_t counts[2] = {1, threads};
         for (uint32_t k = 0; k < (threads > 1 ? 2u : 1u); ++k) {
             double median = 0.0, best = 0.0;
-            pgt_woven_counts n = {0, 0, 0};
+            pgt_woven_counts n = {0, 0, 0, 0};
             if (time_frames(p, seed, counts[k], frames, ms, &median, &best, &n)) {
                 failures++;
                 continue;

@@ -33,7 +33,8 @@ static const char *woven_usage =
     "                    89k   1424,8,178,10,50   89,000\n"
     "                    179k  1432,8,179,10,100  179,000\n"
     "  --params P,K,C,U,V  any parameters instead: P particles, K keys per curve (4 <= K <= P),\n"
-    "                  C curves, U circle vertices (>= 4), V samples per curve (>= 2)\n"
+    "                  C curves, U circle vertices (>= 4), V samples per curve (>= 2);\n"
+    "                  refused when the model's arrays exceed this machine's memory\n"
     "  --frames F      frames to animate and time, 1 to 1000000 (default 50); every frame is\n"
     "                  timed (step + evaluation, no file I/O); the first one also touches the\n"
     "                  freshly allocated output\n"
@@ -102,6 +103,17 @@ int pgt_cmd_woven(int argc, char **argv) {
         p = (pgt_woven_params){v[0], v[1], v[2], v[3], v[4]};
         if (pgt_woven_check(&p, NULL, &err) != PGT_OK)
             return pgt_cli_fail(verb, "--params %s: %s", params_text, bare(err.message));
+        /* within 32-bit indices the arrays reach ~150 GB: with the kernel's overcommit the
+         * allocation succeeds and the first frame gets the process killed */
+        pgt_woven_counts c;
+        (void)pgt_woven_check(&p, &c, &err);
+        const uint64_t mem = pgt_cli_memory_bytes();
+        if (mem && c.bytes > mem)
+            return pgt_cli_fail(verb,
+                                "--params %s: the model's arrays take %.1f GiB, more than this "
+                                "machine's %.1f GiB of memory",
+                                params_text, (double)c.bytes / 1073741824.0,
+                                (double)mem / 1073741824.0);
     }
 
     pgt_woven w;

@@ -506,9 +506,9 @@ static void test_same_bytes(void) {
 /* The error code, and the message naming what is wrong. */
 static void expect_error(const pgt_woven_params *p, pgt_result code, const char *needle) {
     pgt_error err = {0};
-    pgt_woven_counts n = {1, 1, 1};
+    pgt_woven_counts n = {1, 1, 1, 1};
     CHECK(pgt_woven_check(p, &n, &err) == code);
-    CHECK(n.vertices == 0 && n.triangles == 0);
+    CHECK(n.vertices == 0 && n.triangles == 0 && n.bytes == 0);
     CHECK_MSG(strstr(err.message, needle) != NULL, "message '%s' lacks '%s'", err.message, needle);
     pgt_woven w;
     pgt_woven_mesh m;

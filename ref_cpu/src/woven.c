@@ -79,6 +79,9 @@ pgt_result pgt_woven_check(const pgt_woven_params *p, pgt_woven_counts *out, pgt
         out->curve_points = (uint32_t)points;
         out->vertices = (uint32_t)vertices;
         out->triangles = (uint32_t)triangles;
+        const uint64_t P = p->particles;
+        out->bytes = 24u * P + 4u * keys + 36u * V + 8u * U             /* pgt_woven */
+                     + 12u * points + 24u * vertices + 12u * triangles; /* pgt_woven_mesh */
     }
     return PGT_OK;
 }

@@ -152,6 +152,7 @@ typedef struct pgt_woven_counts {
     uint32_t curve_points; /* C V */
     uint32_t vertices;     /* C U V */
     uint32_t triangles;    /* 2 (U - 1)(V - 1) C */
+    uint64_t bytes;        /* the arrays of pgt_woven and pgt_woven_mesh together */
 } pgt_woven_counts;
 
 /* The five resolutions of the paper's table (5k, 22k, 50k, 89k, 179k; see 5. above). */
