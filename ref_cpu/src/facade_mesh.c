@@ -20,6 +20,7 @@
  *     within float rounding (FACADE_MESH_SNAP) of the UV extent is taken as the UV extent.
  * Everything is float32, computed in the order written (-ffp-contract=off), like the rest of the
  * reference. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,11 +53,16 @@ void pgt_facade_quads_destroy(pgt_facade_quads *q) {
 }
 
 static int unit(float v[3]) {
-    /* scaled to its largest component first: the squares of a finite vector over- or underflow
-     * beyond ~1e19 or below ~1e-19 (an OBJ normal 'vn 0 0 1e30' is a direction like any other) */
-    const float m = fmaxf(fabsf(v[0]), fmaxf(fabsf(v[1]), fabsf(v[2])));
-    if (!(m > 0.0f) || !isfinite(m)) return 0;
-    v[0] /= m, v[1] /= m, v[2] /= m;
+    const float l2 = dot3(v, v);
+    if (!(l2 >= FLT_MIN && l2 <= FLT_MAX)) {
+        /* the squares of a finite vector over- or underflow beyond ~1e19 or below ~1e-19 (an
+         * OBJ normal 'vn 0 0 1e30' is a direction like any other): scaled to its largest
+         * component first. Only then, so that other vectors keep their bits. */
+        if (!isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2])) return 0; /* NaN too */
+        const float m = fmaxf(fabsf(v[0]), fmaxf(fabsf(v[1]), fabsf(v[2])));
+        if (!(m > 0.0f)) return 0;
+        v[0] /= m, v[1] /= m, v[2] /= m;
+    }
     const float l = sqrtf(dot3(v, v));
     v[0] /= l, v[1] /= l, v[2] /= l;
     return 1;
