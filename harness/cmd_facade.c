@@ -452,11 +452,13 @@ int pgt_cmd_facade(int argc, char **argv) {
         char where[160] = "";
         if (fe < facade_count && a.mesh_path)
             snprintf(where, sizeof where, " on quad %u", facades[fe].edge);
-        else if (fe < facade_count)
-            snprintf(where, sizeof where, " on building %u%s, footprint edge %u",
-                     facades[fe].building,
-                     a.scene_path ? " (the file's building lines counted from 0)" : "",
+        else if (fe < facade_count && file.building_lines)
+            snprintf(where, sizeof where, " on building %u (line %u), footprint edge %u",
+                     facades[fe].building, file.building_lines[facades[fe].building],
                      facades[fe].edge);
+        else if (fe < facade_count)
+            snprintf(where, sizeof where, " on building %u, footprint edge %u",
+                     facades[fe].building, facades[fe].edge);
         pgt_cli_fail(verb, "%s: the grammar failed while rendering%s: %s", what, where, buf);
         goto done;
     }

@@ -41,7 +41,7 @@ void pgt_facade_file_free(pgt_facade_file *f) {
         if (f->names) free(f->names[k]);
         if (f->paths) free(f->paths[k]);
     }
-    free(f->grammars), free(f->names), free(f->paths);
+    free(f->grammars), free(f->names), free(f->paths), free(f->building_lines);
     memset(f, 0, sizeof *f);
 }
 
@@ -423,6 +423,7 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
     if ((r = pgt_facade_add_builtin_gimages(&out->scene, err)) != PGT_OK) goto done;
     /* the whole scene once more: the same checks, nothing new can fail here but indices */
     r = pgt_facade_scene_check(&out->scene, path, err);
+    if (r == PGT_OK) out->building_lines = rd.lines, rd.lines = NULL;
 done:
     free(buf);
     free(rd.lines);

@@ -36,6 +36,8 @@ typedef struct pgt_facade_file {
     pgt_grammar *grammars;
     char **names;
     char **paths;
+    uint32_t *building_lines; /* each building's line in the file pgt_facade_file_read read
+                                 (for messages); NULL for scenes made otherwise */
 } pgt_facade_file;
 
 /* Reads a scene file; every malformed line is PGT_ERROR_PARSE (syntax) or

@@ -582,7 +582,7 @@ scene_case bad_colour "2: colour 'FFFFF'" "grammar g $g" "building g 0 10 1 FFFF
 # names the building (once only the file)
 printf 'grammar g %s\nbuilding g 0 10 1 FFFFFF %s\nbuilding g 0 10 1 FFFFFF floorHeight=1e-20 : 20 0 20 10 30 10 30 0\n' "$g" "$B" >floors.scene
 expect facade_render_error_building 2 "$pgt" facade --scene floors.scene -o x.exr --width 32 --height 32
-one_line facade_render_error_names_building "floors.scene: the grammar failed while rendering on building 1 (the file's building lines counted from 0), footprint edge [0-3]: a ray developed more than PGT_FACADE_NODE_BUDGET"
+one_line facade_render_error_names_building "floors.scene: the grammar failed while rendering on building 1 (line 3), footprint edge [0-3]: a ray developed more than PGT_FACADE_NODE_BUDGET"
 scene_case unknown_param "2: grammar 'g' has no param 'nope'" "grammar g $g" "building g 0 10 1 FFFFFF nope=3 $B"
 scene_case param_twice "2: param 'recess' given twice" "grammar g $g" "building g 0 10 1 FFFFFF recess=0.1 recess=0.2 $B"
 scene_case param_value "2: recess=abc: not a finite number" "grammar g $g" "building g 0 10 1 FFFFFF recess=abc $B"
