@@ -5,13 +5,13 @@ input gets one error line naming the file, exit 2).
   fuzz_inputs.py PGT PGT_DATASETS SOURCE_DIR WORK_DIR [--runs N] [--seed S]
 
 Starts from valid files (generated meshes in OBJ, PLY and OFF, the shipped grammars, a generated
-city scene, ivy seed and stroke files, an atlas EXR, a PNG mask, a protected-face list), applies
-1-10 random edits to each copy (byte changes, inserted tokens such as nan, -1, 1e39 or
-4294967295, deleted, duplicated or truncated spans, duplicated lines) and runs the verb that
-reads it: pgt atlas and pgt subdiv (meshes), pgt ivy (grammars, seed and stroke files, the
-atlas, the mask), pgt facade (facade grammars, scenes), pgt march (the atlas, the mask) and pgt
-subdiv --protect (the face list). Every run must end
-with exit 0, 1 or 2 within the time limit and without a sanitizer report (the Sanitize build
+city scene, a quad tower OBJ, ivy seed and stroke files, an atlas EXR, a PNG mask, a protected-face
+list), applies 1-10 random edits to each copy (byte changes, inserted tokens such as nan, -1, 1e39
+or 4294967295, deleted, duplicated or truncated spans, duplicated lines) and runs the verb that
+reads it: pgt atlas and pgt subdiv (meshes), pgt ivy (grammars, seed and stroke files, the atlas,
+the mask), pgt facade (facade grammars, scenes, the tower with --mesh and --embree-check), pgt
+march (the atlas, the mask) and pgt subdiv --protect (the face list). Every run must end with
+exit 0, 1 or 2 within the time limit and without a sanitizer report (the Sanitize build
 runs this test too); an exit 2 must print exactly one error line on stderr, naming the input
 file, after any notes the readers print (such as "note: FILE: fan-triangulated 1 polygons").
 The edits come from Python's random with a fixed seed: the same inputs every run. A failing
@@ -109,6 +109,9 @@ def main(argv):
     subprocess.run([gen, "city", "3", "1", "-o", scene, "--grammar",
                     os.path.join(src, "grammars", "facade.grammar")], check=True,
                    capture_output=True)
+    tower = os.path.join(data, "tower.obj")
+    subprocess.run([gen, "tower", "-o", tower, "10", "7", "20", "30", "8", "3"], check=True,
+                   capture_output=True)
     atlas = os.path.join(data, "cs.exr")
     subprocess.run([pgt, "atlas", os.path.join(data, "cube_sphere_8.obj"), "-o", atlas,
                     "--res", "64"], check=True, capture_output=True)
@@ -136,6 +139,7 @@ def main(argv):
         cases.append((g, read(os.path.join(src, "grammars", g)), ".grammar",
                       [facade + ["--city", "2", "--grammar", "{}", "--explicit", out + ".ply"]]))
     cases.append(("scene", read(scene), ".scene", [facade + ["--scene", "{}"]]))
+    cases.append(("tower", read(tower), ".obj", [facade + ["--mesh", "{}", "--embree-check"]]))
     cases.append(("seeds", b"texel 20.5 20.5 1 0\npoint 1 0 0\n# c\ntexel 30.5 40.5\n", ".txt",
                   [ivy + short + ["--seed-file", "{}"]]))
     cases.append(("strokes", b"stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\n"
