@@ -112,6 +112,15 @@ typedef struct facade_args {
     float light[3];
 } facade_args;
 
+/* The output files and their flags, in one order (checked against the inputs and each other). */
+#define FACADE_OUTPUTS 4
+static const char *const facade_output_flags[FACADE_OUTPUTS] = {"-o", "--png", "--explicit",
+                                                                "--save-scene"};
+static void facade_outputs(const facade_args *a, const char *outs[FACADE_OUTPUTS]) {
+    outs[0] = a->out_path, outs[1] = a->png_path, outs[2] = a->explicit_path;
+    outs[3] = a->save_path;
+}
+
 static int parse_args(int argc, char **argv, facade_args *a) {
     const char *verb = "facade", *v;
     memset(a, 0, sizeof *a);
@@ -217,15 +226,16 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         return pgt_cli_fail(verb, "--png %s: expected a .png file", a->png_path);
     if (a->explicit_path && !pgt_cli_ends_with_ci(a->explicit_path, ".ply"))
         return pgt_cli_fail(verb, "--explicit %s: expected a .ply file", a->explicit_path);
-    const char *outs[4] = {a->out_path, a->png_path, a->explicit_path, a->save_path};
-    const char *flags[4] = {"-o", "--png", "--explicit", "--save-scene"};
+    const char *outs[FACADE_OUTPUTS];
+    const char *const *flags = facade_output_flags;
+    facade_outputs(a, outs);
     const char *ins[3] = {a->scene_path, a->grammar_path, a->mesh_path};
-    for (int o = 0; o < 4; ++o)
+    for (int o = 0; o < FACADE_OUTPUTS; ++o)
         for (int k = 0; k < 3; ++k)
             if (outs[o] && ins[k] && pgt_cli_same_file(outs[o], ins[k]))
                 return pgt_cli_fail(verb, "%s %s is the input %s; pgt never overwrites an input",
                                     flags[o], outs[o], ins[k]);
-    for (int o = 0; o < 4; ++o) /* one output would replace another */
+    for (int o = 0; o < FACADE_OUTPUTS; ++o) /* one output would replace another */
         for (int k = 0; k < o; ++k)
             if (outs[o] && outs[k] && pgt_cli_same_output(outs[o], outs[k]))
                 return pgt_cli_fail(verb, "%s %s is also %s's output", flags[o], outs[o], flags[k]);
@@ -334,10 +344,11 @@ int pgt_cmd_facade(int argc, char **argv) {
         goto done;
     }
     { /* the grammar files a scene names are inputs too */
-        const char *outs[4] = {a.out_path, a.png_path, a.explicit_path, a.save_path};
-        const char *flags[4] = {"-o", "--png", "--explicit", "--save-scene"};
+        const char *outs[FACADE_OUTPUTS];
+        const char *const *flags = facade_output_flags;
+        facade_outputs(&a, outs);
         for (uint32_t k = 0; k < file.grammar_count; ++k)
-            for (int o = 0; o < 4; ++o)
+            for (int o = 0; o < FACADE_OUTPUTS; ++o)
                 if (outs[o] && pgt_cli_same_file(outs[o], file.paths[k])) {
                     pgt_cli_fail(verb,
                                  "%s %s is the grammar %s of %s; pgt never overwrites an "

@@ -101,12 +101,11 @@ int pgt_cmd_woven(int argc, char **argv) {
             return pgt_cli_fail(verb, "--params %s: expected 5 values P,K,C,U,V, got %u",
                                 params_text, n);
         p = (pgt_woven_params){v[0], v[1], v[2], v[3], v[4]};
-        if (pgt_woven_check(&p, NULL, &err) != PGT_OK)
+        pgt_woven_counts c;
+        if (pgt_woven_check(&p, &c, &err) != PGT_OK)
             return pgt_cli_fail(verb, "--params %s: %s", params_text, bare(err.message));
         /* within 32-bit indices the arrays reach ~150 GB: with the kernel's overcommit the
          * allocation succeeds and the first frame gets the process killed */
-        pgt_woven_counts c;
-        (void)pgt_woven_check(&p, &c, &err);
         const uint64_t mem = pgt_cli_memory_bytes();
         if (mem && c.bytes > mem)
             return pgt_cli_fail(verb,

@@ -83,9 +83,8 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                                       lineno, tok, need);
                 else if (!isfinite(x[k]))
                     r = pgt_error_set(err, PGT_ERROR_NOT_FINITE,
-                                      "%s:%u: %s value '%s' is not a "
-                                      "finite float",
-                                      path, lineno, tok, t);
+                                      "%s:%u: %s value '%s' is not a finite float", path, lineno,
+                                      tok, t);
                 else if (!is_vn && !(fabsf(x[k]) <= PGT_FACADE_MAX_COORD))
                     r = pgt_error_set(err, PGT_ERROR_LIMIT,
                                       "%s:%u: %s value %s beyond +-%g metres (a facade's float "

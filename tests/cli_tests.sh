@@ -616,26 +616,22 @@ grep -q "^check: .* -> PASS" out.txt && ok facade_mesh_gimage_check || bad facad
 expect facade_mesh_ties 0 "$pgt" facade --mesh thin.obj --grammar "$src/grammars/facade_rich.grammar" -o thin.exr --width 160 --height 90 --threads 2 --embree-check
 grep -Eq "^check: .*disagreements \([1-9][0-9]* ties: coincident faces at one distance, [0-9]+ near an edge, 0 neither\).* -> PASS" out.txt \
   && ok facade_mesh_ties_counted || bad facade_mesh_ties_counted "$(grep check: out.txt)"
-printf 'v 0 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n' >tri.obj
-expect facade_mesh_triangle 2 "$pgt" facade --mesh tri.obj -o x.exr
-one_line facade_mesh_triangle_one_line "tri.obj:4: a face of 3 corners"
+# malformed quad OBJs: each names FILE:LINE (or the quad), exit 2
+mesh_case() { # NAME FILE PATTERN PRINTF-FORMAT: the OBJ printed by FORMAT fails with FILE+PATTERN
+  printf "$4" >"$2"
+  expect "facade_mesh_$1" 2 "$pgt" facade --mesh "$2" -o x.exr
+  one_line "facade_mesh_$1_one_line" "$2$3"
+}
+mesh_case triangle tri.obj ":4: a face of 3 corners" 'v 0 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n'
 # values: a normal of any length is a direction; UVs and positions beyond +-1e6 metres, and
 # numbers that overflow float, name the line; a bow-tie quad names the quad
 q='v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n'
 printf "${q}vn 0 0 1e30\nf 1/1/1 2/2/1 3/3/1 4/4/1\n" >vn_long.obj
 expect facade_mesh_long_normal 0 "$pgt" facade --mesh vn_long.obj -o x.exr --width 8 --height 8
-printf "${q}vn 0 0 1e39\nf 1/1/1 2/2/1 3/3/1 4/4/1\n" >vn_inf.obj
-expect facade_mesh_normal_overflow 2 "$pgt" facade --mesh vn_inf.obj -o x.exr
-one_line facade_mesh_normal_overflow_one_line "vn_inf.obj:9: vn value '1e39' is not a finite float"
-printf "${q}vt 1e30 0\nvn 0 0 1\nf 1/1/1 2/9/1 3/3/1 4/4/1\n" >vt_far.obj
-expect facade_mesh_uv_far 2 "$pgt" facade --mesh vt_far.obj -o x.exr
-one_line facade_mesh_uv_far_one_line "vt_far.obj:9: vt value 1e30 beyond +-1e+06 metres"
-printf "${q}vn 0 0 1\nf 1/1/1 2/2/1 4/4/1 3/3/1\n" >bowtie.obj
-expect facade_mesh_bowtie 2 "$pgt" facade --mesh bowtie.obj -o x.exr
-one_line facade_mesh_bowtie_one_line "bowtie.obj: quad mesh: quad 0: two opposite sides cross in UV"
-printf 'v 0 0 0\000\nvt 0 0\n' >nul.obj
-expect facade_mesh_nul 2 "$pgt" facade --mesh nul.obj -o x.exr
-one_line facade_mesh_nul_one_line "nul.obj:1:8: a NUL byte"
+mesh_case normal_overflow vn_inf.obj ":9: vn value '1e39' is not a finite float" "${q}vn 0 0 1e39\nf 1/1/1 2/2/1 3/3/1 4/4/1\n"
+mesh_case uv_far vt_far.obj ":9: vt value 1e30 beyond +-1e+06 metres" "${q}vt 1e30 0\nvn 0 0 1\nf 1/1/1 2/9/1 3/3/1 4/4/1\n"
+mesh_case bowtie bowtie.obj ": quad mesh: quad 0: two opposite sides cross in UV" "${q}vn 0 0 1\nf 1/1/1 2/2/1 4/4/1 3/3/1\n"
+mesh_case nul nul.obj ":1:8: a NUL byte" 'v 0 0 0\000\nvt 0 0\n'
 expect facade_mesh_save_scene 2 "$pgt" facade --mesh tower.obj -o x.exr --save-scene x.scene
 one_line facade_mesh_save_scene_one_line "\-\-save-scene is for \-\-city and \-\-scene"
 expect facade_mesh_and_city 2 "$pgt" facade --mesh tower.obj --city 3 -o x.exr

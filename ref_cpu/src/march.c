@@ -461,9 +461,7 @@ prefetch_jump(const pgt_march_atlas *a, uint32_t p0, uint32_t src) {
     __builtin_prefetch(a->jumps + p0);
     if (p0 >= w) __builtin_prefetch(a->jumps + (p0 - w));
     if (p0 + w < n) __builtin_prefetch(a->jumps + (p0 + w));
-    __builtin_prefetch(a->texels + src);
-    if (src >= w) __builtin_prefetch(a->texels + (src - w));
-    if (src + w < n) __builtin_prefetch(a->texels + (src + w));
+    prefetch_destination(a, src); /* the same three texel rows as a jump's destination */
 #else
     (void)a, (void)p0, (void)src;
 #endif
