@@ -332,7 +332,7 @@ done:
 static const char *bench_march_usage =
     "usage: pgt bench march [--out FILE] [--meshes LIST] [--add LIST] [--shared DIR]\n"
     "                       [--threads LIST] [--walkers W] [--steps N] [--step S] [--res R]\n"
-    "                       [--repeat R] [--quick]\n"
+    "                       [--repeat R] [--position LIST] [--quick]\n"
     "\n"
     "Marching steps per second per core (the issue's target: >= 20 million) on the atlases of\n"
     "the given meshes, built in memory with pgt atlas's defaults. W walkers start at seeded\n"
@@ -355,6 +355,8 @@ static const char *bench_march_usage =
     "  --step S        step length in texels (default 2)\n"
     "  --res R         atlas side in texels (default 1024)\n"
     "  --repeat R      timed runs after one warm-up, 1 to 1000 (default 5)\n"
+    "  --position LIST no, yes or no,yes (default): rows without and with pgt_march_position\n"
+    "                  after each step (a profile of one of them needs only that one)\n"
     "  --quick         small and fast: 2048 walkers x 200 steps, R = 1\n";
 
 #define BENCH_MARCH_MAX_LIST 32
@@ -396,7 +398,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     uint32_t n_meshes = 0;
     char list_buf[4096], add_buf[4096];
     const char *add = NULL;
-    int quick = 0, have_walkers = 0, have_steps = 0, have_repeat = 0;
+    int quick = 0, have_walkers = 0, have_steps = 0, have_repeat = 0, positions[2] = {1, 1};
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -450,6 +452,16 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                 pgt_cli_uint(verb, a, v, 1, 1000, &repeat))
                 return PGT_EXIT_USAGE;
             have_repeat = 1;
+        } else if (!strcmp(a, "--position")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!strcmp(v, "no"))
+                positions[0] = 1, positions[1] = 0;
+            else if (!strcmp(v, "yes"))
+                positions[0] = 0, positions[1] = 1;
+            else if (!strcmp(v, "no,yes") || !strcmp(v, "yes,no"))
+                positions[0] = positions[1] = 1;
+            else
+                return pgt_cli_fail(verb, "--position: '%s' is not no, yes or no,yes", v);
         } else if (!strcmp(a, "--quick")) {
             quick = 1;
         } else {
@@ -559,6 +571,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         }
         for (uint32_t ti = 0; ti < n_threads; ++ti)
             for (int with_pos = 0; with_pos < 2; ++with_pos) {
+                if (!positions[with_pos]) continue;
                 uint64_t total = 0;
                 uint32_t stopped = 0;
                 for (uint32_t r = 0; r <= repeat; ++r) {

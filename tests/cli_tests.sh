@@ -161,6 +161,12 @@ expect bench_atlas_out_is_input 2 "$pgt" bench atlas --meshes ./bin.obj --out bi
 one_line bench_atlas_out_is_input_one_line "\-\-out bin.obj is the input mesh ./bin.obj"
 expect bench_march_out_is_input 2 "$pgt" bench march --meshes ./bin.obj --out ./bin.obj --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
 cmp -s bin.obj "$work/data/cube_sphere_8.obj" && ok bench_out_inputs_kept || bad bench_out_inputs_kept "changed"
+# --position picks the rows: no (the marching rule alone), yes (with the 3D position) or both
+expect bench_march_position_bad 2 "$pgt" bench march --meshes ./bin.obj --position maybe --out res/mp.csv
+one_line bench_march_position_bad_one_line "\-\-position: 'maybe' is not no, yes or no,yes"
+expect bench_march_position_no 0 "$pgt" bench march --meshes ./bin.obj --position no --out res/mp.csv --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
+[ "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')" = "position no " ] && ok bench_march_position_no_rows \
+  || bad bench_march_position_no_rows "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')"
 # a bench whose mesh cannot be read: the other rows are written, exit 2 naming the file
 expect bench_atlas_missing_mesh 2 "$pgt" bench atlas --meshes no_such_mesh.obj --threads 1 --repeat 1 --out res/t1.csv
 grep -q "no_such_mesh.obj" err.txt && grep -q "^paper,Hebe" res/t1.csv && ok bench_atlas_missing_mesh_named \

@@ -1503,6 +1503,83 @@ static int rot_turn_sheared(const char *name) {
  * meshes without UVs (issue 4 item 8). */
 #define MARCH_MESHES_MAX 16u
 
+/* pgt_march_batch against its definition: each walker alone, one pgt_march_step (and
+ * pgt_march_position) after another, until its first STOP. The batch (march.c batch_range,
+ * with its own case-1 path and prefetches) must give the same bytes: positions, directions,
+ * charts, steps taken and the sums of the positions. With a condition, the calls come in the
+ * same order too: one pgt_march_density counter serves all walkers, so any other order draws
+ * other numbers. */
+#define BATCH_WALKERS 700u
+#define BATCH_STEPS 300u
+#define BATCH_STEP_TEXELS 2.0f
+static void batch_matches_steps(const pgt_march_atlas *v, const char *name, uint32_t seed) {
+    enum { N = BATCH_WALKERS };
+    static float bx[N], by[N], bdx[N], bdy[N], sx[N], sy[N], sdx[N], sdy[N];
+    static uint32_t bc[N], sc[N], btaken[N], staken[N];
+    static double bsum[N], ssum[N];
+    float *mask = calloc((size_t)v->width * v->height, sizeof(float));
+    float *density = malloc((size_t)v->width * v->height * sizeof(float));
+    REQUIRE(mask && density);
+    for (size_t t = 0; t < (size_t)v->width * v->height; ++t) {
+        mask[t] = pgt_rng_float(seed, 7, t) < 0.002f ? 1.0f : 0.0f; /* rejects a few steps */
+        density[t] = 0.999f;
+    }
+    for (int mode = 0; mode < 3; ++mode) { /* defaults, a mask, a density condition */
+        pgt_march_density d_batch = {density, v->width, v->height, seed, 9, 0}, d_steps = d_batch;
+        pgt_march_options ob = {0}, os = {0};
+        if (mode == 1) ob.mask = os.mask = mask;
+        if (mode == 2) {
+            ob.condition = os.condition = pgt_march_density_condition;
+            ob.condition_ctx = &d_batch, os.condition_ctx = &d_steps;
+        }
+        uint32_t started = 0;
+        for (uint32_t i = 0; i < N; ++i) {
+            pgt_march_state st = {0};
+            if (!random_walker_start(v, seed, 5, i, &st)) continue;
+            bx[started] = st.x, by[started] = st.y, bdx[started] = st.dx, bdy[started] = st.dy;
+            bc[started] = st.chart;
+            uint32_t k = 0;
+            double sum = 0.0;
+            for (; k < BATCH_STEPS; ++k) {
+                if (pgt_march_step(v, &os, &st, BATCH_STEP_TEXELS, 0.0f, NULL) == PGT_MARCH_STOP)
+                    break;
+                float p[3];
+                pgt_march_position(v, st.x, st.y, p);
+                sum += (double)p[0] + (double)p[1] + (double)p[2];
+            }
+            sx[started] = st.x, sy[started] = st.y, sdx[started] = st.dx, sdy[started] = st.dy;
+            sc[started] = st.chart, staken[started] = k, ssum[started] = sum;
+            started++;
+        }
+        REQUIRE(started > N / 2);
+        pgt_march_batch(v, mode ? &ob : NULL, BATCH_STEP_TEXELS, BATCH_STEPS, started, bx, by, bdx,
+                        bdy, bc, 1, btaken, bsum);
+        uint32_t differ = 0, stopped = 0;
+        for (uint32_t i = 0; i < started; ++i) {
+            differ += memcmp(&bx[i], &sx[i], sizeof bx[i]) ||
+                      memcmp(&by[i], &sy[i], sizeof by[i]) ||
+                      memcmp(&bdx[i], &sdx[i], sizeof bdx[i]) ||
+                      memcmp(&bdy[i], &sdy[i], sizeof bdy[i]) || bc[i] != sc[i] ||
+                      btaken[i] != staken[i] || memcmp(&bsum[i], &ssum[i], sizeof bsum[i]);
+            stopped += staken[i] < BATCH_STEPS;
+        }
+        printf("  %-17s batch of %u walkers x %u steps (%s): %u differ from pgt_march_step, %u "
+               "stopped early\n",
+               name, started, BATCH_STEPS,
+               mode == 0   ? "defaults"
+               : mode == 1 ? "mask"
+                           : "density",
+               differ, stopped);
+        CHECK_MSG(differ == 0, "%s: %u of %u batch walkers differ from pgt_march_step", name,
+                  differ, started);
+        if (mode == 2)
+            CHECK_MSG(d_batch.draws == d_steps.draws,
+                      "%s: the batch drew %llu numbers, the steps %llu", name,
+                      (unsigned long long)d_batch.draws, (unsigned long long)d_steps.draws);
+    }
+    free(mask), free(density);
+}
+
 static void test_real_random_marches(void) {
     char list[4096], *paths[MARCH_MESHES_MAX];
     const uint32_t listed =
@@ -1615,6 +1692,7 @@ static void test_real_random_marches(void) {
                       "%s: best-pointer median turn %.2f deg, without %.2f deg", name,
                       r[1].median_pair_best, r[1].median_pair_without);
         }
+        batch_matches_steps(&v, name, 31u + k);
         /* long marches with the paper's defaults and the benchmark's step: a trap is an
          * absorbing state, which short marches rarely reach */
         walk_result lw;
