@@ -1001,6 +1001,56 @@ static int random_walker_start(const pgt_march_atlas *v, uint32_t seed, uint32_t
     return 0;
 }
 
+/* pgt_march_batch against its definition: each walker alone, one pgt_march_step (and
+ * pgt_march_position) after another, until its first STOP. The batch (march.c batch_range,
+ * with its own case-1 path, prefetches and walkers taking turns) must give the same bytes:
+ * positions, directions, charts, steps taken and the sums of the positions. The steps use
+ * options os, the batch ob (the same but for a condition's context). Returns the number of
+ * walkers that differ; *out_stopped gets those that stopped before `steps`. */
+static uint32_t batch_vs_steps(const pgt_march_atlas *v, const pgt_march_options *ob,
+                               const pgt_march_options *os, float len, uint32_t steps,
+                               const pgt_march_state *starts, uint32_t n, uint32_t *out_stopped) {
+    float *f = malloc((size_t)n * 8 * sizeof(float));
+    uint32_t *u = malloc((size_t)n * 4 * sizeof(uint32_t));
+    double *d = malloc((size_t)n * 2 * sizeof(double));
+    if (!f || !u || !d) { /* every walker counts as differing */
+        CHECK_MSG(0, "batch_vs_steps: out of memory for %u walkers", n);
+        free(f), free(u), free(d);
+        return n ? n : 1u;
+    }
+    float *bx = f, *by = f + n, *bdx = f + 2 * n, *bdy = f + 3 * n;
+    uint32_t *bc = u, *btaken = u + n, *staken = u + 2 * n, *sc = u + 3 * n;
+    double *bsum = d, *ssum = d + n;
+    uint32_t differ = 0, stopped = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        pgt_march_state st = starts[i];
+        bx[i] = st.x, by[i] = st.y, bdx[i] = st.dx, bdy[i] = st.dy, bc[i] = st.chart;
+        uint32_t k = 0;
+        double sum = 0.0;
+        for (; k < steps; ++k) {
+            if (pgt_march_step(v, os, &st, len, 0.0f, NULL) == PGT_MARCH_STOP) break;
+            float p[3];
+            pgt_march_position(v, st.x, st.y, p);
+            sum += (double)p[0] + (double)p[1] + (double)p[2];
+        }
+        /* the walker's end state goes to f + 4n.. (x, y, dx, dy) and sc */
+        f[4 * n + i] = st.x, f[5 * n + i] = st.y, f[6 * n + i] = st.dx, f[7 * n + i] = st.dy;
+        sc[i] = st.chart, staken[i] = k, ssum[i] = sum;
+    }
+    pgt_march_batch(v, ob, len, steps, n, bx, by, bdx, bdy, bc, 1, btaken, bsum);
+    for (uint32_t i = 0; i < n; ++i) {
+        differ += memcmp(&bx[i], &f[4 * n + i], sizeof(float)) ||
+                  memcmp(&by[i], &f[5 * n + i], sizeof(float)) ||
+                  memcmp(&bdx[i], &f[6 * n + i], sizeof(float)) ||
+                  memcmp(&bdy[i], &f[7 * n + i], sizeof(float)) || bc[i] != sc[i] ||
+                  btaken[i] != staken[i] || memcmp(&bsum[i], &ssum[i], sizeof(double));
+        stopped += staken[i] < steps;
+    }
+    free(f), free(u), free(d);
+    if (out_stopped) *out_stopped = stopped;
+    return differ;
+}
+
 /* The res x res atlas of the generated cube_sphere_8 (six charts, input UVs kept). */
 static int cube_sphere_8_atlas(uint32_t res, pgt_image *img) {
     pgt_mesh m;
@@ -1061,7 +1111,7 @@ static void test_hostile_atlases(void) {
     static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
     float *mask = malloc(n * sizeof(float));
     REQUIRE(mask);
-    uint64_t valid = 0, steps = 0, stops = 0, bad = 0;
+    uint64_t valid = 0, steps = 0, stops = 0, bad = 0, batch_walkers = 0, batch_differ = 0;
     hostile_counter = 0;
     for (uint32_t i = 0; i < n; ++i) mask[i] = hostile_u() < 0.02f ? 1.0f : 0.0f;
     for (uint32_t a = 0; a < HOSTILE_ATLASES; ++a) {
@@ -1111,6 +1161,21 @@ static void test_hostile_atlases(void) {
             continue;
         }
         valid++;
+        { /* the batch on this atlas (its own random stream: the sequence above is unchanged) */
+            pgt_march_state starts[HOSTILE_WALKERS];
+            uint32_t m = 0;
+            for (uint32_t w = 0; w < HOSTILE_WALKERS; ++w)
+                if (random_walker_start(&v, 23, a, w, &starts[m])) m++;
+            pgt_march_options o = {0};
+            o.no_best_pointer = pgt_rng_float(24, a, 0) < 0.5f;
+            o.no_rotation = pgt_rng_float(24, a, 1) < 0.25f;
+            o.rotation = pgt_rng_float(24, a, 2) < 0.5f ? PGT_MARCH_ROTATION_JACOBIAN
+                                                        : PGT_MARCH_ROTATION_ATLAS;
+            if (pgt_rng_float(24, a, 3) < 0.25f) o.mask = mask;
+            const float len = 0.01f + 20.0f * pgt_rng_float(24, a, 4);
+            batch_differ += batch_vs_steps(&v, &o, &o, len, HOSTILE_STEPS, starts, m, NULL);
+            batch_walkers += m;
+        }
         for (uint32_t w = 0; w < HOSTILE_WALKERS; ++w) {
             pgt_march_state s;
             if (!random_walker_start(&v, 22, a, w, &s)) continue;
@@ -1150,6 +1215,10 @@ static void test_hostile_atlases(void) {
            HOSTILE_ATLASES, (unsigned long long)valid, (unsigned long long)steps,
            (unsigned long long)stops, (unsigned long long)bad);
     CHECK(bad == 0 && valid > HOSTILE_ATLASES / 10u && stops > 0 && steps > 100000u);
+    printf("  the same atlases through pgt_march_batch: %llu walkers, %llu differ from "
+           "pgt_march_step\n",
+           (unsigned long long)batch_walkers, (unsigned long long)batch_differ);
+    CHECK(batch_differ == 0 && batch_walkers > 10000u);
     free(mask);
     pgt_image_destroy(&base);
 }
@@ -1503,24 +1572,22 @@ static int rot_turn_sheared(const char *name) {
  * meshes without UVs (issue 4 item 8). */
 #define MARCH_MESHES_MAX 16u
 
-/* pgt_march_batch against its definition: each walker alone, one pgt_march_step (and
- * pgt_march_position) after another, until its first STOP. The batch (march.c batch_range,
- * with its own case-1 path and prefetches) must give the same bytes: positions, directions,
- * charts, steps taken and the sums of the positions. With a condition, the calls come in the
- * same order too: one pgt_march_density counter serves all walkers, so any other order draws
- * other numbers. */
+/* batch_vs_steps on a real atlas with the defaults, a mask and a density condition. With the
+ * condition the calls must come in the same order too: one pgt_march_density counter serves
+ * all walkers, so any other order draws other numbers. */
 #define BATCH_WALKERS 700u
 #define BATCH_STEPS 300u
 #define BATCH_STEP_TEXELS 2.0f
 static void batch_matches_steps(const pgt_march_atlas *v, const char *name, uint32_t seed) {
-    enum { N = BATCH_WALKERS };
-    static float bx[N], by[N], bdx[N], bdy[N], sx[N], sy[N], sdx[N], sdy[N];
-    static uint32_t bc[N], sc[N], btaken[N], staken[N];
-    static double bsum[N], ssum[N];
-    float *mask = calloc((size_t)v->width * v->height, sizeof(float));
-    float *density = malloc((size_t)v->width * v->height * sizeof(float));
+    static pgt_march_state starts[BATCH_WALKERS];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < BATCH_WALKERS; ++i)
+        if (random_walker_start(v, seed, 5, i, &starts[n])) n++;
+    REQUIRE(n > BATCH_WALKERS / 2);
+    const size_t texels = (size_t)v->width * v->height;
+    float *mask = calloc(texels, sizeof(float)), *density = malloc(texels * sizeof(float));
     REQUIRE(mask && density);
-    for (size_t t = 0; t < (size_t)v->width * v->height; ++t) {
+    for (size_t t = 0; t < texels; ++t) {
         mask[t] = pgt_rng_float(seed, 7, t) < 0.002f ? 1.0f : 0.0f; /* rejects a few steps */
         density[t] = 0.999f;
     }
@@ -1532,46 +1599,18 @@ static void batch_matches_steps(const pgt_march_atlas *v, const char *name, uint
             ob.condition = os.condition = pgt_march_density_condition;
             ob.condition_ctx = &d_batch, os.condition_ctx = &d_steps;
         }
-        uint32_t started = 0;
-        for (uint32_t i = 0; i < N; ++i) {
-            pgt_march_state st = {0};
-            if (!random_walker_start(v, seed, 5, i, &st)) continue;
-            bx[started] = st.x, by[started] = st.y, bdx[started] = st.dx, bdy[started] = st.dy;
-            bc[started] = st.chart;
-            uint32_t k = 0;
-            double sum = 0.0;
-            for (; k < BATCH_STEPS; ++k) {
-                if (pgt_march_step(v, &os, &st, BATCH_STEP_TEXELS, 0.0f, NULL) == PGT_MARCH_STOP)
-                    break;
-                float p[3];
-                pgt_march_position(v, st.x, st.y, p);
-                sum += (double)p[0] + (double)p[1] + (double)p[2];
-            }
-            sx[started] = st.x, sy[started] = st.y, sdx[started] = st.dx, sdy[started] = st.dy;
-            sc[started] = st.chart, staken[started] = k, ssum[started] = sum;
-            started++;
-        }
-        REQUIRE(started > N / 2);
-        pgt_march_batch(v, mode ? &ob : NULL, BATCH_STEP_TEXELS, BATCH_STEPS, started, bx, by, bdx,
-                        bdy, bc, 1, btaken, bsum);
-        uint32_t differ = 0, stopped = 0;
-        for (uint32_t i = 0; i < started; ++i) {
-            differ += memcmp(&bx[i], &sx[i], sizeof bx[i]) ||
-                      memcmp(&by[i], &sy[i], sizeof by[i]) ||
-                      memcmp(&bdx[i], &sdx[i], sizeof bdx[i]) ||
-                      memcmp(&bdy[i], &sdy[i], sizeof bdy[i]) || bc[i] != sc[i] ||
-                      btaken[i] != staken[i] || memcmp(&bsum[i], &ssum[i], sizeof bsum[i]);
-            stopped += staken[i] < BATCH_STEPS;
-        }
+        uint32_t stopped = 0;
+        const uint32_t differ =
+            batch_vs_steps(v, &ob, &os, BATCH_STEP_TEXELS, BATCH_STEPS, starts, n, &stopped);
         printf("  %-17s batch of %u walkers x %u steps (%s): %u differ from pgt_march_step, %u "
                "stopped early\n",
-               name, started, BATCH_STEPS,
+               name, n, BATCH_STEPS,
                mode == 0   ? "defaults"
                : mode == 1 ? "mask"
                            : "density",
                differ, stopped);
         CHECK_MSG(differ == 0, "%s: %u of %u batch walkers differ from pgt_march_step", name,
-                  differ, started);
+                  differ, n);
         if (mode == 2)
             CHECK_MSG(d_batch.draws == d_steps.draws,
                       "%s: the batch drew %llu numbers, the steps %llu", name,

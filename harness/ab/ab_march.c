@@ -1,0 +1,202 @@
+/* pgt_ab_march: two builds of ref_cpu/src/march.c, loaded as shared objects into one process,
+ * march the same walkers on the same atlas in alternation; prints each one's rate and the
+ * median of the per-pair ratios. On a shared machine whose speed drifts by 1.5x within an
+ * hour, runs of two binaries minutes apart cannot show a 5 % change; pairs taken a fraction of
+ * a second apart can (the same build against itself: ratios 0.99-1.00). scripts/ab_march.sh
+ * builds the two objects from git revisions or files and runs this.
+ *
+ *   pgt_ab_march A.so B.so MESH [--runs N] [--walkers W] [--steps S] [--step L] [--res R]
+ *                [--position]
+ *
+ * Both objects must export pgt_march_atlas_create and pgt_march_batch with march.h's
+ * signatures and pgt_march_atlas layout; everything else they call (the thread pool,
+ * allocation, errors) comes from this program. The atlas is built here and its marching view
+ * created once by A: both builds read the same arrays at the same addresses (two views, on
+ * pages of their own, measured 0.96x for A against itself). */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "pgt/atlas_build.h"
+#include "pgt/march.h"
+#include "pgt/mesh_io.h"
+#include "pgt/rng.h"
+
+typedef void (*batch_fn)(const pgt_march_atlas *, const pgt_march_options *, float, uint32_t,
+                         uint32_t, float *, float *, float *, float *, uint32_t *, uint32_t,
+                         uint32_t *, double *);
+typedef pgt_result (*create_fn)(pgt_march_atlas *, const pgt_image *, const char *, pgt_error *);
+
+/* Start tries per walker before giving up on an atlas (a start lands on an inner texel with
+ * the probability of the atlas's inner share: 38 % on pizza's). */
+#define AB_START_TRIES 10000u
+
+static double thread_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, uint32_t n) { /* sorts v */
+    qsort(v, n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int usage(void) {
+    fputs("usage: pgt_ab_march A.so B.so MESH [--runs N] [--walkers W] [--steps S] [--step L]\n"
+          "                    [--res R] [--position]\n",
+          stderr);
+    return 2;
+}
+
+static int load(const char *path, batch_fn *batch, create_fn *create) {
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        fprintf(stderr, "pgt_ab_march: %s\n", dlerror());
+        return 0;
+    }
+    /* POSIX: a data pointer from dlsym converts to a function pointer */
+    void *b = dlsym(h, "pgt_march_batch"), *c = dlsym(h, "pgt_march_atlas_create");
+    if (!b || !c) {
+        fprintf(stderr, "pgt_ab_march: %s: no pgt_march_batch or pgt_march_atlas_create\n", path);
+        return 0;
+    }
+    memcpy(batch, &b, sizeof b);
+    memcpy(create, &c, sizeof c);
+    return 1;
+}
+
+static int parse_u32(const char *flag, const char *v, uint32_t lo, uint32_t hi, uint32_t *out) {
+    char *end;
+    const unsigned long x = v ? strtoul(v, &end, 10) : 0;
+    if (!v || *end || end == v || x < lo || x > hi) {
+        fprintf(stderr, "pgt_ab_march: %s wants a whole number from %u to %u\n", flag, lo, hi);
+        return 0;
+    }
+    *out = (uint32_t)x;
+    return 1;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 4) return usage();
+    uint32_t runs = 20, walkers = 8192, steps = 500, res = 1024;
+    float step = 2.0f;
+    int position = 0;
+    for (int i = 4; i < argc; ++i) {
+        const char *f = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(f, "--position")) {
+            position = 1;
+            continue;
+        }
+        int ok;
+        if (!strcmp(f, "--runs"))
+            ok = parse_u32(f, v, 1, 10000, &runs);
+        else if (!strcmp(f, "--walkers"))
+            ok = parse_u32(f, v, 1, 1u << 20, &walkers);
+        else if (!strcmp(f, "--steps"))
+            ok = parse_u32(f, v, 1, 100000, &steps);
+        else if (!strcmp(f, "--res"))
+            ok = parse_u32(f, v, 16, 8192, &res);
+        else if (!strcmp(f, "--step")) {
+            char *end;
+            step = v ? strtof(v, &end) : 0.0f;
+            ok = v && !*end && end != v && step > 0.0f && step <= PGT_MARCH_MAX_LENGTH;
+            if (!ok)
+                fprintf(stderr, "pgt_ab_march: --step wants a length in (0, %g]\n",
+                        (double)PGT_MARCH_MAX_LENGTH);
+        } else {
+            fprintf(stderr, "pgt_ab_march: unknown flag '%s'\n", f);
+            return usage();
+        }
+        if (!ok) return 2;
+        i++;
+    }
+    batch_fn batch[2];
+    create_fn create[2];
+    if (!load(argv[1], &batch[0], &create[0]) || !load(argv[2], &batch[1], &create[1])) return 2;
+
+    pgt_error err = {0};
+    pgt_mesh m;
+    const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
+    if (pgt_mesh_read(&m, argv[3], &ro, &err) != PGT_OK) {
+        fprintf(stderr, "pgt_ab_march: %s\n", err.message);
+        return 2;
+    }
+    pgt_image img;
+    pgt_atlas_options ao = {0};
+    ao.width = ao.height = res, ao.threads = 2, ao.what = argv[3];
+    pgt_march_atlas a;
+    if (pgt_atlas_build(&img, &m, &ao, NULL, &err) != PGT_OK ||
+        create[0](&a, &img, argv[3], &err) != PGT_OK) {
+        fprintf(stderr, "pgt_ab_march: %s\n", err.message);
+        return 2;
+    }
+    pgt_mesh_destroy(&m);
+
+    const size_t n = walkers;
+    float *s0 = malloc(4 * n * sizeof(float)), *s = malloc(4 * n * sizeof(float));
+    uint32_t *c0 = malloc(n * sizeof(uint32_t)), *c = malloc(n * sizeof(uint32_t));
+    uint32_t *taken[2] = {malloc(n * sizeof(uint32_t)), malloc(n * sizeof(uint32_t))};
+    double *sum[2] = {malloc(n * sizeof(double)), malloc(n * sizeof(double))};
+    double *ms[2] = {malloc(runs * sizeof(double)), malloc(runs * sizeof(double))};
+    double *ratio = malloc(runs * sizeof(double));
+    if (!s0 || !s || !c0 || !c || !taken[0] || !taken[1] || !sum[0] || !sum[1] || !ms[0] ||
+        !ms[1] || !ratio) {
+        fputs("pgt_ab_march: out of memory\n", stderr);
+        return 2;
+    }
+    for (uint32_t i = 0; i < walkers; ++i) { /* seeded random inner texels and headings */
+        uint32_t t = 0;
+        for (; t < AB_START_TRIES; ++t) {
+            const uint64_t k = 3ull * ((uint64_t)i * AB_START_TRIES + t);
+            const float x = pgt_rng_float(5, 0, k) * (float)a.width,
+                        y = pgt_rng_float(5, 0, k + 1) * (float)a.height,
+                        h = 6.28318531f * pgt_rng_float(5, 0, k + 2);
+            pgt_march_state st;
+            if (pgt_march_start(&a, x, y, cosf(h), sinf(h), &st, NULL) != PGT_OK) continue;
+            s0[i] = st.x, s0[n + i] = st.y, s0[2 * n + i] = st.dx, s0[3 * n + i] = st.dy;
+            c0[i] = st.chart;
+            break;
+        }
+        if (t == AB_START_TRIES) {
+            fprintf(stderr, "pgt_ab_march: %s: no inner texel found\n", argv[3]);
+            return 2;
+        }
+    }
+    uint64_t total[2] = {0, 0};
+    for (int64_t r = -1; r < (int64_t)runs; ++r) { /* run -1: the warm-up */
+        for (int j = 0; j < 2; ++j) {
+            const int k = r & 1 ? 1 - j : j; /* A first in even runs, B first in odd ones */
+            memcpy(s, s0, 4 * n * sizeof(float));
+            memcpy(c, c0, n * sizeof(uint32_t));
+            const double t0 = thread_ms();
+            batch[k](&a, NULL, step, steps, walkers, s, s + n, s + 2 * n, s + 3 * n, c, 1, taken[k],
+                     position ? sum[k] : NULL);
+            const double dt = thread_ms() - t0;
+            if (r >= 0) ms[k][r] = dt;
+        }
+        if (r >= 0) ratio[r] = ms[0][r] / ms[1][r];
+    }
+    for (size_t i = 0; i < n; ++i) total[0] += taken[0][i], total[1] += taken[1][i];
+    const int same = !memcmp(taken[0], taken[1], n * sizeof(uint32_t)) &&
+                     (!position || !memcmp(sum[0], sum[1], n * sizeof(double)));
+    const double ma = median(ms[0], runs), mb = median(ms[1], runs);
+    const double mr = median(ratio, runs); /* sorts ratio */
+    printf("A %.2f M steps/s, B %.2f M steps/s (medians); B/A %.3f (median of %u pairs, "
+           "%.3f-%.3f); steps taken and position sums the same: %s\n",
+           (double)total[0] / ma * 1e-3, (double)total[1] / mb * 1e-3, mr, runs, ratio[0],
+           ratio[runs - 1], same ? "yes" : "no");
+    free(s0), free(s), free(c0), free(c), free(taken[0]), free(taken[1]), free(sum[0]);
+    free(sum[1]), free(ms[0]), free(ms[1]), free(ratio);
+    pgt_march_atlas_destroy(&a);
+    pgt_image_destroy(&img);
+    return 0;
+}

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# scripts/ab_march.sh on a small atlas: a build against itself takes the same steps; a build
+# whose marching differs (MARCH_MAX_LENGTH_RATIO 8 -> 2: spot's seams join texels 3-6x apart
+# in size) is reported as taking other steps; a missing mesh is an error.
+#   ab_march_check.sh SOURCE_DIR BUILD_DIR SHARED_MESH_DIR
+set -u
+src=$1 build=$2 meshes=$3
+mesh=$meshes/spot.obj
+[ -f "$mesh" ] || { echo "SKIP: no $mesh"; exit 77; }
+work=$(mktemp -d /tmp/pgt_ab_check.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+fails=0
+run() { PGT_AB_BUILD=$build bash "$src/scripts/ab_march.sh" "$@" --runs 3 --walkers 256 --steps 60 --res 256 >"$work/out.txt" 2>"$work/err.txt"; }
+check() { if eval "$2"; then echo "PASS $1"; else echo "FAIL $1: $(cat "$work/out.txt" "$work/err.txt")"; fails=$((fails + 1)); fi; }
+run WORK WORK "$mesh"
+check self_same '[ $? -eq 0 ] && grep -q "the same: yes" "$work/out.txt"'
+sed 's/#define MARCH_MAX_LENGTH_RATIO 8.0f/#define MARCH_MAX_LENGTH_RATIO 2.0f/' "$src/ref_cpu/src/march.c" >"$work/other.c"
+cmp -s "$work/other.c" "$src/ref_cpu/src/march.c" && { echo "FAIL: the sed changed nothing"; exit 1; }
+run WORK "$work/other.c" "$mesh" --position
+check other_differs '[ $? -eq 0 ] && grep -q "the same: no" "$work/out.txt"'
+run WORK WORK "$work/no_such_mesh.obj"
+check missing_mesh '[ $? -eq 2 ] && grep -q "no_such_mesh.obj" "$work/err.txt"'
+echo "$fails failed"
+[ $fails -eq 0 ]
