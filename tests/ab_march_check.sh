@@ -16,8 +16,13 @@ run WORK WORK "$mesh"
 check self_same '[ $? -eq 0 ] && grep -q "the same: yes" "$work/out.txt"'
 sed 's/#define MARCH_MAX_LENGTH_RATIO 8.0f/#define MARCH_MAX_LENGTH_RATIO 2.0f/' "$src/ref_cpu/src/march.c" >"$work/other.c"
 cmp -s "$work/other.c" "$src/ref_cpu/src/march.c" && { echo "FAIL: the sed changed nothing"; exit 1; }
-run WORK "$work/other.c" "$mesh" --position
+run WORK "$work/other.c" "$mesh"
 check other_differs '[ $? -eq 0 ] && grep -q "the same: no" "$work/out.txt"'
+run WORK "$work/other.c" "$mesh" --position
+check other_differs_position '[ $? -eq 0 ] && grep -q "and position sums the same: no" "$work/out.txt"'
+echo "int broken =" >"$work/broken.c"
+run WORK "$work/broken.c" "$mesh"
+check broken_build '[ $? -eq 2 ] && grep -q "does not compile" "$work/err.txt"'
 run WORK WORK "$work/no_such_mesh.obj"
 check missing_mesh '[ $? -eq 2 ] && grep -q "no_such_mesh.obj" "$work/err.txt"'
 echo "$fails failed"

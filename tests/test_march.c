@@ -1005,11 +1005,13 @@ static int random_walker_start(const pgt_march_atlas *v, uint32_t seed, uint32_t
  * pgt_march_position) after another, until its first STOP. The batch (march.c batch_range,
  * with its own case-1 path, prefetches and walkers taking turns) must give the same bytes:
  * positions, directions, charts, steps taken and the sums of the positions. The steps use
- * options os, the batch ob (the same but for a condition's context). Returns the number of
- * walkers that differ; *out_stopped gets those that stopped before `steps`. */
+ * options os, the batch ob (the same but for a condition's context; either may be NULL) and
+ * `threads` threads. Returns the number of walkers that differ; *out_stopped gets those that
+ * stopped before `steps`. */
 static uint32_t batch_vs_steps(const pgt_march_atlas *v, const pgt_march_options *ob,
                                const pgt_march_options *os, float len, uint32_t steps,
-                               const pgt_march_state *starts, uint32_t n, uint32_t *out_stopped) {
+                               uint32_t threads, const pgt_march_state *starts, uint32_t n,
+                               uint32_t *out_stopped) {
     float *f = malloc((size_t)n * 8 * sizeof(float));
     uint32_t *u = malloc((size_t)n * 4 * sizeof(uint32_t));
     double *d = malloc((size_t)n * 2 * sizeof(double));
@@ -1037,7 +1039,7 @@ static uint32_t batch_vs_steps(const pgt_march_atlas *v, const pgt_march_options
         f[4 * n + i] = st.x, f[5 * n + i] = st.y, f[6 * n + i] = st.dx, f[7 * n + i] = st.dy;
         sc[i] = st.chart, staken[i] = k, ssum[i] = sum;
     }
-    pgt_march_batch(v, ob, len, steps, n, bx, by, bdx, bdy, bc, 1, btaken, bsum);
+    pgt_march_batch(v, ob, len, steps, n, bx, by, bdx, bdy, bc, threads, btaken, bsum);
     for (uint32_t i = 0; i < n; ++i) {
         differ += memcmp(&bx[i], &f[4 * n + i], sizeof(float)) ||
                   memcmp(&by[i], &f[5 * n + i], sizeof(float)) ||
@@ -1061,6 +1063,51 @@ static int cube_sphere_8_atlas(uint32_t res, pgt_image *img) {
     const int ok = pgt_atlas_build(img, &m, &ao, NULL, NULL) == PGT_OK;
     pgt_mesh_destroy(&m);
     return ok;
+}
+
+/* The batch's edges on cube_sphere_8's 64^2 atlas: 9000 walkers on 2 threads (enough for
+ * pgt_parallel_for to use both) give the same bytes as pgt_march_step, without options and
+ * with a density condition (which must keep its draw order: march.h runs such a batch on one
+ * thread); 0 steps leave the walkers as they are; NULL outputs are allowed. */
+#define EDGE_WALKERS 9000u
+static void test_batch_edges(void) {
+    pgt_image img;
+    REQUIRE(cube_sphere_8_atlas(64, &img));
+    pgt_march_atlas v;
+    REQUIRE(pgt_march_atlas_create(&v, &img, "cube_sphere_8", NULL) == PGT_OK);
+    static pgt_march_state starts[EDGE_WALKERS];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < EDGE_WALKERS; ++i)
+        if (random_walker_start(&v, 41, 0, i, &starts[n])) n++;
+    REQUIRE(n > 8192u);
+    float *density = malloc((size_t)v.width * v.height * sizeof(float));
+    REQUIRE(density);
+    for (size_t t = 0; t < (size_t)v.width * v.height; ++t) density[t] = 0.98f;
+    pgt_march_density d_batch = {density, v.width, v.height, 41, 1, 0}, d_steps = d_batch;
+    pgt_march_options ob = {0}, os = {0};
+    ob.condition = os.condition = pgt_march_density_condition;
+    ob.condition_ctx = &d_batch, os.condition_ctx = &d_steps;
+    uint32_t stopped = 0;
+    CHECK(batch_vs_steps(&v, NULL, NULL, 1.5f, 40, 2, starts, n, NULL) == 0);
+    CHECK(batch_vs_steps(&v, &ob, &os, 1.5f, 40, 2, starts, n, &stopped) == 0);
+    CHECK(stopped > 0 && d_batch.draws == d_steps.draws);
+    float x[3], y[3], dx[3], dy[3];
+    uint32_t c[3], taken[3] = {7, 7, 7};
+    for (int i = 0; i < 3; ++i)
+        x[i] = starts[i].x, y[i] = starts[i].y, dx[i] = starts[i].dx, dy[i] = starts[i].dy,
+        c[i] = starts[i].chart;
+    pgt_march_batch(&v, NULL, 2.0f, 0, 3, x, y, dx, dy, c, 2, taken, NULL);
+    for (int i = 0; i < 3; ++i)
+        CHECK(taken[i] == 0 && x[i] == starts[i].x && y[i] == starts[i].y &&
+              dx[i] == starts[i].dx && c[i] == starts[i].chart);
+    pgt_march_batch(&v, NULL, 2.0f, 5, 3, x, y, dx, dy, c, 1, NULL, NULL); /* outputs NULL */
+    pgt_march_state st = starts[0];
+    for (int k = 0; k < 5; ++k)
+        if (pgt_march_step(&v, NULL, &st, 2.0f, 0.0f, NULL) == PGT_MARCH_STOP) break;
+    CHECK(x[0] == st.x && y[0] == st.y && c[0] == st.chart);
+    free(density);
+    pgt_march_atlas_destroy(&v);
+    pgt_image_destroy(&img);
 }
 
 /* A chart in the image's first rows and columns (a file given to pgt march need not keep the
@@ -1173,7 +1220,7 @@ static void test_hostile_atlases(void) {
                                                         : PGT_MARCH_ROTATION_ATLAS;
             if (pgt_rng_float(24, a, 3) < 0.25f) o.mask = mask;
             const float len = 0.01f + 20.0f * pgt_rng_float(24, a, 4);
-            batch_differ += batch_vs_steps(&v, &o, &o, len, HOSTILE_STEPS, starts, m, NULL);
+            batch_differ += batch_vs_steps(&v, &o, &o, len, HOSTILE_STEPS, 1, starts, m, NULL);
             batch_walkers += m;
         }
         for (uint32_t w = 0; w < HOSTILE_WALKERS; ++w) {
@@ -1600,8 +1647,9 @@ static void batch_matches_steps(const pgt_march_atlas *v, const char *name, uint
             ob.condition_ctx = &d_batch, os.condition_ctx = &d_steps;
         }
         uint32_t stopped = 0;
-        const uint32_t differ =
-            batch_vs_steps(v, &ob, &os, BATCH_STEP_TEXELS, BATCH_STEPS, starts, n, &stopped);
+        const uint32_t differ = /* mode 0: no options at all */
+            batch_vs_steps(v, mode ? &ob : NULL, mode ? &os : NULL, BATCH_STEP_TEXELS, BATCH_STEPS,
+                           1, starts, n, &stopped);
         printf("  %-17s batch of %u walkers x %u steps (%s): %u differ from pgt_march_step, %u "
                "stopped early\n",
                name, n, BATCH_STEPS,
@@ -1926,6 +1974,7 @@ static const pgt_test_case cases[] = {
     {"rotation_keeps_3d_direction", test_rotation_keeps_3d_direction},
     {"cylinder_self_seam", test_cylinder_self_seam},
     {"mask_and_condition", test_mask_and_condition},
+    {"batch_edges", test_batch_edges},
     {"density_context", test_density_context},
     {"read_context", test_read_context},
     {"too_many_jumps", test_too_many_jumps},

@@ -1,9 +1,10 @@
 /* pgt_ab_march: two builds of ref_cpu/src/march.c, loaded as shared objects into one process,
- * march the same walkers on the same atlas in alternation; prints each one's rate and the
- * median of the per-pair ratios. On a shared machine whose speed drifts by 1.5x within an
- * hour, runs of two binaries minutes apart cannot show a 5 % change; pairs taken a fraction of
- * a second apart can (the same build against itself: ratios 0.99-1.00). scripts/ab_march.sh
- * builds the two objects from git revisions or files and runs this.
+ * march the same walkers on the same atlas in alternation; prints each one's rate, the median
+ * of the per-pair ratios of the rates (B over A), and whether both left every walker in the
+ * same state after the same steps (and with the same position sums, with --position). On a shared
+ * machine whose speed drifts by 1.5x within an hour, runs of two binaries minutes apart cannot show
+ * a 5 % change; pairs taken a fraction of a second apart can (the same build against itself: ratios
+ * 0.99-1.00). scripts/ab_march.sh builds the two objects from git revisions or files and runs this.
  *
  *   pgt_ab_march A.so B.so MESH [--runs N] [--walkers W] [--steps S] [--step L] [--res R]
  *                [--position]
@@ -142,14 +143,16 @@ int main(int argc, char **argv) {
     pgt_mesh_destroy(&m);
 
     const size_t n = walkers;
-    float *s0 = malloc(4 * n * sizeof(float)), *s = malloc(4 * n * sizeof(float));
-    uint32_t *c0 = malloc(n * sizeof(uint32_t)), *c = malloc(n * sizeof(uint32_t));
+    float *s0 = malloc(4 * n * sizeof(float));
+    float *s[2] = {malloc(4 * n * sizeof(float)), malloc(4 * n * sizeof(float))};
+    uint32_t *c0 = malloc(n * sizeof(uint32_t));
+    uint32_t *c[2] = {malloc(n * sizeof(uint32_t)), malloc(n * sizeof(uint32_t))};
     uint32_t *taken[2] = {malloc(n * sizeof(uint32_t)), malloc(n * sizeof(uint32_t))};
     double *sum[2] = {malloc(n * sizeof(double)), malloc(n * sizeof(double))};
     double *ms[2] = {malloc(runs * sizeof(double)), malloc(runs * sizeof(double))};
     double *ratio = malloc(runs * sizeof(double));
-    if (!s0 || !s || !c0 || !c || !taken[0] || !taken[1] || !sum[0] || !sum[1] || !ms[0] ||
-        !ms[1] || !ratio) {
+    if (!s0 || !s[0] || !s[1] || !c0 || !c[0] || !c[1] || !taken[0] || !taken[1] || !sum[0] ||
+        !sum[1] || !ms[0] || !ms[1] || !ratio) {
         fputs("pgt_ab_march: out of memory\n", stderr);
         return 2;
     }
@@ -175,26 +178,33 @@ int main(int argc, char **argv) {
     for (int64_t r = -1; r < (int64_t)runs; ++r) { /* run -1: the warm-up */
         for (int j = 0; j < 2; ++j) {
             const int k = r & 1 ? 1 - j : j; /* A first in even runs, B first in odd ones */
-            memcpy(s, s0, 4 * n * sizeof(float));
-            memcpy(c, c0, n * sizeof(uint32_t));
+            float *sk = s[k];
+            memcpy(sk, s0, 4 * n * sizeof(float));
+            memcpy(c[k], c0, n * sizeof(uint32_t));
             const double t0 = thread_ms();
-            batch[k](&a, NULL, step, steps, walkers, s, s + n, s + 2 * n, s + 3 * n, c, 1, taken[k],
-                     position ? sum[k] : NULL);
+            batch[k](&a, NULL, step, steps, walkers, sk, sk + n, sk + 2 * n, sk + 3 * n, c[k], 1,
+                     taken[k], position ? sum[k] : NULL);
             const double dt = thread_ms() - t0;
             if (r >= 0) ms[k][r] = dt;
         }
-        if (r >= 0) ratio[r] = ms[0][r] / ms[1][r];
     }
     for (size_t i = 0; i < n; ++i) total[0] += taken[0][i], total[1] += taken[1][i];
-    const int same = !memcmp(taken[0], taken[1], n * sizeof(uint32_t)) &&
+    /* rate B over rate A per pair: the ratio of the times only while both take as many steps */
+    for (uint32_t r = 0; r < runs; ++r)
+        ratio[r] = ((double)total[1] / ms[1][r]) / ((double)total[0] / ms[0][r]);
+    /* every run starts from the same states, so the last run's ends stand for all */
+    const int same = !memcmp(s[0], s[1], 4 * n * sizeof(float)) &&
+                     !memcmp(c[0], c[1], n * sizeof(uint32_t)) &&
+                     !memcmp(taken[0], taken[1], n * sizeof(uint32_t)) &&
                      (!position || !memcmp(sum[0], sum[1], n * sizeof(double)));
     const double ma = median(ms[0], runs), mb = median(ms[1], runs);
     const double mr = median(ratio, runs); /* sorts ratio */
     printf("A %.2f M steps/s, B %.2f M steps/s (medians); B/A %.3f (median of %u pairs, "
-           "%.3f-%.3f); steps taken and position sums the same: %s\n",
+           "%.3f-%.3f); end states, steps taken%s the same: %s\n",
            (double)total[0] / ma * 1e-3, (double)total[1] / mb * 1e-3, mr, runs, ratio[0],
-           ratio[runs - 1], same ? "yes" : "no");
-    free(s0), free(s), free(c0), free(c), free(taken[0]), free(taken[1]), free(sum[0]);
+           ratio[runs - 1], position ? " and position sums" : "", same ? "yes" : "no");
+    free(s0), free(s[0]), free(s[1]), free(c0), free(c[0]), free(c[1]), free(taken[0]),
+        free(taken[1]), free(sum[0]);
     free(sum[1]), free(ms[0]), free(ms[1]), free(ratio);
     pgt_march_atlas_destroy(&a);
     pgt_image_destroy(&img);

@@ -990,5 +990,6 @@ void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float
                      uint32_t *chart, uint32_t threads, uint32_t *out_taken, double *out_sum) {
     assert(length > 0.0f && length <= PGT_MARCH_MAX_LENGTH); /* as pgt_march_step */
     batch_ctx b = {a, o, length, steps, x, y, dx, dy, chart, out_taken, out_sum};
-    pgt_parallel_for(count, threads ? threads : 1u, batch_range, &b);
+    /* a condition sees its calls in the walkers' order (march.h), so on one thread */
+    pgt_parallel_for(count, o && o->condition ? 1u : threads ? threads : 1u, batch_range, &b);
 }

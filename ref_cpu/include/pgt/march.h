@@ -321,8 +321,9 @@ uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float 
  * every step, as a grammar placing geometry would; NULL: positions are not fetched). A walker
  * keeps the no-bounce memory over the batch's steps; the arrays do not hold it, so every walker
  * starts the batch without it. Each walker ends as pgt_march_step called `steps` times with
- * angle 0 would leave it, to the byte, and o->condition, when given, is called in the order of
- * those calls, one walker after another. */
+ * angle 0 would leave it, to the byte. With o->condition the batch runs on one thread whatever
+ * `threads` says, and the condition is called in the order of those calls, one walker after
+ * another (a condition may keep state, as pgt_march_density_condition's draw counter does). */
 void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float length,
                      uint32_t steps, uint32_t count, float *x, float *y, float *dx, float *dy,
                      uint32_t *chart, uint32_t threads, uint32_t *out_taken, double *out_sum);
