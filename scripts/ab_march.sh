@@ -20,7 +20,8 @@ work=$(mktemp -d /tmp/pgt_ab.XXXXXX) || fail "cannot make a temporary directory"
 child=
 cleanup() { [ -n "$child" ] && kill "$child" 2>/dev/null; rm -rf "$work"; }
 trap cleanup EXIT
-trap 'exit 130' INT TERM
+# on INT or TERM: clean up, then die of the same signal, so that a calling loop stops too
+for sig in INT TERM; do trap "cleanup; trap - $sig EXIT; kill -$sig \$\$" $sig; done
 # march.c's compile command without its -o and -c operands, one argument per NUL-ended item;
 # the first is the compiler, the last march.c's directory (its internal headers)
 mapfile -d '' cmd < <(/usr/bin/python3 - "$build/compile_commands.json" <<'PY'
@@ -54,8 +55,9 @@ for side in a b; do
   elif [ -f "$rev" ]; then cp "$rev" "$src" || fail "cannot read $rev"
   else git -C "$top" show "$rev:ref_cpu/src/march.c" >"$src" 2>/dev/null || fail "no ref_cpu/src/march.c at revision '$rev'"
   fi
-  (cd "$build" && "${cmd[@]}" -I"$srcdir" -fPIC -shared -Wl,-Bsymbolic -o "$work/$side.so" "$src" -lm) \
-    || fail "$rev: march.c does not compile against $srcdir/../include (its API must match march.h)"
+  # -Wno-error: a scratch variant or an older revision may warn where the build's -Werror refuses
+  (cd "$build" && "${cmd[@]}" -Wno-error -I"$srcdir" -fPIC -shared -Wl,-Bsymbolic -o "$work/$side.so" "$src" -lm) \
+    || fail "$rev: march.c does not compile (see above; its API must match $srcdir/../include/pgt/march.h)"
 done
 echo "ab_march: A = $a, B = $b, $(basename "$mesh")" >&2
 "$build/harness/ab/pgt_ab_march" "$work/a.so" "$work/b.so" "$mesh" "$@" &

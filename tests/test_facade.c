@@ -184,9 +184,10 @@ static void test_coverage_polygon(void) {
         if (!pgt_facade_coverage(&f, eye, q, &axis)) continue;
         for (int r = 0; r < 50; ++r) {
             /* a ray towards a random point of the volume */
-            const float P[3] = {12.0f * pgt_rng_float(2, 1, counter++),
-                                9.0f * pgt_rng_float(2, 1, counter++),
-                                -0.3f + 0.8f * pgt_rng_float(2, 1, counter++)};
+            float P[3]; /* one draw a statement: an initialiser list's order is unspecified */
+            P[0] = 12.0f * pgt_rng_float(2, 1, counter++);
+            P[1] = 9.0f * pgt_rng_float(2, 1, counter++);
+            P[2] = -0.3f + 0.8f * pgt_rng_float(2, 1, counter++);
             double d[3], lo[3] = {INFINITY, INFINITY, INFINITY},
                          hi[3] = {-INFINITY, -INFINITY, -INFINITY};
             for (int k = 0; k < 3; ++k) d[k] = (double)P[k] - eye[k];

@@ -189,6 +189,11 @@ int main(int argc, char **argv) {
         }
     }
     for (size_t i = 0; i < n; ++i) total[0] += taken[0][i], total[1] += taken[1][i];
+    if (!total[0] || !total[1]) { /* a rate needs steps (a broken build takes none) */
+        fprintf(stderr, "pgt_ab_march: build %s took no steps: no rate to compare\n",
+                !total[0] ? "A" : "B");
+        return 2;
+    }
     /* rate B over rate A per pair: the ratio of the times only while both take as many steps */
     for (uint32_t r = 0; r < runs; ++r)
         ratio[r] = ((double)total[1] / ms[1][r]) / ((double)total[0] / ms[0][r]);

@@ -110,7 +110,7 @@ static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker)
                 (row[x + 1] != own) | (down[x] != own) | (row[x - 1] != own) | (up[x] != own);
             const uint32_t inner = own >= 0;
             const uint8_t outer =
-                (hi >= 0) & (lo == hi) ? PGT_TEXEL_INDIRECTION : PGT_TEXEL_BACKGROUND;
+                ((hi >= 0) & (lo == hi)) ? PGT_TEXEL_INDIRECTION : PGT_TEXEL_BACKGROUND;
             kind[x] =
                 inner ? (uint8_t)(PGT_TEXEL_INNER | (edge ? ATLAS_KIND_BOUNDARY_BIT : 0u)) : outer;
             boundary += inner & edge;
