@@ -1020,7 +1020,8 @@ static uint32_t batch_vs_steps(const pgt_march_atlas *v, const pgt_march_options
         free(f), free(u), free(d);
         return n ? n : 1u;
     }
-    float *bx = f, *by = f + n, *bdx = f + 2 * n, *bdy = f + 3 * n;
+    float *bx = f, *by = f + n, *bdx = f + 2 * n, *bdy = f + 3 * n; /* the batch's walkers */
+    float *sx = f + 4 * n, *sy = f + 5 * n, *sdx = f + 6 * n, *sdy = f + 7 * n; /* the steps' */
     uint32_t *bc = u, *btaken = u + n, *staken = u + 2 * n, *sc = u + 3 * n;
     double *bsum = d, *ssum = d + n;
     uint32_t differ = 0, stopped = 0;
@@ -1035,16 +1036,14 @@ static uint32_t batch_vs_steps(const pgt_march_atlas *v, const pgt_march_options
             pgt_march_position(v, st.x, st.y, p);
             sum += (double)p[0] + (double)p[1] + (double)p[2];
         }
-        /* the walker's end state goes to f + 4n.. (x, y, dx, dy) and sc */
-        f[4 * n + i] = st.x, f[5 * n + i] = st.y, f[6 * n + i] = st.dx, f[7 * n + i] = st.dy;
+        sx[i] = st.x, sy[i] = st.y, sdx[i] = st.dx, sdy[i] = st.dy;
         sc[i] = st.chart, staken[i] = k, ssum[i] = sum;
     }
     pgt_march_batch(v, ob, len, steps, n, bx, by, bdx, bdy, bc, threads, btaken, bsum);
     for (uint32_t i = 0; i < n; ++i) {
-        differ += memcmp(&bx[i], &f[4 * n + i], sizeof(float)) ||
-                  memcmp(&by[i], &f[5 * n + i], sizeof(float)) ||
-                  memcmp(&bdx[i], &f[6 * n + i], sizeof(float)) ||
-                  memcmp(&bdy[i], &f[7 * n + i], sizeof(float)) || bc[i] != sc[i] ||
+        differ += memcmp(&bx[i], &sx[i], sizeof(float)) || memcmp(&by[i], &sy[i], sizeof(float)) ||
+                  memcmp(&bdx[i], &sdx[i], sizeof(float)) ||
+                  memcmp(&bdy[i], &sdy[i], sizeof(float)) || bc[i] != sc[i] ||
                   btaken[i] != staken[i] || memcmp(&bsum[i], &ssum[i], sizeof(double));
         stopped += staken[i] < steps;
     }

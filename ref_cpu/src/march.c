@@ -853,6 +853,13 @@ typedef struct batch_ctx {
     double *sum;
 } batch_ctx;
 
+/* The sum of the coordinates of the 3D position at (x, y): what a batch adds up per step. */
+static inline double position_sum(const pgt_march_atlas *a, float x, float y) {
+    float p[3];
+    pgt_march_position(a, x, y, p);
+    return (double)p[0] + (double)p[1] + (double)p[2];
+}
+
 /* What a walker of a batch does in its next turn (batch_range). */
 enum { WALK_STEP, WALK_POINTER, WALK_CROSS };
 
@@ -937,11 +944,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                         td = texel_at(a, tx, ty), c = code_of(a, td);
                         if (c != inner || external) break;
                         x = tx, y = ty; /* pgt_march_step's case 1 */
-                        if (with_position) {
-                            float p[3];
-                            pgt_march_position(a, x, y, p);
-                            acc += (double)p[0] + (double)p[1] + (double)p[2];
-                        }
+                        if (with_position) acc += position_sum(a, x, y);
                     }
                     q->x = x, q->y = y, taken[g] = k, sum[g] = acc;
                     if (k == steps) continue; /* done */
@@ -966,11 +969,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                 }
                 if (ev == PGT_MARCH_STOP) continue; /* a walker stops at its first STOP */
                 taken[g]++;
-                if (with_position) {
-                    float p[3];
-                    pgt_march_position(a, q->x, q->y, p);
-                    sum[g] += (double)p[0] + (double)p[1] + (double)p[2];
-                }
+                if (with_position) sum[g] += position_sum(a, q->x, q->y);
                 if (taken[g] < steps) live[m++] = g;
             }
             nlive = m;
