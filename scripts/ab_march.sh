@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A/B timing of two versions of ref_cpu/src/march.c in one process (harness/ab/ab_march.c).
 #   scripts/ab_march.sh A B MESH [pgt_ab_march flags: --runs N --walkers W --steps S --step L
-#                                  --res R --position]
+#                                  --res R --position --two-views]
 # A and B: a git revision (its ref_cpu/src/march.c), a path to a march.c, or WORK (the working
 # tree's). Each is compiled as a shared object by march.c's compile command in the build's
 # compile_commands.json (build/release: scripts/build.sh Release first; PGT_AB_BUILD names

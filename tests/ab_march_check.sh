@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# scripts/ab_march.sh on a small atlas: a build against itself takes the same steps; a build
-# whose marching differs (MARCH_MAX_LENGTH_RATIO 8 -> 2: spot's seams join texels 3-6x apart
-# in size) is reported as taking other steps; a missing mesh is an error.
+# scripts/ab_march.sh on a small atlas: a build against itself takes the same steps (with one
+# view and with a view per build); a build whose marching differs (MARCH_MAX_LENGTH_RATIO 8 -> 2:
+# spot's seams join texels 3-6x apart in size) is reported as taking other steps; a missing mesh
+# is an error.
 #   ab_march_check.sh SOURCE_DIR BUILD_DIR SHARED_MESH_DIR
 set -u
 src=$1 build=$2 meshes=$3
@@ -14,6 +15,8 @@ run() { PGT_AB_BUILD=$build bash "$src/scripts/ab_march.sh" "$@" --runs 3 --walk
 check() { if eval "$2"; then echo "PASS $1"; else echo "FAIL $1: $(cat "$work/out.txt" "$work/err.txt")"; fails=$((fails + 1)); fi; }
 run WORK WORK "$mesh"
 check self_same '[ $? -eq 0 ] && grep -q "the same: yes" "$work/out.txt"'
+run WORK WORK "$mesh" --two-views
+check self_same_two_views '[ $? -eq 0 ] && grep -q "the same: yes" "$work/out.txt"'
 sed 's/#define MARCH_MAX_LENGTH_RATIO 8.0f/#define MARCH_MAX_LENGTH_RATIO 2.0f/' "$src/ref_cpu/src/march.c" >"$work/other.c"
 cmp -s "$work/other.c" "$src/ref_cpu/src/march.c" && { echo "FAIL: the sed changed nothing"; exit 1; }
 run WORK "$work/other.c" "$mesh"

@@ -249,6 +249,34 @@ static int view(pgt_march_atlas *v, const syn_atlas *s) {
 
 static int near_f(float a, float b, float tol) { return fabsf(a - b) <= tol; }
 
+/* The texels of view v whose ring mask (pgt_march_atlas.rings) is not march.h's definition,
+ * derived here from the kind and chart planes of the image v was made of: bit k (the
+ * neighbours in scan order) set for an inner texel of the texel's chart, bit 8 + k for an
+ * indirection texel of it, nothing for neighbours outside the image and on background. */
+static uint32_t rings_differ(const pgt_march_atlas *v, const pgt_image *img) {
+    static const int dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1}, dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+    pgt_atlas_channels ch;
+    if (pgt_atlas_channels_find(img, "rings", &ch, NULL) != PGT_OK) return UINT32_MAX;
+    const float *kind = pgt_image_plane(img, ch.kind), *chart = pgt_image_plane(img, ch.chart);
+    const int w = (int)img->width, h = (int)img->height;
+    uint32_t differ = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t t = (size_t)y * (size_t)w + (size_t)x;
+            unsigned expect = 0;
+            for (int k = 0; k < 8 && kind[t] != (float)PGT_TEXEL_BACKGROUND; ++k) {
+                const int nx = x + dx[k], ny = y + dy[k];
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const size_t q = (size_t)ny * (size_t)w + (size_t)nx;
+                if (chart[q] != chart[t]) continue;
+                if (kind[q] == (float)PGT_TEXEL_INNER) expect |= 1u << k;
+                if (kind[q] == (float)PGT_TEXEL_INDIRECTION) expect |= 1u << (8 + k);
+            }
+            differ += v->rings[t] != expect;
+        }
+    return differ;
+}
+
 /* Positions of the marcher are exact sums of small binary fractions here; 1e-4 texel covers
  * the float rounding of a handful of additions at coordinates below 64. */
 #define POS_TOL 1e-4f
@@ -267,6 +295,10 @@ static void test_view_and_start(void) {
     CHECK(v.jumps[i].u == 26u && v.jumps[i].v == 3u);
     CHECK(near_f(v.jumps[i].rot, 0.5f * PI_F, 1e-6f));
     CHECK((v.texels[syn_index(&s, 2, 8)].code & 3u) == PGT_TEXEL_DEAD_END);
+    CHECK(rings_differ(&v, &s.img) == 0);
+    /* (15, 8), A's outer column: inner texels of A left of it, indirection texels above and
+     * below; nothing of B to its right */
+    CHECK(v.rings[i] == (0x29u | 0x42u << 8));
     pgt_march_state st;
     pgt_error err = {0};
     CHECK(pgt_march_start(&v, 6.5f, 8.5f, 3.0f, 4.0f, &st, &err) == PGT_OK);
@@ -1158,6 +1190,7 @@ static void test_hostile_atlases(void) {
     float *mask = malloc(n * sizeof(float));
     REQUIRE(mask);
     uint64_t valid = 0, steps = 0, stops = 0, bad = 0, batch_walkers = 0, batch_differ = 0;
+    uint64_t rings_bad = 0; /* atlases whose view's ring masks are not their definition */
     hostile_counter = 0;
     for (uint32_t i = 0; i < n; ++i) mask[i] = hostile_u() < 0.02f ? 1.0f : 0.0f;
     for (uint32_t a = 0; a < HOSTILE_ATLASES; ++a) {
@@ -1207,6 +1240,7 @@ static void test_hostile_atlases(void) {
             continue;
         }
         valid++;
+        rings_bad += rings_differ(&v, &img) != 0;
         { /* the batch on this atlas (its own random stream: the sequence above is unchanged) */
             pgt_march_state starts[HOSTILE_WALKERS];
             uint32_t m = 0;
@@ -1265,6 +1299,9 @@ static void test_hostile_atlases(void) {
            "pgt_march_step\n",
            (unsigned long long)batch_walkers, (unsigned long long)batch_differ);
     CHECK(batch_differ == 0 && batch_walkers > 10000u);
+    printf("  their views' ring masks: %llu atlases differ from the definition\n",
+           (unsigned long long)rings_bad);
+    CHECK(rings_bad == 0);
     free(mask);
     pgt_image_destroy(&base);
 }
@@ -1699,6 +1736,7 @@ static void test_real_random_marches(void) {
         pgt_mesh_destroy(&m);
         if (!built) continue;
         meshes++;
+        CHECK_MSG(rings_differ(&v, &img) == 0, "%s: ring masks differ from their definition", name);
         for (int rot = 0; rot < 2; ++rot) {
             walk_result r[2];
             for (int best = 0; best < 2; ++best) {

@@ -7,13 +7,16 @@
  * 0.99-1.00). scripts/ab_march.sh builds the two objects from git revisions or files and runs this.
  *
  *   pgt_ab_march A.so B.so MESH [--runs N] [--walkers W] [--steps S] [--step L] [--res R]
- *                [--position]
+ *                [--position] [--two-views]
  *
  * Both objects must export pgt_march_atlas_create and pgt_march_batch with march.h's
- * signatures and pgt_march_atlas layout; everything else they call (the thread pool,
- * allocation, errors) comes from this program. The atlas is built here and its marching view
- * created once by A: both builds read the same arrays at the same addresses (two views, on
- * pages of their own, measured 0.96x for A against itself). */
+ * signatures; everything else they call (the thread pool, allocation, errors) comes from this
+ * program. The atlas is built here and its marching view created once by A: both builds read
+ * the same arrays at the same addresses, which needs the same pgt_march_atlas layout. With
+ * --two-views each build creates its own view (needed when the layouts differ; march.h's
+ * fields may only be added at the end, and this program seeds the walkers through A's view).
+ * Two views lie on pages of their own: calibrate with A against itself first (0.96x measured
+ * once). */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
@@ -53,7 +56,7 @@ static double median(double *v, uint32_t n) { /* sorts v */
 
 static int usage(void) {
     fputs("usage: pgt_ab_march A.so B.so MESH [--runs N] [--walkers W] [--steps S] [--step L]\n"
-          "                    [--res R] [--position]\n",
+          "                    [--res R] [--position] [--two-views]\n",
           stderr);
     return 2;
 }
@@ -90,11 +93,11 @@ int main(int argc, char **argv) {
     if (argc < 4) return usage();
     uint32_t runs = 20, walkers = 8192, steps = 500, res = 1024;
     float step = 2.0f;
-    int position = 0;
+    int position = 0, two_views = 0;
     for (int i = 4; i < argc; ++i) {
         const char *f = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(f, "--position")) {
-            position = 1;
+        if (!strcmp(f, "--position") || !strcmp(f, "--two-views")) {
+            *(!strcmp(f, "--position") ? &position : &two_views) = 1;
             continue;
         }
         int ok;
@@ -134,13 +137,17 @@ int main(int argc, char **argv) {
     pgt_image img;
     pgt_atlas_options ao = {0};
     ao.width = ao.height = res, ao.threads = 2, ao.what = argv[3];
-    pgt_march_atlas a;
+    /* zeroed: a build with an older, shorter layout leaves the fields it lacks alone */
+    pgt_march_atlas view[2];
+    memset(view, 0, sizeof view);
     if (pgt_atlas_build(&img, &m, &ao, NULL, &err) != PGT_OK ||
-        create[0](&a, &img, argv[3], &err) != PGT_OK) {
+        create[0](&view[0], &img, argv[3], &err) != PGT_OK ||
+        (two_views && create[1](&view[1], &img, argv[3], &err) != PGT_OK)) {
         fprintf(stderr, "pgt_ab_march: %s\n", err.message);
         return 2;
     }
     pgt_mesh_destroy(&m);
+    const pgt_march_atlas *v[2] = {&view[0], two_views ? &view[1] : &view[0]}, *a = v[0];
 
     const size_t n = walkers;
     float *s0 = malloc(4 * n * sizeof(float));
@@ -160,11 +167,11 @@ int main(int argc, char **argv) {
         uint32_t t = 0;
         for (; t < AB_START_TRIES; ++t) {
             const uint64_t k = 3ull * ((uint64_t)i * AB_START_TRIES + t);
-            const float x = pgt_rng_float(5, 0, k) * (float)a.width,
-                        y = pgt_rng_float(5, 0, k + 1) * (float)a.height,
+            const float x = pgt_rng_float(5, 0, k) * (float)a->width,
+                        y = pgt_rng_float(5, 0, k + 1) * (float)a->height,
                         h = 6.28318531f * pgt_rng_float(5, 0, k + 2);
             pgt_march_state st;
-            if (pgt_march_start(&a, x, y, cosf(h), sinf(h), &st, NULL) != PGT_OK) continue;
+            if (pgt_march_start(a, x, y, cosf(h), sinf(h), &st, NULL) != PGT_OK) continue;
             s0[i] = st.x, s0[n + i] = st.y, s0[2 * n + i] = st.dx, s0[3 * n + i] = st.dy;
             c0[i] = st.chart;
             break;
@@ -182,7 +189,7 @@ int main(int argc, char **argv) {
             memcpy(sk, s0, 4 * n * sizeof(float));
             memcpy(c[k], c0, n * sizeof(uint32_t));
             const double t0 = thread_ms();
-            batch[k](&a, NULL, step, steps, walkers, sk, sk + n, sk + 2 * n, sk + 3 * n, c[k], 1,
+            batch[k](v[k], NULL, step, steps, walkers, sk, sk + n, sk + 2 * n, sk + 3 * n, c[k], 1,
                      taken[k], position ? sum[k] : NULL);
             const double dt = thread_ms() - t0;
             if (r >= 0) ms[k][r] = dt;
@@ -211,7 +218,8 @@ int main(int argc, char **argv) {
     free(s0), free(s[0]), free(s[1]), free(c0), free(c[0]), free(c[1]), free(taken[0]),
         free(taken[1]), free(sum[0]);
     free(sum[1]), free(ms[0]), free(ms[1]), free(ratio);
-    pgt_march_atlas_destroy(&a);
+    pgt_march_atlas_destroy(&view[0]);
+    pgt_march_atlas_destroy(&view[1]);
     pgt_image_destroy(&img);
     return 0;
 }

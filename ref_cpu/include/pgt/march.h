@@ -80,12 +80,14 @@
  * i.e. it turns from +x towards +y (+y is down in the image, so on screen this turns clockwise).
  *
  * Layout: pgt_march_atlas_create validates the atlas once (so the inner loop needs no checks)
- * and builds three texel-indexed arrays, as a GPU kernel would bind three textures: the packed
+ * and builds four texel-indexed arrays, as a GPU kernel would bind four textures: the packed
  * kind-and-chart codes alone, 4 bytes per texel (the case tests and the search read only these,
  * so a step without the position touches a quarter of the memory), P interleaved with the code,
- * 16 bytes per texel (the bilinear position), and one 8-byte jump record per texel (the
+ * 16 bytes per texel (the bilinear position), one 8-byte jump record per texel (the
  * indirection texels' pointer and rot, which a jump reads in one place instead of three image
- * planes). Walkers of a batch are flat arrays (SoA). float32 throughout. */
+ * planes) and a 2-byte ring mask per texel (which one-ring neighbours are inner or indirection
+ * texels of the texel's chart: 5.1 and the Jacobians read one mask instead of eight codes).
+ * Walkers of a batch are flat arrays (SoA). float32 throughout. */
 #ifndef PGT_MARCH_H
 #define PGT_MARCH_H
 
@@ -167,14 +169,24 @@ typedef struct pgt_march_jump {
     float rot;
 } pgt_march_jump;
 
-/* A validated atlas ready for marching. `texels`, `codes` and `jumps` (width * height each,
- * row-major) are owned; codes[i] == texels[i].code. The view keeps nothing of the image. */
+/* Bit k of a ring mask stands for texel t's one-ring neighbour k in scan order: (-1, -1),
+ * (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1) (rows top to bottom); the edge
+ * neighbours are bits 1, 3, 4, 6. */
+#define PGT_MARCH_RING_EDGES 0x5Au
+
+/* A validated atlas ready for marching. `texels`, `codes`, `jumps` and `rings` (width * height
+ * each, row-major) are owned; codes[i] == texels[i].code. The view keeps nothing of the image. */
 typedef struct pgt_march_atlas {
     uint32_t width, height;
     uint32_t chart_count; /* 1 + the largest chart id */
     pgt_march_texel *texels;
     uint32_t *codes;       /* the codes alone: what the case tests and the search read */
     pgt_march_jump *jumps; /* per texel; meaningful on indirection texels */
+    /* Which one-ring neighbours share texel i's chart, precomputed as a GPU upload would be:
+     * bits 0-7 (PGT_MARCH_RING_EDGES above) the inner texels of i's chart, bits 8-15 its
+     * indirection texels; 0 on background. The rules of 5.1 and the Jacobians read one mask
+     * instead of eight codes, each with its own bounds test. */
+    uint16_t *rings;
 } pgt_march_atlas;
 
 /* Validates `atlas` against atlas.h and builds the view. Errors (PGT_ERROR_PARSE, messages start
