@@ -14,7 +14,6 @@
 #include "pgt/atlas_build.h"
 #include "pgt/image.h"
 #include "pgt/march.h"
-#include "pgt/rng.h"
 #include "png_io.h"
 
 /* Most steps of one pgt march: a CSV row is ~80 bytes, so 10^7 steps is ~1 GB of text. */
@@ -369,25 +368,6 @@ static double process_cpu_ms(void) {
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-/* Seeded start states: walker i at a uniformly random inner texel position and heading. */
-static int bench_march_seeds(const pgt_march_atlas *a, uint32_t count, float *x, float *y,
-                             float *dx, float *dy, uint32_t *chart) {
-    for (uint32_t i = 0; i < count; ++i) {
-        pgt_march_state s;
-        uint32_t tries = 0;
-        for (;; ++tries) {
-            if (tries == 1000000u) return -1;
-            const uint64_t c = 3ull * ((uint64_t)i * 1000000u + tries);
-            const float rx = pgt_rng_float(1, 0, c) * (float)a->width,
-                        ry = pgt_rng_float(1, 0, c + 1) * (float)a->height,
-                        h = 6.2831853f * pgt_rng_float(1, 0, c + 2);
-            if (pgt_march_start(a, rx, ry, cosf(h), sinf(h), &s, NULL) == PGT_OK) break;
-        }
-        x[i] = s.x, y[i] = s.y, dx[i] = s.dx, dy[i] = s.dy, chart[i] = s.chart;
-    }
-    return 0;
-}
-
 int pgt_cmd_bench_march(int argc, char **argv) {
     const char *verb = "bench", *out_path = "results/march.csv",
                *shared_dir = PGT_CLI_SHARED_MESH_DIR;
@@ -553,7 +533,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         }
         float *const s0[4] = {x0, x0 + n, x0 + 2 * n, x0 + 3 * n};
         float *const s[4] = {x, x + n, x + 2 * n, x + 3 * n};
-        if (bench_march_seeds(&a, walkers, s0[0], s0[1], s0[2], s0[3], c0)) {
+        if (pgt_march_random_starts(&a, 1, walkers, s0[0], s0[1], s0[2], s0[3], c0)) {
             fprintf(stderr, "pgt bench march: skipping %s: no inner texel found\n", meshes[mi]);
             failures++;
             goto next;

@@ -1997,8 +1997,60 @@ static void test_read_context(void) {
     scratch_remove();
 }
 
+/* pgt_march_random_starts: every walker starts on an inner texel of its chart with a unit
+ * heading; the walkers are the ones march.h's formula gives (re-derived here try by try), the
+ * same for the same seed and others for another; headings spread round the circle. */
+static void test_random_starts(void) {
+    syn_atlas s;
+    REQUIRE(plane2(&s));
+    pgt_march_atlas v;
+    REQUIRE(view(&v, &s));
+    enum { N = 500 };
+    static float w[2][5][N];
+    static uint32_t c[2][N];
+    for (int k = 0; k < 2; ++k)
+        REQUIRE(pgt_march_random_starts(&v, 7u + (uint32_t)k, N, w[k][0], w[k][1], w[k][2], w[k][3],
+                                        c[k]) == 0);
+    uint32_t bad = 0, per_chart[2] = {0, 0}, same_as_other_seed = 0;
+    double mean_dx = 0.0, mean_dy = 0.0;
+    for (uint32_t i = 0; i < N; ++i) {
+        const float x = w[0][0][i], y = w[0][1][i], dx = w[0][2][i], dy = w[0][3][i];
+        const uint32_t code = v.codes[(uint32_t)y * v.width + (uint32_t)x];
+        bad += (code & 3u) != PGT_TEXEL_INNER || (code >> 2) != c[0][i] + 1u ||
+               !near_f(dx * dx + dy * dy, 1.0f, 1e-6f);
+        per_chart[c[0][i] & 1u]++;
+        mean_dx += dx, mean_dy += dy;
+        same_as_other_seed += x == w[1][0][i] && y == w[1][1][i];
+    }
+    CHECK(bad == 0);
+    CHECK(per_chart[0] > N / 10 && per_chart[1] > N / 10);
+    /* a uniform heading's components have mean 0 and variance 1/2: 5 sigma over N walkers */
+    CHECK(fabs(mean_dx / N) < 5.0 * sqrt(0.5 / N) && fabs(mean_dy / N) < 5.0 * sqrt(0.5 / N));
+    CHECK(same_as_other_seed == 0);
+    /* walker 3, re-derived from march.h's formula: its first try that lands on an inner texel */
+    for (uint32_t t = 0; t < PGT_MARCH_START_TRIES; ++t) {
+        const uint64_t k = 3ull * (3ull * PGT_MARCH_START_TRIES + t);
+        const float x = pgt_rng_float(7, 0, k) * (float)v.width,
+                    y = pgt_rng_float(7, 0, k + 1) * (float)v.height;
+        const uint32_t code = v.codes[(uint32_t)y * v.width + (uint32_t)x];
+        if ((code & 3u) != PGT_TEXEL_INNER) continue;
+        CHECK(w[0][0][3] == x && w[0][1][3] == y && c[0][3] + 1u == code >> 2);
+        break;
+    }
+    /* the same seed, the same walkers */
+    float again[4][N];
+    uint32_t c_again[N];
+    REQUIRE(pgt_march_random_starts(&v, 7, N, again[0], again[1], again[2], again[3], c_again) ==
+            0);
+    for (int k = 0; k < 4; ++k) CHECK(!memcmp(again[k], w[0][k], sizeof again[k]));
+    CHECK(!memcmp(c_again, c[0], sizeof c_again));
+    pgt_march_atlas_destroy(&v);
+    syn_destroy(&s);
+}
+
 static const pgt_test_case cases[] = {
     {"view_and_start", test_view_and_start},
+    {"random_starts", test_random_starts},
     {"case1_inner", test_case1_inner},
     {"case2_jump", test_case2_jump},
     {"case3_search", test_case3_search},

@@ -18,7 +18,6 @@
  * Two views lie on pages of their own: calibrate with A against itself first (0.96x measured
  * once). */
 #include <dlfcn.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,16 +26,11 @@
 #include "pgt/atlas_build.h"
 #include "pgt/march.h"
 #include "pgt/mesh_io.h"
-#include "pgt/rng.h"
 
 typedef void (*batch_fn)(const pgt_march_atlas *, const pgt_march_options *, float, uint32_t,
                          uint32_t, float *, float *, float *, float *, uint32_t *, uint32_t,
                          uint32_t *, double *);
 typedef pgt_result (*create_fn)(pgt_march_atlas *, const pgt_image *, const char *, pgt_error *);
-
-/* Start tries per walker before giving up on an atlas (a start lands on an inner texel with
- * the probability of the atlas's inner share: 38 % on pizza's). */
-#define AB_START_TRIES 10000u
 
 static double thread_ms(void) {
     struct timespec ts;
@@ -163,23 +157,10 @@ int main(int argc, char **argv) {
         fputs("pgt_ab_march: out of memory\n", stderr);
         return 2;
     }
-    for (uint32_t i = 0; i < walkers; ++i) { /* seeded random inner texels and headings */
-        uint32_t t = 0;
-        for (; t < AB_START_TRIES; ++t) {
-            const uint64_t k = 3ull * ((uint64_t)i * AB_START_TRIES + t);
-            const float x = pgt_rng_float(5, 0, k) * (float)a->width,
-                        y = pgt_rng_float(5, 0, k + 1) * (float)a->height,
-                        h = 6.28318531f * pgt_rng_float(5, 0, k + 2);
-            pgt_march_state st;
-            if (pgt_march_start(a, x, y, cosf(h), sinf(h), &st, NULL) != PGT_OK) continue;
-            s0[i] = st.x, s0[n + i] = st.y, s0[2 * n + i] = st.dx, s0[3 * n + i] = st.dy;
-            c0[i] = st.chart;
-            break;
-        }
-        if (t == AB_START_TRIES) {
-            fprintf(stderr, "pgt_ab_march: %s: no inner texel found\n", argv[3]);
-            return 2;
-        }
+    /* seeded random inner texels and headings, through A's view */
+    if (pgt_march_random_starts(a, 5, walkers, s0, s0 + n, s0 + 2 * n, s0 + 3 * n, c0)) {
+        fprintf(stderr, "pgt_ab_march: %s: no inner texel found\n", argv[3]);
+        return 2;
     }
     uint64_t total[2] = {0, 0};
     for (int64_t r = -1; r < (int64_t)runs; ++r) { /* run -1: the warm-up */

@@ -703,6 +703,24 @@ pgt_result pgt_march_start(const pgt_march_atlas *a, float x, float y, float dx,
     return PGT_OK;
 }
 
+int pgt_march_random_starts(const pgt_march_atlas *a, uint32_t seed, uint32_t count, float *x,
+                            float *y, float *dx, float *dy, uint32_t *chart) {
+    for (uint32_t i = 0; i < count; ++i) {
+        pgt_march_state s = {0};
+        uint32_t t = 0;
+        for (; t < PGT_MARCH_START_TRIES; ++t) {
+            const uint64_t c = 3ull * ((uint64_t)i * PGT_MARCH_START_TRIES + t);
+            const float px = pgt_rng_float(seed, 0, c) * (float)a->width,
+                        py = pgt_rng_float(seed, 0, c + 1) * (float)a->height,
+                        h = 6.2831853f * pgt_rng_float(seed, 0, c + 2);
+            if (pgt_march_start(a, px, py, cosf(h), sinf(h), &s, NULL) == PGT_OK) break;
+        }
+        if (t == PGT_MARCH_START_TRIES) return -1;
+        x[i] = s.x, y[i] = s.y, dx[i] = s.dx, dy[i] = s.dy, chart[i] = s.chart;
+    }
+    return 0;
+}
+
 static inline pgt_march_event stop(pgt_march_info *info, pgt_march_stop why) {
     if (info) info->stop = why;
     return PGT_MARCH_STOP;

@@ -340,6 +340,20 @@ void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float
                      uint32_t steps, uint32_t count, float *x, float *y, float *dx, float *dy,
                      uint32_t *chart, uint32_t threads, uint32_t *out_taken, double *out_sum);
 
+/* Start tries per walker of pgt_march_random_starts: a try lands on an inner texel with the
+ * probability of the atlas's inner share (38 % on pizza's, 0.6 % on a lone 8 x 8 chart in a
+ * 1024^2 image), so a million tries miss only on atlases with next to no inner texel. */
+#define PGT_MARCH_START_TRIES 1000000u
+
+/* Seeded start states for `count` walkers in flat arrays, as pgt_march_batch takes them:
+ * walker i at a uniformly random point of the image with a uniformly random heading, tried
+ * again (pgt_rng_float(seed, 0, 3 (i PGT_MARCH_START_TRIES + try) + 0, 1, 2): x, y, angle)
+ * until pgt_march_start accepts it, i.e. the point lies on an inner texel. The same walkers
+ * for the same seed, atlas and count on every machine. Returns 0, or -1 when a walker finds
+ * no inner texel in PGT_MARCH_START_TRIES tries (the arrays are then partly written). */
+int pgt_march_random_starts(const pgt_march_atlas *a, uint32_t seed, uint32_t count, float *x,
+                            float *y, float *dx, float *dy, uint32_t *chart);
+
 #ifdef __cplusplus
 }
 #endif
