@@ -1997,6 +1997,10 @@ static void test_read_context(void) {
     scratch_remove();
 }
 
+/* A float heading (cosf, sinf, then divided by its float length) against cos and sin in
+ * double: a few float ulps of 1. */
+#define HEADING_TOL 1e-6
+
 /* pgt_march_random_starts: every walker starts on an inner texel of its chart with a unit
  * heading; the walkers are the ones march.h's formula gives (re-derived here try by try), the
  * same for the same seed and others for another; headings spread round the circle. */
@@ -2027,14 +2031,18 @@ static void test_random_starts(void) {
     /* a uniform heading's components have mean 0 and variance 1/2: 5 sigma over N walkers */
     CHECK(fabs(mean_dx / N) < 5.0 * sqrt(0.5 / N) && fabs(mean_dy / N) < 5.0 * sqrt(0.5 / N));
     CHECK(same_as_other_seed == 0);
-    /* walker 3, re-derived from march.h's formula: its first try that lands on an inner texel */
+    /* walker 3, re-derived from march.h's formula: its first try that lands on an inner texel,
+     * its heading (cos h, sin h) in double (the walker's: float cosf, sinf and normalisation) */
     for (uint32_t t = 0; t < PGT_MARCH_START_TRIES; ++t) {
         const uint64_t k = 3ull * (3ull * PGT_MARCH_START_TRIES + t);
         const float x = pgt_rng_float(7, 0, k) * (float)v.width,
-                    y = pgt_rng_float(7, 0, k + 1) * (float)v.height;
+                    y = pgt_rng_float(7, 0, k + 1) * (float)v.height,
+                    h = 6.2831853f * pgt_rng_float(7, 0, k + 2);
         const uint32_t code = v.codes[(uint32_t)y * v.width + (uint32_t)x];
         if ((code & 3u) != PGT_TEXEL_INNER) continue;
         CHECK(w[0][0][3] == x && w[0][1][3] == y && c[0][3] + 1u == code >> 2);
+        CHECK(fabs(w[0][2][3] - cos((double)h)) < HEADING_TOL &&
+              fabs(w[0][3][3] - sin((double)h)) < HEADING_TOL);
         break;
     }
     /* the same seed, the same walkers */

@@ -12,11 +12,12 @@
  * Both objects must export pgt_march_atlas_create and pgt_march_batch with march.h's
  * signatures; everything else they call (the thread pool, allocation, errors) comes from this
  * program. The atlas is built here and its marching view created once by A: both builds read
- * the same arrays at the same addresses, which needs the same pgt_march_atlas layout. With
- * --two-views each build creates its own view (needed when the layouts differ; march.h's
- * fields may only be added at the end, and this program seeds the walkers through A's view).
- * Two views lie on pages of their own: calibrate with A against itself first (0.96x measured
- * once). */
+ * the same arrays at the same addresses. That needs A's pgt_march_atlas_create to fill every
+ * field B's march.c reads. With --two-views each build creates its own view: needed when B
+ * reads a field A does not fill (march.h's fields may only be added at the end; this program
+ * seeds the walkers through A's view). A's view without ring masks (a march.c before 9033a2c)
+ * is detected and gets a view per build with a note. Two views lie on pages of their own:
+ * calibrate with A against itself first (0.96x measured once). */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -135,8 +136,16 @@ int main(int argc, char **argv) {
     pgt_march_atlas view[2];
     memset(view, 0, sizeof view);
     if (pgt_atlas_build(&img, &m, &ao, NULL, &err) != PGT_OK ||
-        create[0](&view[0], &img, argv[3], &err) != PGT_OK ||
-        (two_views && create[1](&view[1], &img, argv[3], &err) != PGT_OK)) {
+        create[0](&view[0], &img, argv[3], &err) != PGT_OK) {
+        fprintf(stderr, "pgt_ab_march: %s\n", err.message);
+        return 2;
+    }
+    if (!two_views && !view[0].rings) { /* B would read A's missing masks */
+        fprintf(stderr, "pgt_ab_march: A's view has no ring masks (a march.c before 9033a2c): "
+                        "a view per build, as --two-views\n");
+        two_views = 1;
+    }
+    if (two_views && create[1](&view[1], &img, argv[3], &err) != PGT_OK) {
         fprintf(stderr, "pgt_ab_march: %s\n", err.message);
         return 2;
     }

@@ -17,8 +17,9 @@
 void *pgt_alloc_large(size_t bytes);
 
 /* pgt_alloc_large from one huge page (2 MiB) up: for arrays read at random, where a miss of the
- * TLB adds to one of the cache. The marcher's atlas view (pgt_march_atlas_create: 28 MiB of
- * codes, texels and jump records at 1024^2, read wherever a jump lands) is the caller: pgt
+ * TLB adds to one of the cache. The marcher's atlas view (pgt_march_atlas_create: 30 MiB of
+ * codes, texels, jump records and ring masks at 1024^2, read wherever a jump lands; 28 MiB
+ * without the masks when this was measured) is the caller: pgt
  * bench march on pizza (a jump every 4.4 steps; one thread, 8192 walkers x 500 steps, ten
  * alternating runs on the AMD VM) went from medians of 7.78 to 9.01 M steps/s without positions
  * and 5.90 to 6.90 with them. */

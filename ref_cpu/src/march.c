@@ -592,6 +592,7 @@ static uint32_t best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, 
 uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, float y,
                                 uint32_t p0, uint32_t *out_near) {
     const uint32_t w = a->width;
+    assert(p0 < w * a->height && a->codes[p0] == PGT_MARCH_CODE(PGT_TEXEL_INDIRECTION, chart));
     return best_pointer(a, chart, x, y, texel_at(a, x, y), p0, p0 % w, p0 / w, out_near);
 }
 
@@ -955,7 +956,7 @@ static uint32_t prefetch_crossing(const pgt_march_atlas *a, const pgt_march_stat
     if ((c >> 2) != s->chart + 1u) p0 = search_xy(a, s->chart, s->x, s->y, tx, ty, &t, &x, &y);
     if (p0 == MARCH_NONE || (a->codes[p0] & 3u) != PGT_TEXEL_INDIRECTION) return MARCH_NONE;
     prefetch_jump(a, p0, (uint32_t)s->y * a->width + (uint32_t)s->x);
-    prefetch_landing(a, p0); /* the codes nearest_inner and pointer_candidates read */
+    prefetch_landing(a, p0); /* the codes around P0 (pointer_candidates reads P0's) */
     return p0;
 }
 

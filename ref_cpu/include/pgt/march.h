@@ -319,8 +319,9 @@ uint32_t pgt_march_search(const pgt_march_atlas *a, uint32_t chart, float x0, fl
                           float y1, float *out_t);
 
 /* Best indirection texel (5.1, exposed for tests): given the current position (x, y) in an inner
- * texel of `chart` and P0 (texel index of an indirection texel of `chart`), returns the texel
- * index of the chosen indirection texel (P0 when P_near is the current texel or nothing beats
+ * texel of `chart` and P0 (texel index of an indirection texel of `chart`, asserted; P_near
+ * and the candidates come from P0's ring mask, so another P0 gives another chart's), returns the
+ * texel index of the chosen indirection texel (P0 when P_near is the current texel or nothing beats
  * it); *out_near gets P_near's texel index (UINT32_MAX when P0 has no inner neighbour). */
 uint32_t pgt_march_best_pointer(const pgt_march_atlas *a, uint32_t chart, float x, float y,
                                 uint32_t p0, uint32_t *out_near);
@@ -346,11 +347,14 @@ void pgt_march_batch(const pgt_march_atlas *a, const pgt_march_options *o, float
 #define PGT_MARCH_START_TRIES 1000000u
 
 /* Seeded start states for `count` walkers in flat arrays, as pgt_march_batch takes them:
- * walker i at a uniformly random point of the image with a uniformly random heading, tried
- * again (pgt_rng_float(seed, 0, 3 (i PGT_MARCH_START_TRIES + try) + 0, 1, 2): x, y, angle)
- * until pgt_march_start accepts it, i.e. the point lies on an inner texel. The same walkers
- * for the same seed, atlas and count on every machine. Returns 0, or -1 when a walker finds
- * no inner texel in PGT_MARCH_START_TRIES tries (the arrays are then partly written). */
+ * walker i at a uniformly random point of the image with a uniformly random heading. Its try
+ * k (0, 1, ...) draws u_j = pgt_rng_float(seed, 0, 3 (i PGT_MARCH_START_TRIES + k) + j) for
+ * j = 0, 1, 2 and calls pgt_march_start(x = u_0 width, y = u_1 height, (cosf(h), sinf(h)))
+ * with h = 6.2831853f u_2 (float32 products); the first try it accepts (the point lies on an
+ * inner texel) is the walker. Positions and charts are the same for the same seed, atlas and
+ * count on every machine; headings as far as the C library's cosf and sinf agree. Returns 0,
+ * or -1 when a walker finds no inner texel in PGT_MARCH_START_TRIES tries (the arrays are
+ * then partly written). */
 int pgt_march_random_starts(const pgt_march_atlas *a, uint32_t seed, uint32_t count, float *x,
                             float *y, float *dx, float *dy, uint32_t *chart);
 
