@@ -888,7 +888,7 @@ pgt_march_event pgt_march_step(const pgt_march_atlas *a, const pgt_march_options
  * prefetchers do not follow oblique walkers). Measured on cube_sphere_8 with positions (CPU
  * time, one thread, a shared 2-core VM: noisy): 8.3 M steps/s without, 15 with 4 steps ahead,
  * 16 with 8 or 16; human_neutral 14, 17, 19, 16. */
-#define MARCH_PREFETCH_STEPS 8.0f
+#define MARCH_PREFETCH_STEPS 8u
 
 /* Requests what the step MARCH_PREFETCH_STEPS ahead reads: the code of the texel containing
  * (x, y) (the case test) and, when the batch fetches positions, the four texel records of the
@@ -989,7 +989,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
     const uint32_t steps = b->steps, w = a->width;
     const uint32_t *codes = a->codes;
     const pgt_march_texel *texels = a->texels;
-    const float length = b->length, ahead = length * MARCH_PREFETCH_STEPS;
+    const float length = b->length, ahead = length * (float)MARCH_PREFETCH_STEPS;
     const float fw = (float)a->width, fh = (float)a->height, xmax = fw - 0.5f, ymax = fh - 0.5f;
     const int with_position = b->sum != NULL, external = o && (o->mask || o->condition);
     const uint32_t group = o && o->condition ? 1u : MARCH_GROUP;
@@ -1050,6 +1050,16 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                 } else {
                     ev = step_crossing(a, o, q, length, q->dx, q->dy, NULL);
                     turn[g] = WALK_STEP;
+                    /* With positions, the texels of the steps up to the case-1 loop's first
+                     * request lie past the jump, where nothing requested them: requested here,
+                     * they load while the group's other walkers take their turns. Measured as
+                     * above with positions: pizza 1.11-1.13x, human_neutral 1.07x, spot 1.04x;
+                     * without positions (the codes alone) 0.97-1.00x, so not then. */
+                    for (uint32_t k = 1;
+                         with_position && ev != PGT_MARCH_STOP && k < MARCH_PREFETCH_STEPS; ++k)
+                        march_prefetch(codes, texels, w, xmax, ymax,
+                                       q->x + q->dx * length * (float)k,
+                                       q->y + q->dy * length * (float)k, with_position);
                 }
                 if (ev == PGT_MARCH_STOP) continue; /* a walker stops at its first STOP */
                 taken[g]++;
