@@ -181,12 +181,10 @@ static int read_points(const char *verb, const char *flag, const char *path, int
     size_t len;
     while ((got = pgt_text_line_read(f, buf, IVY_MAX_LINE + 1, &len)) != PGT_TEXT_LINE_END) {
         ++line;
-        if (got == PGT_TEXT_LINE_LONG) {
-            pgt_cli_fail(verb, "%s:%u: line longer than %d characters", path, line, IVY_MAX_LINE);
-            goto done;
-        }
-        if (got == PGT_TEXT_LINE_NUL) {
-            pgt_cli_fail(verb, "%s:%u:%zu: a NUL byte (expected text)", path, line, len + 1u);
+        if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
+            char msg[PGT_TEXT_LINE_MESSAGE];
+            pgt_text_line_message(got, path, line, len, IVY_MAX_LINE, msg, sizeof msg);
+            pgt_cli_fail(verb, "%s", msg);
             goto done;
         }
         char *p = buf;

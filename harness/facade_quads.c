@@ -59,14 +59,11 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
     while (r == PGT_OK &&
            (got = pgt_text_line_read(f, line, sizeof line, &len)) != PGT_TEXT_LINE_END) {
         ++lineno;
-        if (got == PGT_TEXT_LINE_LONG) {
-            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: line longer than %zu bytes", path,
-                              lineno, sizeof line - 1u);
-            break;
-        }
-        if (got == PGT_TEXT_LINE_NUL) {
-            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u:%zu: a NUL byte (expected text)", path,
-                              lineno, len + 1u);
+        if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
+            char msg[PGT_TEXT_LINE_MESSAGE];
+            pgt_text_line_message(got, path, lineno, len, sizeof line - 1u, msg, sizeof msg);
+            r = pgt_error_set(err, got == PGT_TEXT_LINE_LONG ? PGT_ERROR_LIMIT : PGT_ERROR_PARSE,
+                              "%s", msg);
             break;
         }
         char *save = NULL, *tok = strtok_r(line, " \t\r\n", &save);

@@ -387,14 +387,12 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
     while ((got = pgt_text_line_read(fp, buf, PGT_FACADE_FILE_MAX_LINE + 1u, &len)) !=
            PGT_TEXT_LINE_END) {
         ++rd.line;
-        if (got == PGT_TEXT_LINE_LONG) {
-            r = pgt_error_set(err, PGT_ERROR_LIMIT, "%s:%u: line longer than %u characters", path,
-                              rd.line, PGT_FACADE_FILE_MAX_LINE);
-            goto done;
-        }
-        if (got == PGT_TEXT_LINE_NUL) {
-            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u:%zu: a NUL byte (expected text)", path,
-                              rd.line, len + 1u);
+        if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
+            char msg[PGT_TEXT_LINE_MESSAGE];
+            pgt_text_line_message(got, path, rd.line, len, PGT_FACADE_FILE_MAX_LINE, msg,
+                                  sizeof msg);
+            r = pgt_error_set(err, got == PGT_TEXT_LINE_LONG ? PGT_ERROR_LIMIT : PGT_ERROR_PARSE,
+                              "%s", msg);
             goto done;
         }
         char *rest = buf;

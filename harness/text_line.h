@@ -46,4 +46,19 @@ static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, 
     return c == EOF && ferror(f) ? PGT_TEXT_LINE_END : PGT_TEXT_LINE_OK;
 }
 
+/* Room for pgt_text_line_message: a path of a few hundred bytes and the rest (a longer path
+ * is cut short, as pgt_error's own message would cut it). */
+#define PGT_TEXT_LINE_MESSAGE 1024
+
+/* The message for a line pgt_text_line_read could not read as text (got: LONG or NUL), naming
+ * the file, the line (1-based) and, for a NUL, its column: "PATH:LINE: line longer than MAX
+ * characters" or "PATH:LINE:COL: a NUL byte (expected text)". */
+static inline void pgt_text_line_message(pgt_text_line got, const char *path, unsigned line,
+                                         size_t len, size_t max, char *msg, size_t size) {
+    if (got == PGT_TEXT_LINE_NUL)
+        snprintf(msg, size, "%s:%u:%zu: a NUL byte (expected text)", path, line, len + 1u);
+    else
+        snprintf(msg, size, "%s:%u: line longer than %zu characters", path, line, max);
+}
+
 #endif
