@@ -780,7 +780,7 @@ one_line protect_is_output_one_line "\-o prot_keep.off is the \-\-protect file; 
 cmp -s prot.txt prot_keep.off && ok protect_file_kept || bad protect_file_kept "overwritten"
 printf '1\0005\n' >prot_nul.txt # strtoull read '1' and dropped the '5'
 expect protect_nul 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_nul.txt
-one_line protect_nul_names_line "prot_nul.txt:1: a NUL byte"
+one_line protect_nul_names_line "prot_nul.txt:1:2: a NUL byte (expected text)"
 printf '0 x1\n' >prot_tok.txt
 expect protect_bad_token 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_tok.txt
 one_line protect_bad_token_names_line "prot_tok.txt:1"

@@ -12,15 +12,17 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
     memset(flags, 0, face_count);
     FILE *f = fopen(path, "rb");
     if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    uint32_t line = 1, count = 0;
+    uint32_t line = 1, col = 0, count = 0; /* col: of the byte just read, 1-based */
     char tok[32];
     size_t n = 0;
     int in_comment = 0, c;
     pgt_result r = PGT_OK;
     do {
         c = fgetc(f);
+        col++;
         if (c == 0) { /* C strings would end the token there and drop what follows */
-            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u: a NUL byte", path, line);
+            r = pgt_error_set(err, PGT_ERROR_PARSE, "%s:%u:%u: a NUL byte (expected text)", path,
+                              line, col);
             break;
         }
         int sep = c == EOF || c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == ',';
@@ -50,7 +52,7 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
                 n = 0;
             }
             if (c == '\n') {
-                line++;
+                line++, col = 0;
                 in_comment = 0;
             }
             continue;
