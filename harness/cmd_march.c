@@ -335,10 +335,11 @@ static const char *bench_march_usage =
     "\n"
     "Marching steps per second per core (the issue's target: >= 20 million) on the atlases of\n"
     "the given meshes, built in memory with pgt atlas's defaults. W walkers start at seeded\n"
-    "random inner texels and headings and march N steps of S texels each (every step resolves\n"
-    "the destination, jumps when needed, and fetches the 3D position); the walkers are split\n"
-    "over the threads (each marches its own). One CSV row per mesh x thread count, headed by\n"
-    "machine, commit and date.\n"
+    "random inner texels and headings (pgt_march_random_starts, seed 1; march.h gives the\n"
+    "formula) and march N steps of S texels each (every step resolves the destination and\n"
+    "jumps when needed; in the position rows it also fetches the 3D position); the walkers are\n"
+    "split over the threads (each marches its own). One CSV row per mesh x thread count x\n"
+    "position setting, headed by machine, commit and date.\n"
     "\n"
     "  --out FILE      CSV to write (default results/march.csv; temporary file + rename)\n"
     "  --meshes LIST   comma-separated: a generated default dataset (pgt_datasets --list) or a\n"
@@ -477,7 +478,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             repeat);
     fprintf(csv,
             "# atlas: pgt_atlas_build defaults at %u x %u; walkers start at seeded random "
-            "inner texels and headings\n",
+            "inner texels and headings (pgt_march_random_starts, seed 1)\n",
             res, res);
     fprintf(csv, "# msteps_per_s_per_core: wall-clock steps/s over the thread count; "
                  "msteps_per_cpu_s: steps per second of process CPU time (all threads), the "
