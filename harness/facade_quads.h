@@ -5,7 +5,8 @@
  * Read: `v X Y Z`, `vt U V`, `vn X Y Z` and `f A/T/N B/T/N C/T/N D/T/N` (1-based, or negative:
  * relative to the end); every face has exactly 4 corners, each with a UV and a normal; other
  * statements (o, g, s, usemtl, mtllib, comments) are skipped. Each distinct (v, vt, vn) triple
- * becomes one vertex of pgt_facade_quads. Errors name FILE:LINE (PGT_ERROR_PARSE). */
+ * becomes one vertex of pgt_facade_quads. Errors name FILE:LINE (PGT_ERROR_PARSE; a limit,
+ * such as a line longer than 4095 characters, PGT_ERROR_LIMIT). */
 #ifndef PGT_FACADE_QUADS_H
 #define PGT_FACADE_QUADS_H
 

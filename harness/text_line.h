@@ -46,9 +46,9 @@ static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, 
     return c == EOF && ferror(f) ? PGT_TEXT_LINE_END : PGT_TEXT_LINE_OK;
 }
 
-/* Room for pgt_text_line_message: a path of a few hundred bytes and the rest (a longer path
- * is cut short, as pgt_error's own message would cut it). */
-#define PGT_TEXT_LINE_MESSAGE 1024
+/* Room for pgt_text_line_message: a path as long as Linux allows (PATH_MAX, 4096) and the
+ * rest. A reader that hands the message on through a pgt_error cuts it to that error's size. */
+#define PGT_TEXT_LINE_MESSAGE (4096 + 128)
 
 /* The message for a line pgt_text_line_read could not read as text (got: LONG or NUL), naming
  * the file, the line (1-based) and, for a NUL, its column: "PATH:LINE: line longer than MAX

@@ -585,6 +585,18 @@ static void test_obj_round_trip(void) {
         CHECK_MSG(strstr(e.message, bad[k].where) != NULL, "message '%s'", e.message);
         CHECK(back.vertex_count == 0 && back.positions == NULL);
     }
+    { /* a line longer than the reader's 4095 characters: a limit, named with its line */
+        static char longer[5000 + 16];
+        memset(longer, 'x', sizeof longer);
+        memcpy(longer, "v 0 0 0\n# ", 10);
+        memcpy(longer + sizeof longer - 2, "\n", 2); /* ends the line and the string */
+        REQUIRE(write_text(bpath, longer));
+        pgt_error e = {0};
+        CHECK(pgt_facade_quads_read_obj(&back, bpath, &e) == PGT_ERROR_LIMIT);
+        CHECK_MSG(strstr(e.message, ":2: line longer than 4095 characters") != NULL, "message '%s'",
+                  e.message);
+        CHECK(back.vertex_count == 0 && back.positions == NULL);
+    }
     remove(bpath);
 }
 

@@ -1032,13 +1032,14 @@ static uint32_t prefetch_crossing(const pgt_march_atlas *a, const pgt_march_stat
  * are the same calls on the same state in the same order as pgt_march_step's, one walker after
  * another, so the results are the same bytes (test_march checks it on every shared UV atlas). A
  * condition (pgt_march_options) sees its calls in that order too: with one, a group is one walker
- * (a condition may count its calls, as pgt_march_density_condition does). Measured against the loop
- * it replaces (each walker's steps through pgt_march_step) as two builds of this file loaded into
- * one process, alternating on the same atlas and walkers (8192 x 500 steps of 2 texels, one thread,
- * medians of the ratios of 20-30 pairs; the AMD VM): pizza 1.07-1.09x without positions
- * and 1.06-1.08x with them, spot 1.48x, human_neutral 1.45x. Of pizza's gain the case-1 loop alone
- * gives 1.04-1.05x; the turns add 1.00-1.07x when the machine is quiet and 1.09-1.15x when it is
- * busy (its misses then take longer). */
+ * (a condition may count its calls, as pgt_march_density_condition does). With a mask or a
+ * condition every step is pgt_march_step's own, through step_crossing: no case-1 loop, no turns.
+ * Measured against the loop it replaces (each walker's steps through pgt_march_step) as two builds
+ * of this file loaded into one process, alternating on the same atlas and walkers (8192 x 500 steps
+ * of 2 texels, one thread, medians of the ratios of 20-30 pairs; the AMD VM): pizza 1.07-1.09x
+ * without positions and 1.06-1.08x with them, spot 1.48x, human_neutral 1.45x. Of pizza's gain the
+ * case-1 loop alone gives 1.04-1.05x; the turns add 1.00-1.07x when the machine is quiet
+ * and 1.09-1.15x when it is busy (its misses then take longer). */
 static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker) {
     (void)worker;
     const batch_ctx *b = vctx;
