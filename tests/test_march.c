@@ -2010,7 +2010,7 @@ static void test_random_starts(void) {
     pgt_march_atlas v;
     REQUIRE(view(&v, &s));
     enum { N = 500 };
-    static float w[2][5][N];
+    static float w[2][4][N];
     static uint32_t c[2][N];
     for (int k = 0; k < 2; ++k)
         REQUIRE(pgt_march_random_starts(&v, 7u + (uint32_t)k, N, w[k][0], w[k][1], w[k][2], w[k][3],

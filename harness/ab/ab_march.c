@@ -91,8 +91,12 @@ int main(int argc, char **argv) {
     int position = 0, two_views = 0;
     for (int i = 4; i < argc; ++i) {
         const char *f = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(f, "--position") || !strcmp(f, "--two-views")) {
-            *(!strcmp(f, "--position") ? &position : &two_views) = 1;
+        if (!strcmp(f, "--position")) {
+            position = 1;
+            continue;
+        }
+        if (!strcmp(f, "--two-views")) {
+            two_views = 1;
             continue;
         }
         int ok;

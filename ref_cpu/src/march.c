@@ -92,6 +92,11 @@ static int is_whole(float v) { return isfinite(v) && v == floorf(v); }
 static const int ring_dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
 static const int ring_dy[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 
+/* Texel index of neighbour k (a ring mask's bit) of texel (x, y) in a w-wide image. */
+static inline uint32_t ring_neighbour(uint32_t w, uint32_t x, uint32_t y, uint32_t k) {
+    return (y + (uint32_t)ring_dy[k]) * w + x + (uint32_t)ring_dx[k];
+}
+
 /* The ring mask of texel (x, y) (pgt_march_atlas.rings). */
 static uint16_t ring_mask(const uint32_t *codes, uint32_t w, uint32_t h, uint32_t x, uint32_t y) {
     const uint32_t c = codes[(size_t)y * w + x];
@@ -539,8 +544,7 @@ prefetch_targets(const pgt_march_atlas *a, uint32_t p0) {
     const uint32_t w = a->width, px = p0 % w, py = p0 / w;
     for (uint32_t m = (uint32_t)a->rings[p0] >> 8; m; m &= m - 1u) {
         const uint32_t k = lowest_bit(m);
-        __builtin_prefetch(
-            a->texels + pointer_of(a, (py + (uint32_t)ring_dy[k]) * w + px + (uint32_t)ring_dx[k]));
+        __builtin_prefetch(a->texels + pointer_of(a, ring_neighbour(w, px, py, k)));
     }
 #else
     (void)a, (void)p0;
@@ -560,10 +564,7 @@ static uint32_t pointer_candidates(const pgt_march_atlas *a, uint32_t chart, uin
     const uint32_t ox = p0 % w + 1u - nx0, oy = p0 / w + 1u - ny0, b = oy * 3u + ox;
     uint32_t m = (uint32_t)a->rings[near] >> 8;
     if (ox <= 2u && oy <= 2u && b != 4u) m &= ~(1u << (b > 4u ? b - 1u : b));
-    for (; m; m &= m - 1u) {
-        const uint32_t k = lowest_bit(m);
-        cand[n++] = (ny0 + (uint32_t)ring_dy[k]) * w + nx0 + (uint32_t)ring_dx[k];
-    }
+    for (; m; m &= m - 1u) cand[n++] = ring_neighbour(w, nx0, ny0, lowest_bit(m));
     return n;
 }
 
@@ -1048,8 +1049,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
     const uint32_t steps = b->steps, w = a->width;
     const uint32_t *codes = a->codes;
     const pgt_march_texel *texels = a->texels;
-    const float length = b->length;
-    const float fw = (float)a->width, fh = (float)a->height, xmax = fw - 0.5f, ymax = fh - 0.5f;
+    const float length = b->length, xmax = (float)a->width - 0.5f, ymax = (float)a->height - 0.5f;
     const int with_position = b->sum != NULL, external = o && (o->mask || o->condition);
     const uint32_t group = o && o->condition ? 1u : MARCH_GROUP;
     pgt_march_state s[MARCH_GROUP];
@@ -1075,12 +1075,12 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                 if (turn[g] == WALK_STEP) { /* case-1 steps until one leaves its chart */
                     const uint32_t inner = PGT_MARCH_CODE(PGT_TEXEL_INNER, q->chart);
                     case1_walk wk = {q->x, q->y, 0.0f, 0.0f, taken[g], MARCH_NONE, inner, sum[g]};
-                    if (external) /* every step is pgt_march_step's, through step_crossing */
-                        ;
-                    else if (with_position)
-                        case1_steps_position(a, length, steps, q->dx, q->dy, inner, &wk);
-                    else
-                        case1_steps_plain(a, length, steps, q->dx, q->dy, inner, &wk);
+                    if (!external) { /* else every step is pgt_march_step's, in step_crossing */
+                        if (with_position)
+                            case1_steps_position(a, length, steps, q->dx, q->dy, inner, &wk);
+                        else
+                            case1_steps_plain(a, length, steps, q->dx, q->dy, inner, &wk);
+                    }
                     q->x = wk.x, q->y = wk.y, taken[g] = wk.k, sum[g] = wk.acc;
                     if (wk.k == steps) continue; /* done */
                     if (wk.c == inner) {         /* with external contexts: pgt_march_step's path */
@@ -1107,11 +1107,11 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                      * they load while the group's other walkers take their turns. Measured as
                      * above with positions: pizza 1.11-1.13x, human_neutral 1.07x, spot 1.04x;
                      * without positions (the codes alone) 0.97-1.00x, so not then. */
-                    for (uint32_t k = 1;
-                         with_position && ev != PGT_MARCH_STOP && k < MARCH_PREFETCH_STEPS; ++k)
-                        march_prefetch(codes, texels, w, xmax, ymax,
-                                       q->x + q->dx * length * (float)k,
-                                       q->y + q->dy * length * (float)k, with_position);
+                    if (with_position && ev != PGT_MARCH_STOP)
+                        for (uint32_t k = 1; k < MARCH_PREFETCH_STEPS; ++k)
+                            march_prefetch(codes, texels, w, xmax, ymax,
+                                           q->x + q->dx * length * (float)k,
+                                           q->y + q->dy * length * (float)k, 1);
                 }
                 if (ev == PGT_MARCH_STOP) continue; /* a walker stops at its first STOP */
                 taken[g]++;
