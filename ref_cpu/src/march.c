@@ -262,23 +262,25 @@ static inline uint32_t pointer_of(const pgt_march_atlas *a, uint32_t t) {
 
 /* pgt_march_position near the chart's rim: texels that are not inner texels of the walker's
  * chart (or lie outside the image) drop out and the rest are renormalised. The containing
- * texel is one of the four with a weight >= 1/4. Kept out of line so that the common case
- * stays a short leaf function. */
+ * texel (tx, ty) is one of the four, with a weight >= 1/4; which of the others count is its
+ * ring mask's (bits 0-7), widened to the 3 x 3 block in scan order with the centre set. Kept
+ * out of line so that the common case stays a short leaf function. */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
 static void
 position_rim(const pgt_march_atlas *a, float x, float y, int i0, int j0, float fx, float fy,
              float out_p[3]) {
-    const uint32_t w = a->width, h = a->height, c = a->texels[texel_at(a, x, y)].code;
+    const int w = (int)a->width, tx = (int)x, ty = (int)y;
+    const uint32_t m = a->rings[(size_t)ty * (size_t)w + (size_t)tx],
+                   block = (m & 0x0Fu) | (m & 0xF0u) << 1 | 0x10u;
     const float wx[2] = {1.0f - fx, fx}, wy[2] = {1.0f - fy, fy};
     float sum = 0.0f, p[3] = {0.0f, 0.0f, 0.0f};
     for (int j = 0; j < 2; ++j)
         for (int i = 0; i < 2; ++i) {
-            const int xi = i0 + i, yj = j0 + j;
-            if (xi < 0 || yj < 0 || xi >= (int)w || yj >= (int)h) continue;
-            const pgt_march_texel *q = &a->texels[(uint32_t)yj * w + (uint32_t)xi];
-            if (q->code != c) continue;
+            const int xi = i0 + i, yj = j0 + j; /* within one texel of (tx, ty) */
+            if (!(block >> ((yj - ty + 1) * 3 + xi - tx + 1) & 1u)) continue;
+            const pgt_march_texel *q = &a->texels[(size_t)yj * (size_t)w + (size_t)xi];
             const float wq = wx[i] * wy[j];
             p[0] += wq * q->x, p[1] += wq * q->y, p[2] += wq * q->z;
             sum += wq;
@@ -460,6 +462,23 @@ static inline void score_pointer(const pgt_march_atlas *a, uint32_t t, const flo
     if (score > *best_score) *best = t, *best_score = score;
 }
 
+/* Requests the cache line of element i of the array at base (elements of `size` bytes). The
+ * address is computed as an integer, not as a pointer into the array: a prefetch never faults,
+ * so an i outside the array (a row above the first or below the last, wrapped around as an
+ * unsigned index) costs a wasted request instead of a bounds test on every request. Pointer
+ * arithmetic past the array would be undefined behaviour; this is not. */
+#if defined(__GNUC__)
+__attribute__((always_inline)) /* see march_prefetch */
+#endif
+static inline void
+prefetch_element(const void *base, uint32_t i, size_t size) {
+#if defined(__GNUC__)
+    __builtin_prefetch((const void *)((uintptr_t)base + (uintptr_t)i * size));
+#else
+    (void)base, (void)i, (void)size;
+#endif
+}
+
 /* Requests the texel records a jump to inner texel t reads in the destination chart: its own
  * (5.1's score, the remaining length), the rows above and below (P's Jacobian there, for 5.2
  * and the remaining length) and its ring mask (which of those rows the Jacobian takes). A jump
@@ -476,35 +495,40 @@ static inline void
 prefetch_destination(const pgt_march_atlas *a, uint32_t t) {
 #if defined(__GNUC__)
     const uint32_t w = a->width;
-    __builtin_prefetch(a->rings + t);
-    __builtin_prefetch(a->texels + t);
-    if (t >= w) __builtin_prefetch(a->texels + (t - w));
-    if (t + w < w * a->height) __builtin_prefetch(a->texels + (t + w));
+    prefetch_element(a->rings, t, sizeof *a->rings);
+    prefetch_element(a->texels, t, sizeof *a->texels);
+    prefetch_element(a->texels, t - w, sizeof *a->texels);
+    prefetch_element(a->texels, t + w, sizeof *a->texels);
 #else
     (void)a, (void)t;
 #endif
 }
 
 /* Requests what a jump through P0 reads first, before 5.1 computes anything: P0's ring mask,
- * the jump records of P0's row and the rows above and below (5.1's candidates lie around
- * P_near, a neighbour of P0) and the texel records and ring mask of the walker's texel src and
- * its rows (P_cur, the source Jacobian). With prefetch_landing, measured on pizza (a jump every 4.4
- * steps; pgt bench march, one thread, 8192 walkers x 500 steps, 12 alternating runs each on the AMD
- * VM, the same results): medians 10.25 -> 12.80 M steps/s without positions, 7.84 -> 9.09 with.
- * Requesting them one step earlier from the batch (when the next step's destination leaves
- * the chart) gave nothing more (13.3 against 13.9), nor did scoring 5.1's candidates after the
- * source Jacobian so that their targets load meanwhile (10.8 against 11.4). */
+ * the jump records of P0's 3 x 3 block (5.1's candidates lie around P_near, a neighbour of P0;
+ * the left and right ends of each of its rows, as a row of three records can straddle two
+ * cache lines) and the texel records and ring mask of the walker's texel src and its rows
+ * (P_cur, the source Jacobian). The block's ends instead of P0's column alone: pizza 1.02x
+ * (A/B as in batch_range, session 20; the ends of the 5 x 5 block around P0: 0.98x). With
+ * prefetch_landing, measured on pizza (a jump every 4.4 steps; pgt bench march, one thread, 8192
+ * walkers x 500 steps, 12 alternating runs each on the AMD VM, the same results): medians 10.25
+ * -> 12.80 M steps/s without positions, 7.84 -> 9.09 with. Requesting them one step earlier from
+ * the batch (when the next step's destination leaves the chart) gave nothing more (13.3
+ * against 13.9), nor did scoring 5.1's candidates after the source Jacobian so that their targets
+ * load meanwhile (10.8 against 11.4). */
 #if defined(__GNUC__)
 __attribute__((always_inline)) /* see march_prefetch */
 #endif
 static inline void
 prefetch_jump(const pgt_march_atlas *a, uint32_t p0, uint32_t src) {
 #if defined(__GNUC__)
-    const uint32_t w = a->width, n = w * a->height;
-    __builtin_prefetch(a->jumps + p0);
-    __builtin_prefetch(a->rings + p0);
-    if (p0 >= w) __builtin_prefetch(a->jumps + (p0 - w));
-    if (p0 + w < n) __builtin_prefetch(a->jumps + (p0 + w));
+    const uint32_t w = a->width;
+    prefetch_element(a->rings, p0, sizeof *a->rings);
+    for (int k = -1; k <= 1; ++k) {
+        const uint32_t t = p0 + (uint32_t)k * w;
+        prefetch_element(a->jumps, t - 1u, sizeof *a->jumps);
+        prefetch_element(a->jumps, t + 1u, sizeof *a->jumps);
+    }
     prefetch_destination(a, src); /* the same three texel rows as a jump's destination */
 #else
     (void)a, (void)p0, (void)src;
@@ -519,11 +543,9 @@ __attribute__((always_inline)) /* see march_prefetch */
 static inline void
 prefetch_landing(const pgt_march_atlas *a, uint32_t ref) {
 #if defined(__GNUC__)
-    const uint32_t w = a->width, n = w * a->height;
-    for (int k = -2; k <= 2; ++k) {
-        const uint32_t t = ref + (uint32_t)k * w;
-        if (t < n) __builtin_prefetch(a->codes + t);
-    }
+    const uint32_t w = a->width;
+    for (int k = -2; k <= 2; ++k)
+        prefetch_element(a->codes, ref + (uint32_t)k * w, sizeof *a->codes);
 #else
     (void)a, (void)ref;
 #endif
