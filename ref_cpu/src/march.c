@@ -321,13 +321,18 @@ void pgt_march_position(const pgt_march_atlas *a, float x, float y, float out_p[
  * texel thin there). Which neighbours qualify comes from t's ring mask. */
 static int texel_jacobian(const pgt_march_atlas *a, uint32_t t, float ex[3], float ey[3]) {
     const uint32_t w = a->width, m = a->rings[t];
-    const int left = (m >> 3) & 1u, right = (m >> 4) & 1u, up = (m >> 1) & 1u, down = (m >> 6) & 1u;
-    if (!left && !right) return 0;
-    if (!up && !down) return 0;
+    const uint32_t left = (m >> 3) & 1u, right = (m >> 4) & 1u, up = (m >> 1) & 1u,
+                   down = (m >> 6) & 1u;
+    if (!(left | right) || !(up | down)) return 0;
+    /* Which neighbours qualify follows no pattern a branch predictor learns: the offsets and
+     * scales are arithmetic on the mask bits, not branches. Against the selects GCC compiled
+     * to branches (valgrind's branch simulation: 0.8 mispredicted branches a jump on pizza
+     * fewer), A/B as in batch_range: pizza 1.04-1.06x, 1.02x with positions. */
+    static const float scale[2] = {1.0f, 0.5f};
     const pgt_march_texel *q = a->texels + t;
-    const pgt_march_texel *x0 = left ? q - 1 : q, *x1 = right ? q + 1 : q, *y0 = up ? q - w : q,
-                          *y1 = down ? q + w : q;
-    const float ix = left && right ? 0.5f : 1.0f, iy = up && down ? 0.5f : 1.0f;
+    const pgt_march_texel *x0 = q - left, *x1 = q + right, *y0 = q - (size_t)(up * w),
+                          *y1 = q + (size_t)(down * w);
+    const float ix = scale[left & right], iy = scale[up & down];
     ex[0] = (x1->x - x0->x) * ix, ex[1] = (x1->y - x0->y) * ix, ex[2] = (x1->z - x0->z) * ix;
     ey[0] = (y1->x - y0->x) * iy, ey[1] = (y1->y - y0->y) * iy, ey[2] = (y1->z - y0->z) * iy;
     return 1;
