@@ -756,7 +756,10 @@ static inline pgt_march_event stop(pgt_march_info *info, pgt_march_stop why) {
 }
 
 /* The step from its first destination test on, with the turned direction (dx, dy): the loop
- * over chart crossings and the external contexts. Kept out of line so that case 1 without
+ * over chart crossings and the external contexts. `found`: the first crossing's P0 when the
+ * caller has searched for it already (the batch's first turn, prefetch_crossing: the same
+ * search on the same floats), taken in cases 3 and 4 instead of searching again; MARCH_NONE
+ * otherwise. Kept out of line so that case 1 without
  * external contexts, nearly every step, stays a short path that keeps its state in registers
  * when inlined into a batch (pgt_march_step tests that case first and comes here otherwise; the
  * test is repeated here, with the same result). */
@@ -765,7 +768,7 @@ __attribute__((noinline))
 #endif
 static pgt_march_event
 step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_state *s,
-              float length, float dx, float dy, pgt_march_info *info) {
+              float length, float dx, float dy, uint32_t found, pgt_march_info *info) {
     float cx = s->x, cy = s->y, rem = length, idx = s->in_dx, idy = s->in_dy;
     uint32_t chart = s->chart, jumps = 0, from = s->from, nb = s->bounces;
     pgt_march_event event = PGT_MARCH_INNER;
@@ -783,7 +786,10 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
             if (event == PGT_MARCH_INNER) event = PGT_MARCH_JUMP;
         } else { /* cases 3 and 4 */
             float t;
-            p0 = search_xy(a, chart, cx, cy, tx, ty, &t, &p0x, &p0y);
+            if (found != MARCH_NONE && jumps == 0) /* the batch's first turn searched already */
+                p0 = found, p0x = found % a->width, p0y = found / a->width;
+            else
+                p0 = search_xy(a, chart, cx, cy, tx, ty, &t, &p0x, &p0y);
             if (p0 == MARCH_NONE) return stop(info, PGT_MARCH_STOP_NO_INDIRECTION);
             if ((a->codes[p0] & 3u) == PGT_TEXEL_DEAD_END)
                 return stop(info, PGT_MARCH_STOP_DEAD_END);
@@ -905,7 +911,7 @@ pgt_march_event pgt_march_step(const pgt_march_atlas *a, const pgt_march_options
         s->x = tx, s->y = ty, s->dx = dx, s->dy = dy;
         return PGT_MARCH_INNER;
     }
-    return step_crossing(a, o, s, length, dx, dy, info);
+    return step_crossing(a, o, s, length, dx, dy, MARCH_NONE, info);
 }
 
 /* ---- batches ------------------------------------------------------------------------------- */
@@ -1111,7 +1117,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                     q->x = wk.x, q->y = wk.y, taken[g] = wk.k, sum[g] = wk.acc;
                     if (wk.k == steps) continue; /* done */
                     if (wk.c == inner) {         /* with external contexts: pgt_march_step's path */
-                        ev = step_crossing(a, o, q, length, q->dx, q->dy, NULL);
+                        ev = step_crossing(a, o, q, length, q->dx, q->dy, MARCH_NONE, NULL);
                     } else {
                         p0[g] = prefetch_crossing(a, q, wk.tx, wk.ty, wk.td, wk.c);
                         turn[g] = p0[g] == MARCH_NONE ? WALK_CROSS : WALK_POINTER;
@@ -1127,7 +1133,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                     live[m++] = g;
                     continue;
                 } else {
-                    ev = step_crossing(a, o, q, length, q->dx, q->dy, NULL);
+                    ev = step_crossing(a, o, q, length, q->dx, q->dy, p0[g], NULL);
                     turn[g] = WALK_STEP;
                     /* With positions, the texels of the steps up to the case-1 loop's first
                      * request lie past the jump, where nothing requested them: requested here,
