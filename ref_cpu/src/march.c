@@ -927,30 +927,35 @@ pgt_march_event pgt_march_step(const pgt_march_atlas *a, const pgt_march_options
 /* Requests what the step MARCH_PREFETCH_STEPS ahead reads: the code of the texel containing
  * (x, y) (the case test) and, when the batch fetches positions, the four texel records of the
  * bilinear footprint around it (pgt_march_position). Records the batch does not read are not
- * requested: they would evict the codes from the cache. The caller passes the atlas's fields
- * and the bounds (x, y < side - 1/2) as locals: read through the atlas pointer they would be
- * reloaded every step, as the step's stores might alias them. */
+ * requested: they would evict the codes from the cache. The caller passes the atlas's fields as
+ * locals: read through the atlas pointer they would be reloaded every step, as the step's stores
+ * might alias them. (x, y) lies at most MARCH_PREFETCH_STEPS steps from a point of the image, so
+ * its conversions to int32_t are defined (below); a point outside the image requests a wasted
+ * line (prefetch_element) instead of testing bounds every step. */
+_Static_assert(PGT_IMAGE_MAX_SIDE + 1ll + MARCH_PREFETCH_STEPS * (long long)PGT_MARCH_MAX_LENGTH <
+                   INT32_MAX,
+               "march_prefetch converts coordinates to int32_t");
 #if defined(__GNUC__)
 /* always_inline: GCC 12 deems a function that only prefetches pure and deletes its calls as
  * dead code (it did so before issue 4: no prefetch was issued at all) */
 __attribute__((always_inline))
 #endif
 static inline void
-march_prefetch(const uint32_t *codes, const pgt_march_texel *texels, uint32_t w, float xmax,
-               float ymax, float x, float y, int with_position) {
+march_prefetch(const uint32_t *codes, const pgt_march_texel *texels, uint32_t w, float x, float y,
+               int with_position) {
 #if defined(__GNUC__)
-    if (!(x >= 0.5f && y >= 0.5f && x < xmax && y < ymax)) return;
-    __builtin_prefetch(codes + (size_t)(uint32_t)y * w + (uint32_t)x);
+    /* unsigned arithmetic: a negative coordinate wraps, defined, to an index past the array */
+    const uint32_t xi = (uint32_t)(int32_t)x, yi = (uint32_t)(int32_t)y;
+    prefetch_element(codes, yi * w + xi, sizeof *codes);
     if (!with_position) return;
-    const uint32_t i0 = (uint32_t)(x + 0.5f) - 1u, j0 = (uint32_t)(y + 0.5f) - 1u;
-    const pgt_march_texel *q = texels + (size_t)j0 * w + i0;
-    __builtin_prefetch(q);
-    __builtin_prefetch(q + 1);
-    __builtin_prefetch(q + w);
-    __builtin_prefetch(q + w + 1);
+    const uint32_t i0 = (uint32_t)(int32_t)(x + 0.5f) - 1u, j0 = (uint32_t)(int32_t)(y + 0.5f) - 1u;
+    const uint32_t t = j0 * w + i0;
+    prefetch_element(texels, t, sizeof *texels);
+    prefetch_element(texels, t + 1u, sizeof *texels);
+    prefetch_element(texels, t + w, sizeof *texels);
+    prefetch_element(texels, t + w + 1u, sizeof *texels);
 #else
-    (void)codes, (void)texels, (void)w, (void)xmax, (void)ymax, (void)x, (void)y;
-    (void)with_position;
+    (void)codes, (void)texels, (void)w, (void)x, (void)y, (void)with_position;
 #endif
 }
 
@@ -998,13 +1003,13 @@ case1_steps(const pgt_march_atlas *a, float length, uint32_t steps, float dx, fl
             uint32_t inner, int with_position, case1_walk *wk) {
     const uint32_t *codes = a->codes, w = a->width;
     const pgt_march_texel *texels = a->texels;
-    const float fw = (float)a->width, fh = (float)a->height, xmax = fw - 0.5f, ymax = fh - 0.5f;
+    const float fw = (float)a->width, fh = (float)a->height;
     const float ahead = length * (float)MARCH_PREFETCH_STEPS;
     float x = wk->x, y = wk->y, tx = 0.0f, ty = 0.0f;
     uint32_t k = wk->k, td = MARCH_NONE, c = inner;
     double acc = wk->acc;
     for (; k < steps; ++k) {
-        march_prefetch(codes, texels, w, xmax, ymax, x + dx * ahead, y + dy * ahead, with_position);
+        march_prefetch(codes, texels, w, x + dx * ahead, y + dy * ahead, with_position);
         tx = x + dx * length, ty = y + dy * length;
         td = texel_index(w, fw, fh, tx, ty);
         c = td == MARCH_NONE ? 0u : codes[td];
@@ -1082,7 +1087,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
     const uint32_t steps = b->steps, w = a->width;
     const uint32_t *codes = a->codes;
     const pgt_march_texel *texels = a->texels;
-    const float length = b->length, xmax = (float)a->width - 0.5f, ymax = (float)a->height - 0.5f;
+    const float length = b->length;
     const int with_position = b->sum != NULL, external = o && (o->mask || o->condition);
     const uint32_t group = o && o->condition ? 1u : MARCH_GROUP;
     pgt_march_state s[MARCH_GROUP];
@@ -1142,8 +1147,7 @@ static void batch_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worke
                      * without positions (the codes alone) 0.97-1.00x, so not then. */
                     if (with_position && ev != PGT_MARCH_STOP)
                         for (uint32_t k = 1; k < MARCH_PREFETCH_STEPS; ++k)
-                            march_prefetch(codes, texels, w, xmax, ymax,
-                                           q->x + q->dx * length * (float)k,
+                            march_prefetch(codes, texels, w, q->x + q->dx * length * (float)k,
                                            q->y + q->dy * length * (float)k, 1);
                 }
                 if (ev == PGT_MARCH_STOP) continue; /* a walker stops at its first STOP */
