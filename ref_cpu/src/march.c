@@ -9,7 +9,8 @@
  * The atlas is read through four texel-indexed arrays, as a GPU kernel would bind four
  * textures: the packed codes (kind and chart; the case tests and the search), one 16-byte
  * record of P and code (positions, Jacobians), one 8-byte jump record (pointer and rot) and a
- * 2-byte ring mask (which neighbours 5.1 and the Jacobians use). Measured against the same
+ * 2-byte ring mask (which neighbours 5.1, the Jacobians and the position near a chart's rim
+ * use). Measured against the same
  * code reading the neighbours' codes (scripts/ab_march.sh with a view per build, 8192 walkers
  * x 500 steps, one thread, medians of 30 pairs on the AMD VM): pizza 1.06-1.08x without
  * positions, with prefetch_targets; the masks without their requests lost (0.93x).
@@ -467,20 +468,25 @@ static inline void score_pointer(const pgt_march_atlas *a, uint32_t t, const flo
     if (score > *best_score) *best = t, *best_score = score;
 }
 
-/* Requests the cache line of element i of the array at base (elements of `size` bytes). The
- * address is computed as an integer, not as a pointer into the array: a prefetch never faults,
- * so an i outside the array (a row above the first or below the last, wrapped around as an
- * unsigned index) costs a wasted request instead of a bounds test on every request. Pointer
- * arithmetic past the array would be undefined behaviour; this is not. */
+/* Requests the cache line of element i of the array at base (elements of `size` bytes). Callers
+ * pass the rows above the first and below the last (wrapped around as unsigned indices) and
+ * points beyond the image without testing bounds: a prefetch instruction never faults, and a
+ * wasted request costs less than a test per request (as a clamp of i to the array, measured:
+ * pizza 0.96x, spot 0.94x). The address is an integer handed to the instruction, never a C
+ * pointer: a pointer outside the array, even one cast from an integer, is undefined behaviour
+ * under GCC's rules, so __builtin_prefetch cannot take it. Other targets request nothing. */
 #if defined(__GNUC__)
 __attribute__((always_inline)) /* see march_prefetch */
 #endif
 static inline void
 prefetch_element(const void *base, uint32_t i, size_t size) {
-#if defined(__GNUC__)
-    __builtin_prefetch((const void *)((uintptr_t)base + (uintptr_t)i * size));
+    const uintptr_t address = (uintptr_t)base + (uintptr_t)i * size; /* wraps, defined */
+#if defined(__GNUC__) && defined(__x86_64__)
+    __asm__("prefetcht0 (%0)" : : "r"(address));
+#elif defined(__GNUC__) && defined(__aarch64__)
+    __asm__("prfm pldl1keep, [%0]" : : "r"(address));
 #else
-    (void)base, (void)i, (void)size;
+    (void)address;
 #endif
 }
 
@@ -786,10 +792,12 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
             if (event == PGT_MARCH_INNER) event = PGT_MARCH_JUMP;
         } else { /* cases 3 and 4 */
             float t;
-            if (found != MARCH_NONE && jumps == 0) /* the batch's first turn searched already */
+            if (found != MARCH_NONE && jumps == 0) { /* the batch's first turn searched already */
                 p0 = found, p0x = found % a->width, p0y = found / a->width;
-            else
+                assert(found == search_xy(a, chart, cx, cy, tx, ty, &t, &p0x, &p0y));
+            } else {
                 p0 = search_xy(a, chart, cx, cy, tx, ty, &t, &p0x, &p0y);
+            }
             if (p0 == MARCH_NONE) return stop(info, PGT_MARCH_STOP_NO_INDIRECTION);
             if ((a->codes[p0] & 3u) == PGT_TEXEL_DEAD_END)
                 return stop(info, PGT_MARCH_STOP_DEAD_END);
@@ -943,8 +951,7 @@ __attribute__((always_inline))
 static inline void
 march_prefetch(const uint32_t *codes, const pgt_march_texel *texels, uint32_t w, float x, float y,
                int with_position) {
-#if defined(__GNUC__)
-    /* unsigned arithmetic: a negative coordinate wraps, defined, to an index past the array */
+    /* unsigned arithmetic: a negative coordinate wraps, defined, to an index past the end */
     const uint32_t xi = (uint32_t)(int32_t)x, yi = (uint32_t)(int32_t)y;
     prefetch_element(codes, yi * w + xi, sizeof *codes);
     if (!with_position) return;
@@ -954,9 +961,6 @@ march_prefetch(const uint32_t *codes, const pgt_march_texel *texels, uint32_t w,
     prefetch_element(texels, t + 1u, sizeof *texels);
     prefetch_element(texels, t + w, sizeof *texels);
     prefetch_element(texels, t + w + 1u, sizeof *texels);
-#else
-    (void)codes, (void)texels, (void)w, (void)x, (void)y, (void)with_position;
-#endif
 }
 
 /* Walkers a batch thread marches together, taking turns (see batch_range). Measured on pizza
@@ -1069,7 +1073,10 @@ static uint32_t prefetch_crossing(const pgt_march_atlas *a, const pgt_march_stat
  * in a row that a jump waits for (P0's jump record, then the records it points at, anywhere in the
  * atlas) overlap other walkers' work, as a GPU hides them behind other threads. Each walker's steps
  * are the same calls on the same state in the same order as pgt_march_step's, one walker after
- * another, so the results are the same bytes (test_march checks it on every shared UV atlas). A
+ * another, so the results are the same bytes (test_march checks it on every shared UV atlas);
+ * the one difference is that the third turn takes P0 from the first (prefetch_crossing's search,
+ * on the same floats as step_crossing's: the case-1 loop's x + dx * length is step_crossing's
+ * cx + dx * rem with rem = length; asserted in debug builds) instead of searching again. A
  * condition (pgt_march_options) sees its calls in that order too: with one, a group is one walker
  * (a condition may count its calls, as pgt_march_density_condition does). With a mask or a
  * condition every step is pgt_march_step's own, through step_crossing: no case-1 loop, no turns.

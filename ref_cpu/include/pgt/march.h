@@ -184,8 +184,9 @@ typedef struct pgt_march_atlas {
     pgt_march_jump *jumps; /* per texel; meaningful on indirection texels */
     /* Which one-ring neighbours share texel i's chart, precomputed as a GPU upload would be:
      * bits 0-7 (PGT_MARCH_RING_EDGES above) the inner texels of i's chart, bits 8-15 its
-     * indirection texels; 0 on background. The rules of 5.1 and the Jacobians read one mask
-     * instead of eight codes, each with its own bounds test. */
+     * indirection texels; 0 on background. The rules of 5.1, the Jacobians and
+     * pgt_march_position near a chart's rim read one mask instead of the neighbours' codes,
+     * each with its own bounds test. */
     uint16_t *rings;
 } pgt_march_atlas;
 
