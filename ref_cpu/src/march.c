@@ -504,15 +504,11 @@ __attribute__((always_inline)) /* see march_prefetch: GCC 12 drops calls of pref
 #endif
 static inline void
 prefetch_destination(const pgt_march_atlas *a, uint32_t t) {
-#if defined(__GNUC__)
     const uint32_t w = a->width;
     prefetch_element(a->rings, t, sizeof *a->rings);
     prefetch_element(a->texels, t, sizeof *a->texels);
     prefetch_element(a->texels, t - w, sizeof *a->texels);
     prefetch_element(a->texels, t + w, sizeof *a->texels);
-#else
-    (void)a, (void)t;
-#endif
 }
 
 /* Requests what a jump through P0 reads first, before 5.1 computes anything: P0's ring mask,
@@ -532,7 +528,6 @@ __attribute__((always_inline)) /* see march_prefetch */
 #endif
 static inline void
 prefetch_jump(const pgt_march_atlas *a, uint32_t p0, uint32_t src) {
-#if defined(__GNUC__)
     const uint32_t w = a->width;
     prefetch_element(a->rings, p0, sizeof *a->rings);
     for (int k = -1; k <= 1; ++k) {
@@ -541,9 +536,6 @@ prefetch_jump(const pgt_march_atlas *a, uint32_t p0, uint32_t src) {
         prefetch_element(a->jumps, t + 1u, sizeof *a->jumps);
     }
     prefetch_destination(a, src); /* the same three texel rows as a jump's destination */
-#else
-    (void)a, (void)p0, (void)src;
-#endif
 }
 
 /* Requests the codes around the referenced texel ref, where the walker lands: the rest of
@@ -553,13 +545,9 @@ __attribute__((always_inline)) /* see march_prefetch */
 #endif
 static inline void
 prefetch_landing(const pgt_march_atlas *a, uint32_t ref) {
-#if defined(__GNUC__)
     const uint32_t w = a->width;
     for (int k = -2; k <= 2; ++k)
         prefetch_element(a->codes, ref + (uint32_t)k * w, sizeof *a->codes);
-#else
-    (void)a, (void)ref;
-#endif
 }
 
 /* Requests the texel records that the indirection texels of the chart around P0 point at:
@@ -573,15 +561,11 @@ __attribute__((always_inline)) /* see march_prefetch */
 #endif
 static inline void
 prefetch_targets(const pgt_march_atlas *a, uint32_t p0) {
-#if defined(__GNUC__)
     const uint32_t w = a->width, px = p0 % w, py = p0 / w;
     for (uint32_t m = (uint32_t)a->rings[p0] >> 8; m; m &= m - 1u) {
         const uint32_t k = lowest_bit(m);
-        __builtin_prefetch(a->texels + pointer_of(a, ring_neighbour(w, px, py, k)));
+        prefetch_element(a->texels, pointer_of(a, ring_neighbour(w, px, py, k)), sizeof *a->texels);
     }
-#else
-    (void)a, (void)p0;
-#endif
 }
 
 /* The candidates of 5.1 in the order they are ranked: P0 first, so that it wins ties (P_near =
@@ -944,8 +928,9 @@ _Static_assert(PGT_IMAGE_MAX_SIDE + 1ll + MARCH_PREFETCH_STEPS * (long long)PGT_
                    INT32_MAX,
                "march_prefetch converts coordinates to int32_t");
 #if defined(__GNUC__)
-/* always_inline: GCC 12 deems a function that only prefetches pure and deletes its calls as
- * dead code (it did so before issue 4: no prefetch was issued at all) */
+/* always_inline: GCC 12 deemed a function that only prefetched through __builtin_prefetch
+ * pure and deleted its calls as dead code (before issue 4 no prefetch was issued at all);
+ * prefetch_element's asm cannot be deleted so, and the prefetch helpers stay inline anyway */
 __attribute__((always_inline))
 #endif
 static inline void
