@@ -139,7 +139,11 @@ static void put_expr(const pgt_grammar *g, uint32_t e, uint32_t rule, FILE *f) {
 
 /* "(a, b, c)" of an item's arguments; a smoothness argument by its name. */
 static void put_args(const pgt_grammar *g, const pgt_grammar_item *it, uint32_t rule, FILE *f) {
-    if (it->arg_count == 0) return;
+    /* a terminal takes its parentheses even without arguments (the parser requires them) */
+    if (it->arg_count == 0) {
+        if (it->kind == PGT_GRAMMAR_ITEM_TERMINAL) fputs("()", f);
+        return;
+    }
     fputc('(', f);
     for (uint32_t a = 0; a < it->arg_count; ++a) {
         if (a) fputs(", ", f);
