@@ -88,6 +88,15 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                                       "arithmetic loses its windows beyond)",
                                       path, lineno, tok, t, (double)PGT_FACADE_MAX_COORD);
             }
+            /* what may follow (as the mesh reader): v's and vt's optional weight w, a comment */
+            for (uint32_t extra = 0; r == PGT_OK;) {
+                char *t = strtok_r(NULL, " \t\r\n", &save), *end = NULL;
+                if (!t || t[0] == '#') break;
+                if (is_vn || extra++ == 1u || (strtof(t, &end), *end != '\0'))
+                    r = pgt_error_set(err, PGT_ERROR_PARSE,
+                                      "%s:%u: %s takes %u numbers%s, got '%s' after them", path,
+                                      lineno, tok, need, is_vn ? "" : " and an optional weight", t);
+            }
             fbuf *b = is_v ? &pos : (is_vt ? &uv : &nrm);
             if (r == PGT_OK && b->n / need >= PGT_FACADE_QUADS_MAX)
                 r = pgt_error_set(err, PGT_ERROR_LIMIT, "%s:%u: more than %u %s", path, lineno,
@@ -98,7 +107,7 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
             const uint32_t count[3] = {pos.n / 3u, uv.n / 2u, nrm.n / 3u};
             uint32_t c[4][3], n = 0;
             char *t;
-            while (r == PGT_OK && (t = strtok_r(NULL, " \t\r\n", &save))) {
+            while (r == PGT_OK && (t = strtok_r(NULL, " \t\r\n", &save)) && t[0] != '#') {
                 if (n == 4 || !corner(t, count, c[n]))
                     r = pgt_error_set(err, PGT_ERROR_PARSE,
                                       "%s:%u: a face is 4 corners V/T/N with indices of earlier "
