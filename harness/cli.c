@@ -304,6 +304,56 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
     return 0;
 }
 
+const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
+    if (s->count == PGT_CLI_STAGE_MAX) return NULL;
+    char *tmp = s->tmp[s->count];
+    snprintf(tmp, sizeof s->tmp[0], "%s.stage.%ld", path, (long)getpid());
+    s->path[s->count++] = path;
+    return tmp;
+}
+
+void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
+    for (uint32_t k = 0; k < s->count; ++k) {
+        char *at = strstr(msg, s->tmp[k]);
+        if (!at) continue;
+        const char *after = at + strlen(s->tmp[k]);
+        if (!strncmp(after, ".tmp.", 5)) { /* a writer's own temporary file of the staged one */
+            after += 5;
+            while (isdigit((unsigned char)*after)) ++after;
+        }
+        char rest[1024];
+        snprintf(rest, sizeof rest, "%s", after);
+        snprintf(at, size - (size_t)(at - msg), "%s%s", s->path[k], rest);
+    }
+}
+
+void pgt_cli_stage_abort(pgt_cli_stage *s) {
+    for (uint32_t k = 0; k < s->count; ++k) remove(s->tmp[k]);
+    s->count = 0;
+}
+
+int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb) {
+    for (uint32_t k = 0; k < s->count; ++k) {
+        struct stat st;
+        if (stat(s->path[k], &st) == 0 && !S_ISREG(st.st_mode)) {
+            /* a rename would replace a device (/dev/null) or a fifo with a regular file */
+            pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", s->path[k],
+                         S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
+            pgt_cli_stage_abort(s);
+            return -1;
+        }
+    }
+    for (uint32_t k = 0; k < s->count; ++k)
+        if (rename(s->tmp[k], s->path[k]) != 0) {
+            pgt_cli_fail(verb, "cannot write %s: %s", s->path[k], strerror(errno));
+            for (uint32_t j = k; j < s->count; ++j) remove(s->tmp[j]);
+            s->count = 0;
+            return -1;
+        }
+    s->count = 0;
+    return 0;
+}
+
 int pgt_cli_floats(const char *verb, const char *flag, const char *text, uint32_t n, float *out) {
     const char *p = text;
     for (uint32_t k = 0; k < n; ++k) {

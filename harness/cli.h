@@ -82,6 +82,30 @@ FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t 
  * removes it, prints a one-line error for verb and returns nonzero. */
 int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb);
 
+/* Outputs of one command that appear together or not at all: each output is written under its
+ * staging name (pgt_cli_stage_add: path.stage.PID, in path's folder) and pgt_cli_stage_commit
+ * renames them all over their paths once every one is written, after checking that each path
+ * is a regular file or nothing (a folder would fail the rename, and a device such as /dev/null
+ * would be replaced by a regular file when run as root); a command
+ * that fails first calls pgt_cli_stage_abort, which removes the staged files, so a failed run
+ * leaves no output and every older file as it was. */
+#define PGT_CLI_STAGE_MAX 8
+typedef struct pgt_cli_stage {
+    uint32_t count;
+    const char *path[PGT_CLI_STAGE_MAX];
+    char tmp[PGT_CLI_STAGE_MAX][4300];
+} pgt_cli_stage;
+
+/* The name to write output `path` under (NULL when PGT_CLI_STAGE_MAX are staged already). */
+const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path);
+/* In an error message, each staging name back to its output's path. */
+void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
+/* Renames the staged files over their paths; on failure prints a one-line error for verb,
+ * removes what is left staged and returns nonzero. The stage is empty afterwards. */
+int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb);
+/* Removes the staged files; the stage is empty afterwards. */
+void pgt_cli_stage_abort(pgt_cli_stage *s);
+
 /* The meshes of ../shared/datasets/meshes the project's defaults use (all 2-manifold), and that
  * folder as configured at build time. */
 extern const char *const pgt_cli_shared_meshes[];

@@ -188,28 +188,20 @@ int pgt_cmd_atlas(int argc, char **argv) {
     }
     const double t2 = pgt_cli_now_ms();
     {
-        /* both files under temporary names first, renamed only when both are written: a
-         * failed --png leaves no new atlas behind (nor replaces an old one) */
-        char exr_tmp[4200], png_tmp[4200];
-        snprintf(exr_tmp, sizeof exr_tmp, "%s.pending.%ld", out_path, (long)getpid());
-        snprintf(png_tmp, sizeof png_tmp, "%s.pending.%ld", png_path ? png_path : "",
-                 (long)getpid());
-        int ok = pgt_image_write_exr_threads(&atlas, exr_tmp, threads, &err) == PGT_OK &&
-                 (!png_path || write_picture(&atlas, png_tmp, &err) == PGT_OK);
-        if (ok && png_path && rename(png_tmp, png_path) != 0) {
-            pgt_error_set(&err, PGT_ERROR_IO, "cannot write %s: %s", png_path, strerror(errno));
-            ok = 0;
-        }
-        if (ok && rename(exr_tmp, out_path) != 0) {
-            pgt_error_set(&err, PGT_ERROR_IO, "cannot write %s: %s", out_path, strerror(errno));
-            ok = 0;
-        }
-        if (!ok) {
-            remove(exr_tmp);
-            if (png_path) remove(png_tmp);
+        /* both files under staging names first, renamed only when both are written: a failed
+         * -o or --png leaves no new file behind (nor replaces an old one) */
+        pgt_cli_stage stage;
+        stage.count = 0;
+        const char *exr_tmp = pgt_cli_stage_add(&stage, out_path);
+        const char *png_tmp = png_path ? pgt_cli_stage_add(&stage, png_path) : NULL;
+        if (pgt_image_write_exr_threads(&atlas, exr_tmp, threads, &err) != PGT_OK ||
+            (png_path && write_picture(&atlas, png_tmp, &err) != PGT_OK)) {
+            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
+            pgt_cli_stage_abort(&stage);
             pgt_cli_fail(verb, "%s", err.message);
             goto done;
         }
+        if (pgt_cli_stage_commit(&stage, verb)) goto done;
     }
     const double t3 = pgt_cli_now_ms();
     if (json) {

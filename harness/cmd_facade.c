@@ -313,6 +313,9 @@ int pgt_cmd_facade(int argc, char **argv) {
     memset(&eb, 0, sizeof eb);
     pgt_facade_embree_hits hits;
     memset(&hits, 0, sizeof hits);
+    /* every output appears once all are written, none on failure (pgt_cli_stage) */
+    pgt_cli_stage stage;
+    stage.count = 0;
     double *ms = calloc(2u * a.frames, sizeof(double));
     if (!ms) {
         pgt_cli_fail(verb, "out of memory");
@@ -369,8 +372,10 @@ int pgt_cmd_facade(int argc, char **argv) {
         else
             snprintf(comment, sizeof comment, "pgt facade --city %u --seed %u (pgt_gen_city)",
                      a.city, a.seed);
-        if (pgt_facade_file_write(a.save_path, s, (const char *const *)file.names,
-                                  (const char *const *)file.paths, comment, &err) != PGT_OK) {
+        if (pgt_facade_file_write(pgt_cli_stage_add(&stage, a.save_path), s,
+                                  (const char *const *)file.names, (const char *const *)file.paths,
+                                  comment, &err) != PGT_OK) {
+            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
             pgt_cli_fail(verb, "--save-scene %s", err.message);
             goto done;
         }
@@ -470,16 +475,25 @@ int pgt_cmd_facade(int argc, char **argv) {
         else if (fe < facade_count)
             snprintf(where, sizeof where, " on building %u, footprint edge %u",
                      facades[fe].building, facades[fe].edge);
-        pgt_cli_fail(verb, "%s: the grammar failed while rendering%s: %s", what, where, buf);
+        /* the rays carry error bits only: the facade's development names the grammar's place */
+        pgt_error why = {0};
+        if (fe < facade_count && pgt_facade_explain(s, &facades[fe], fe, &why) != PGT_OK &&
+            why.code != PGT_ERROR_LIMIT && why.code != PGT_ERROR_OUT_OF_MEMORY)
+            pgt_cli_fail(verb, "%s: the grammar failed while rendering%s: %s (%s)", what, where,
+                         buf, why.message);
+        else
+            pgt_cli_fail(verb, "%s: the grammar failed while rendering%s: %s", what, where, buf);
         goto done;
     }
     const double frame_ms = pgt_cli_median(ms, a.frames),
                  cover_ms = pgt_cli_median(cover, a.frames);
-    if (write_exr(&frame, a.out_path, a.threads, &err) != PGT_OK) {
+    if (write_exr(&frame, pgt_cli_stage_add(&stage, a.out_path), a.threads, &err) != PGT_OK) {
+        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "-o %s", err.message);
         goto done;
     }
-    if (a.png_path && write_png(&frame, a.png_path, &err) != PGT_OK) {
+    if (a.png_path && write_png(&frame, pgt_cli_stage_add(&stage, a.png_path), &err) != PGT_OK) {
+        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "--png %s", err.message);
         goto done;
     }
@@ -523,11 +537,16 @@ int pgt_cmd_facade(int argc, char **argv) {
                mesh.triangle_count, mesh.vertex_count, pgt_facade_mesh_bytes(&mesh),
                (double)pgt_facade_mesh_bytes(&mesh) / (double)proc_bytes, e1 - e0,
                a.explicit_path ? " -> " : "", a.explicit_path ? a.explicit_path : "");
-        if (a.explicit_path && pgt_facade_mesh_write_ply(&mesh, a.explicit_path, &err) != PGT_OK) {
+        if (a.explicit_path &&
+            pgt_facade_mesh_write_ply(&mesh, pgt_cli_stage_add(&stage, a.explicit_path), &err) !=
+                PGT_OK) {
+            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
             pgt_cli_fail(verb, "--explicit %s", err.message);
             goto done;
         }
     }
+    /* the outputs are complete; --embree-check compares, and its FAIL keeps them */
+    if (pgt_cli_stage_commit(&stage, verb)) goto done;
     rc = PGT_EXIT_OK;
     if (a.embree_check) {
         rc = PGT_EXIT_USAGE;
@@ -590,6 +609,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         rc = pass ? PGT_EXIT_OK : PGT_EXIT_FAIL;
     }
 done:
+    pgt_cli_stage_abort(&stage);
     pgt_facade_embree_hits_destroy(&hits);
     pgt_facade_embree_destroy(&eb);
     pgt_facade_mesh_destroy(&mesh);

@@ -511,8 +511,16 @@ int pgt_cmd_ivy(int argc, char **argv) {
                                  paint_path, forbid_path,  density_path};
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
         if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4)) return PGT_EXIT_USAGE;
+        /* the input named as a shared mesh ("spot.obj") is a file of the shared folder */
+        for (int k = 0; k < 4; ++k)
+            if (outputs[k] &&
+                pgt_cli_refuse_named_inputs(verb, &in_path, 1, PGT_CLI_SHARED_MESH_DIR, outputs[k]))
+                return PGT_EXIT_USAGE;
     }
 
+    /* the outputs appear together once all are written, none on failure (pgt_cli_stage) */
+    pgt_cli_stage stage;
+    stage.count = 0;
     pgt_ivy_scene s;
     pgt_ivy_output out;
     memset(&out, 0, sizeof out);
@@ -595,7 +603,9 @@ int pgt_cmd_ivy(int argc, char **argv) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
-    if (mask_out && write_mask_png(mask_out, s.mask, a->width, a->height)) goto done;
+    if (mask_out &&
+        write_mask_png(pgt_cli_stage_add(&stage, mask_out), s.mask, a->width, a->height))
+        goto done;
 
     pgt_expand_input in;
     pgt_ivy_scene_input(&s, &in);
@@ -615,12 +625,14 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const pgt_terminals_output *m = &out.mesh;
     const pgt_vertex_mesh soup = {m->vertex_count, m->triangle_count, m->positions, m->normals,
                                   m->uvs,          m->triangles};
-    if (pgt_mesh_write_ply_soup(&soup, out_path, &err) != PGT_OK) {
+    if (pgt_mesh_write_ply_soup(&soup, pgt_cli_stage_add(&stage, out_path), &err) != PGT_OK) {
+        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
-    if (curves_path && write_curves(curves_path, &out)) goto done;
-    if (mask_mesh && write_mask_mesh(mask_mesh, &s)) goto done;
+    if (curves_path && write_curves(pgt_cli_stage_add(&stage, curves_path), &out)) goto done;
+    if (mask_mesh && write_mask_mesh(pgt_cli_stage_add(&stage, mask_mesh), &s)) goto done;
+    if (pgt_cli_stage_commit(&stage, verb)) goto done;
     const double ms_write = pgt_cli_now_ms() - t0;
 
     printf("ivy %s: atlas %ux%u (%s, %.0f ms), %u seeds (%s), %u threads\n", in_path, a->width,
@@ -645,6 +657,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
            out.ms_expand + out.ms_bezier + out.ms_terminals, ms_write);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_stage_abort(&stage);
     pgt_ivy_destroy(&out);
     points_free(&seedp);
     points_free(&paint);

@@ -118,7 +118,8 @@ static void dump_paths_of(const char *prefix, dump_paths *d) {
     snprintf(d->csv, sizeof d->csv, "%s.texels.csv", prefix);
 }
 
-static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_image *img) {
+static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_image *img,
+                      pgt_cli_stage *stage) {
     const uint32_t w = a->width, h = a->height;
     char tmp[4300];
     uint8_t *px = malloc((size_t)w * h * 3);
@@ -140,11 +141,15 @@ static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_i
         }
     }
     pgt_error err = {0};
-    const pgt_result r = pgt_png_write(d->png, w, h, 3, px, &err);
+    const pgt_result r = pgt_png_write(pgt_cli_stage_add(stage, d->png), w, h, 3, px, &err);
     free(px);
-    if (r != PGT_OK) return pgt_cli_fail("march", "--dump: %s", err.message), -1;
-    FILE *f = pgt_cli_tmp_open(d->csv, tmp, sizeof tmp);
-    if (!f) return pgt_cli_fail("march", "cannot write %s: %s", tmp, strerror(errno)), -1;
+    if (r != PGT_OK) {
+        pgt_cli_stage_unname(stage, err.message, sizeof err.message);
+        return pgt_cli_fail("march", "--dump: %s", err.message), -1;
+    }
+    const char *csv = pgt_cli_stage_add(stage, d->csv);
+    FILE *f = pgt_cli_tmp_open(csv, tmp, sizeof tmp);
+    if (!f) return pgt_cli_fail("march", "cannot write %s: %s", d->csv, strerror(errno)), -1;
     uint32_t stride = (uint32_t)ceil(sqrt((double)inner / MARCH_DUMP_POINTS));
     if (stride < 1) stride = 1;
     pgt_atlas_channels ch;
@@ -165,7 +170,7 @@ static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_i
                     (t->code >> 2) - 1u, (double)t->x, (double)t->y, (double)t->z, (double)nx[i],
                     (double)ny[i], (double)nz[i]);
         }
-    return pgt_cli_table_close(f, tmp, d->csv, "march") ? -1 : 0;
+    return pgt_cli_table_close(f, tmp, csv, "march") ? -1 : 0;
 }
 
 int pgt_cmd_march(int argc, char **argv) {
@@ -176,6 +181,9 @@ int pgt_cmd_march(int argc, char **argv) {
     uint32_t steps = 0;
     int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0, with_start = 0;
     pgt_march_options opts = {0};
+    /* -o and --dump's files appear together, none on failure (pgt_cli_stage) */
+    pgt_cli_stage stage;
+    stage.count = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -277,13 +285,14 @@ int pgt_cmd_march(int argc, char **argv) {
                      (double)dy, in_path, err.message);
         goto done;
     }
-    if (dump && write_dump(&dumped, &atlas, &img)) goto done;
+    if (dump && write_dump(&dumped, &atlas, &img, &stage)) goto done;
     const double t1 = pgt_cli_now_ms();
 
-    char tmp[4200];
-    FILE *f = pgt_cli_tmp_open(out_path, tmp, sizeof tmp);
+    char tmp[4400];
+    const char *out_staged = pgt_cli_stage_add(&stage, out_path);
+    FILE *f = pgt_cli_tmp_open(out_staged, tmp, sizeof tmp);
     if (!f) {
-        pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
+        pgt_cli_fail(verb, "cannot write %s: %s", out_path, strerror(errno));
         goto done;
     }
     uint32_t counts[4] = {0, 0, 0, 0}, done_steps = 0;
@@ -307,7 +316,8 @@ int pgt_cmd_march(int argc, char **argv) {
         }
         done_steps = k;
     }
-    if (pgt_cli_table_close(f, tmp, out_path, verb)) goto done;
+    if (pgt_cli_table_close(f, tmp, out_staged, verb) || pgt_cli_stage_commit(&stage, verb))
+        goto done;
     const double t2 = pgt_cli_now_ms();
     printf("march: %s (%u x %u texels, %u charts): %u of %u steps of %g texels from (%g, %g): "
            "%u inner, %u jump, %u search",
@@ -319,6 +329,7 @@ int pgt_cmd_march(int argc, char **argv) {
     printf(" -> %s (read %.1f ms, march+write %.1f ms)\n", out_path, t1 - t0, t2 - t1);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_stage_abort(&stage);
     free(mask);
     free(density);
     pgt_march_atlas_destroy(&atlas);

@@ -155,6 +155,22 @@ rm -f nopng.exr
 expect atlas_png_fails 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o nopng.exr --res 64 --png no_such_dir/x.png
 [ ! -e nopng.exr ] && [ -z "$(ls nopng.exr* 2>/dev/null)" ] && ok atlas_png_fails_writes_nothing \
   || bad atlas_png_fails_writes_nothing "$(ls nopng.exr*)"
+# ... nor a failed -o a new PNG (pgt_cli_stage: every output appears once all are written)
+rm -f nopng.png; mkdir -p adir.exr
+expect atlas_exr_fails 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o adir.exr --res 64 --png nopng.png
+one_line atlas_exr_fails_one_line "cannot write adir.exr: it is a folder, not a regular file"
+[ -z "$(ls nopng.png* adir.exr.* 2>/dev/null)" ] && ok atlas_exr_fails_writes_nothing \
+  || bad atlas_exr_fails_writes_nothing "$(ls nopng.png* adir.exr.*)"
+# a failed march leaves no --dump files; an output that is a fifo or device is refused, not
+# replaced by a regular file (as root a rename would replace /dev/null)
+rm -f dpf.atlas.png dpf.texels.csv; mkdir -p mdir.csv
+expect march_fails_no_dump 2 "$pgt" "${march[@]}" -o mdir.csv --dump dpf
+[ -z "$(ls dpf.* mdir.csv.* 2>/dev/null)" ] && ok march_fails_writes_nothing || bad march_fails_writes_nothing "$(ls dpf.*)"
+rm -f fifo.csv; mkfifo fifo.csv
+expect march_fifo_out 2 "$pgt" "${march[@]}" -o fifo.csv
+one_line march_fifo_out_one_line "cannot write fifo.csv: it is a device, fifo or socket, not a regular file"
+[ -p fifo.csv ] && ok march_fifo_kept || bad march_fifo_kept "$(ls -l fifo.csv)"
+rm -f fifo.csv
 # a benchmark's --out may not be one of its input meshes
 cp "$work/data/cube_sphere_8.obj" bin.obj
 expect bench_atlas_out_is_input 2 "$pgt" bench atlas --meshes ./bin.obj --out bin.obj --repeat 1 --threads 1 --res 64
@@ -186,6 +202,13 @@ one_line ivy_no_seeds_one_line "\-\-seeds"
 expect ivy_no_output 2 "$pgt" ivy cs.exr --seeds 2
 expect ivy_overwrite_input 2 "$pgt" ivy cs.exr --seeds 2 -o cs.exr
 one_line ivy_overwrite_input_one_line "never overwrites"
+# a failed run leaves none of its outputs: --mask-out was written before the expansion failed,
+# -o before --curves was tried
+rm -f ivf.ply ivf.png; mkdir -p ivdir.csv
+expect ivy_fail_expand 2 "$pgt" ivy cs.exr --seeds 1 --param stepLength=1e30 --mask-out ivf.png -o ivf.ply
+expect ivy_fail_curves 2 "$pgt" ivy cs.exr --seeds 2 -o ivf.ply --curves ivdir.csv --mask-out ivf.png "${short[@]}"
+one_line ivy_fail_curves_one_line "cannot write ivdir.csv: it is a folder, not a regular file"
+[ -z "$(ls ivf.* ivdir.csv.* 2>/dev/null)" ] && ok ivy_fail_writes_nothing || bad ivy_fail_writes_nothing "$(ls ivf.*)"
 expect ivy_one_thread 0 "$pgt" ivy cs.exr --seeds 3 -o ivy1.ply --curves c1.csv --threads 1 "${short[@]}"
 expect ivy_two_threads 0 "$pgt" ivy cs.exr --seeds 3 -o ivy2.ply --curves c2.csv --threads 2 "${short[@]}"
 cmp -s ivy1.ply ivy2.ply && cmp -s c1.csv c2.csv && ok ivy_same_bytes_any_threads || bad ivy_same_bytes_any_threads "outputs differ"
@@ -279,6 +302,19 @@ expect grammar_bad 2 "$pgt" grammar bad.grammar
 one_line grammar_bad_names_file_line_col "bad.grammar:1:"
 "$pgt" grammar "$src/grammars/ivy.grammar" --dump >dump.grammar 2>err.txt
 expect grammar_dump_compiles 0 "$pgt" grammar dump.grammar
+# --help: the dump "compiles to the same listing": for every shipped grammar (terminals without
+# arguments keep their parentheses)
+for g in "$src"/grammars/*.grammar; do
+  b=$(basename "$g" .grammar)
+  "$pgt" grammar "$g" --dump >"dump_$b.grammar" 2>err.txt
+  if "$pgt" grammar "$g" 2>&1 | sed "s|$g|G|" >list_a.txt &&
+     "$pgt" grammar "dump_$b.grammar" 2>&1 | sed "s|dump_$b.grammar|G|" >list_b.txt &&
+     cmp -s list_a.txt list_b.txt; then
+    ok "grammar_dump_same_listing_$b"
+  else
+    bad "grammar_dump_same_listing_$b" "$(diff list_a.txt list_b.txt | head -3)"
+  fi
+done
 
 # pgt render (the pictures themselves are test_render's)
 expect render_help 0 "$pgt" render --help
@@ -514,6 +550,22 @@ expect facade_camera_up 2 "$pgt" facade --city 4 -o f.exr --camera 0,5,0,0,0,0,0
 one_line facade_camera_up_one_line "\-\-camera 0,5,0,0,0,0,0,1,0,40: "
 expect facade_bad_width 2 "$pgt" facade --city 4 -o f.exr --width 0
 one_line facade_bad_width_one_line "\-\-width"
+# a run that fails leaves no output at all (pgt_cli_stage), and an older output as it was; a
+# grammar whose split size is NaN fails while rendering, and its explicit expansion names the
+# grammar's line and column
+printf 'param floorHeight = 3.2\nparam doorWidth = 1.6\nparam windowWidth = 2.2\nparam protrusion = 0.3\nparam recess = 0.3\nF --> split(x) { sqrt(-1) : Wall() }\n' >nanf.grammar
+rm -f nf.exr nf.png nf.ply nf.scene; echo older >nf_old.scene
+expect facade_fail_render 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --png nf.png --save-scene nf.scene
+one_line facade_fail_render_names_token "while rendering on building 0, footprint edge 0: an expression gave NaN or infinity (building 0 facade 0: nanf.grammar:6:18: the expression evaluates to NaN)"
+expect facade_fail_render_old 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --save-scene nf_old.scene
+[ "$(cat nf_old.scene)" = older ] && ok facade_fail_keeps_older || bad facade_fail_keeps_older "$(head -c 80 nf_old.scene)"
+# the camera looks away, so the frame renders and the explicit expansion meets the NaN
+expect facade_fail_explicit 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --explicit nf.ply --camera 0,0,-1000,0,0,-2000,0,1,0,45
+one_line facade_fail_explicit_names_token "^pgt facade: --explicit: --city: building 0 facade 0: nanf.grammar:6:18: "
+mkdir -p nfdir.png
+expect facade_fail_png_folder 2 "$pgt" facade --city 1 --width 16 --height 16 -o nf.exr --png nfdir.png
+one_line facade_fail_png_folder_one_line "cannot write nfdir.png: it is a folder, not a regular file"
+ls nf.exr nf.png nf.ply nf.scene nf*.stage.* 2>/dev/null | grep -q . && bad facade_fail_no_output "$(ls nf.* nf*.stage.* 2>/dev/null)" || ok facade_fail_no_output
 expect facade_city 0 "$pgt" facade --city 4 -o f.exr --png f.png --width 96 --height 64 --threads 2 \
   --explicit f.ply --save-scene f.scene
 grep -q "^scene: 4 buildings, 16 facades" out.txt && grep -q "nodes developed per ray" out.txt \

@@ -413,7 +413,7 @@ int facade_eval(const facade_ctx *c, uint32_t e, const float *args, uint32_t arg
     pgt_grammar_env env;
     memset(&env, 0, sizeof env);
     env.seed = c->seed, env.stream = key, env.counter = counter, env.params = c->params;
-    pgt_error e2;
+    pgt_error e2 = {0};
     if (pgt_grammar_eval(c->g, e, args, argc, &env, out, &e2) != PGT_OK) {
         c->stats->errors |= PGT_FACADE_ERR_EVAL;
         if (c->err && !c->err->code) *c->err = e2;

@@ -29,6 +29,8 @@ typedef struct xframe {
 typedef struct xmesh {
     pgt_facade_mesh *m;
     uint32_t vcap, tcap;
+    int dry;             /* pgt_facade_explain: every check, no triangle stored */
+    uint64_t nodes_left; /* steps of the development left (pgt_facade_explain's bound) */
 } xmesh;
 
 static int grow(void **p, uint32_t cap, size_t elem) {
@@ -112,6 +114,7 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
                                  -(double)f->recess, (double)f->protrusion);
         pgt_facade_quad r = q[k];
         if (!whole && !clip_to_window(&r, win)) continue;
+        if (x->dry) continue;
         if (x->m->triangle_count + 2u > FACADE_MAX_TRIANGLES)
             return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
                                  FACADE_MAX_TRIANGLES);
@@ -194,6 +197,7 @@ static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const 
                                      gfile(g), it->line, it->col, f->building, f->edge, k,
                                      (double)T[3 * c + 2], -(double)f->recess,
                                      (double)f->protrusion);
+        if (x->dry) continue;
         float poly[GIMAGE_CLIP_CORNERS][3], tmp[GIMAGE_CLIP_CORNERS][3];
         for (int c = 0; c < 3; ++c) {
             poly[c][0] = x0 + T[3 * c] * w, poly[c][1] = y0 + T[3 * c + 1] * h;
@@ -251,6 +255,12 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
         fr->h = f->scope_h, fr->argc = 0, fr->seq = seq0, fr->pos = 0, fr->path = 1;
     }
     while (sp > 0 && !st.errors) {
+        if (x->nodes_left-- == 0)
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "building %u facade %u: no error found in the development's "
+                                 "first %llu steps",
+                                 f->building, f->edge,
+                                 (unsigned long long)PGT_FACADE_EXPLAIN_STEPS);
         xframe *fr = &stack[sp - 1];
         if (fr->type == 1) {
             pgt_split_child ch;
@@ -391,7 +401,7 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
 pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
                                uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err) {
     memset(out, 0, sizeof *out);
-    xmesh x = {out, 0, 0};
+    xmesh x = {out, 0, 0, 0, UINT64_MAX};
     xframe *stack = malloc(PGT_FACADE_MAX_DEPTH * sizeof *stack);
     if (!stack) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit: out of memory");
     pgt_result r = PGT_OK;
@@ -436,5 +446,17 @@ pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *faca
     free(tris);
     free(scratch);
     if (r != PGT_OK) pgt_facade_mesh_destroy(out);
+    return r;
+}
+
+pgt_result pgt_facade_explain(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                              pgt_error *err) {
+    pgt_facade_mesh none;
+    memset(&none, 0, sizeof none);
+    xmesh x = {&none, 0, 0, 1, PGT_FACADE_EXPLAIN_STEPS};
+    xframe *stack = malloc(PGT_FACADE_MAX_DEPTH * sizeof *stack);
+    if (!stack) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explain: out of memory");
+    const pgt_result r = expand_facade(&x, s, f, fi, stack, err);
+    free(stack);
     return r;
 }

@@ -489,6 +489,19 @@ typedef struct pgt_facade_mesh {
 pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
                                uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err);
 
+/* Steps of the development pgt_facade_explain takes at most: a facade of the shipped grammars
+ * develops in a few thousand; the bound keeps an error report from expanding a grammar whose
+ * repeats produce billions of terminals. */
+#define PGT_FACADE_EXPLAIN_STEPS 20000000ull
+
+/* The first error of facade f's complete development, as pgt_facade_explicit reports it (the
+ * grammar's FILE:LINE:COL), without storing any geometry: what a caller of pgt_facade_render
+ * prints when pgt_facade_render_stats.rays.errors names facade f (error_facade), whose rays only
+ * carry the error bits. PGT_OK when the development is sound; PGT_ERROR_LIMIT when it finds no
+ * error within PGT_FACADE_EXPLAIN_STEPS steps. fi is f's index (the mesh's facade numbers). */
+pgt_result pgt_facade_explain(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi,
+                              pgt_error *err);
+
 void pgt_facade_mesh_destroy(pgt_facade_mesh *m);
 
 #ifdef __cplusplus
