@@ -297,7 +297,7 @@ FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t 
 
 int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb) {
     const int bad = ferror(f);
-    if (fclose(f) != 0 || bad || rename(tmp, path) != 0) {
+    if (fclose(f) != 0 || bad || pgt_replace_file(tmp, path) != 0) {
         remove(tmp);
         return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
     }
@@ -344,7 +344,7 @@ int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb) {
         }
     }
     for (uint32_t k = 0; k < s->count; ++k)
-        if (rename(s->tmp[k], s->path[k]) != 0) {
+        if (pgt_replace_file(s->tmp[k], s->path[k]) != 0) {
             pgt_cli_fail(verb, "cannot write %s: %s", s->path[k], strerror(errno));
             for (uint32_t j = k; j < s->count; ++j) remove(s->tmp[j]);
             s->count = 0;

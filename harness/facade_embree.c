@@ -552,7 +552,7 @@ pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path,
         fwrite(rec, 1, sizeof rec, f);
     }
     const int bad = ferror(f);
-    if (fclose(f) != 0 || bad || rename(tmp, path) != 0) {
+    if (fclose(f) != 0 || bad || pgt_replace_file(tmp, path) != 0) {
         const int e = errno;
         remove(tmp);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot write: %s", path, strerror(e));

@@ -212,7 +212,7 @@ pgt_result pgt_facade_quads_write_obj(const pgt_facade_quads *m, const char *pat
         remove(tmp);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: write error", path);
     }
-    if (rename(tmp, path) != 0) {
+    if (pgt_replace_file(tmp, path) != 0) {
         const int e = errno;
         remove(tmp);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot rename %s: %s", path, tmp, strerror(e));

@@ -542,7 +542,7 @@ done:
     }
     if (fclose(fp) != 0 && r == PGT_OK)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: write error", path);
-    if (r == PGT_OK && rename(tmp, path) != 0)
+    if (r == PGT_OK && pgt_replace_file(tmp, path) != 0)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot rename %s: %s", path, tmp,
                           strerror(errno));
     if (r != PGT_OK) remove(tmp);

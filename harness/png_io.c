@@ -239,7 +239,7 @@ pgt_result pgt_png_write(const char *path, uint32_t w, uint32_t h, uint32_t chan
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: %s", path, job.msg);
     else if (closed != 0)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", path, strerror(errno));
-    else if (rename(tmp, path) != 0)
+    else if (pgt_replace_file(tmp, path) != 0)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot move the written file into place: %s",
                           path, strerror(errno));
     if (r != PGT_OK) remove(tmp);

@@ -171,6 +171,12 @@ expect march_fifo_out 2 "$pgt" "${march[@]}" -o fifo.csv
 one_line march_fifo_out_one_line "cannot write fifo.csv: it is a device, fifo or socket, not a regular file"
 [ -p fifo.csv ] && ok march_fifo_kept || bad march_fifo_kept "$(ls -l fifo.csv)"
 rm -f fifo.csv
+# so do the single-output writers (pgt_replace_file), here the mesh writer of pgt subdiv
+mkfifo fifo.obj
+expect subdiv_fifo_out 2 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 1 -o fifo.obj
+one_line subdiv_fifo_out_one_line "fifo.obj: cannot move the written file into place: Operation not permitted"
+[ -p fifo.obj ] && [ -z "$(ls fifo.obj.* 2>/dev/null)" ] && ok subdiv_fifo_kept || bad subdiv_fifo_kept "$(ls -l fifo.obj*)"
+rm -f fifo.obj
 # a benchmark's --out may not be one of its input meshes
 cp "$work/data/cube_sphere_8.obj" bin.obj
 expect bench_atlas_out_is_input 2 "$pgt" bench atlas --meshes ./bin.obj --out bin.obj --repeat 1 --threads 1 --res 64

@@ -991,7 +991,7 @@ pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, u
     current_stream = NULL;
     if (close(s.fd) != 0 && r == PGT_OK)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", path, strerror(errno));
-    if (r == PGT_OK && rename(tmp, path) != 0)
+    if (r == PGT_OK && pgt_replace_file(tmp, path) != 0)
         r = pgt_error_set(err, PGT_ERROR_IO, "%s: cannot move the written file into place: %s",
                           path, strerror(errno));
     if (r != PGT_OK) remove(tmp);

@@ -410,7 +410,7 @@ static pgt_result write_atomic(const char *path, const write_job *job, pgt_error
         free(tmp);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: write error: %s", path, strerror(e));
     }
-    if (rename(tmp, path) != 0) {
+    if (pgt_replace_file(tmp, path) != 0) {
         e = errno;
         remove(tmp);
         free(tmp);

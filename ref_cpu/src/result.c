@@ -1,8 +1,10 @@
 /* pgt: result codes and first-error-wins messages. */
 #include "pgt/result.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <sys/stat.h>
 
 const char *pgt_result_name(pgt_result code) {
     switch (code) {
@@ -59,4 +61,13 @@ void pgt_error_clear(pgt_error *err) {
     if (!err) return;
     err->code = PGT_OK;
     err->message[0] = '\0';
+}
+
+int pgt_replace_file(const char *tmp, const char *path) {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        errno = S_ISDIR(st.st_mode) ? EISDIR : EPERM;
+        return -1;
+    }
+    return rename(tmp, path) == 0 ? 0 : -1;
 }

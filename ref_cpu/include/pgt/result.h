@@ -57,6 +57,13 @@ pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...)
 /* Clears err to PGT_OK and an empty message. err may be NULL. */
 void pgt_error_clear(pgt_error *err);
 
+/* Finishes an output written under a temporary name in its folder (PATH.tmp.PID): renames tmp
+ * over path, which replaces path atomically. Returns 0, or -1 with errno set and tmp left for the
+ * caller to remove; errno is EPERM (EISDIR for a folder) when path exists and is not a regular
+ * file: a rename would replace a device such as /dev/null, or a fifo, by a regular file (run as
+ * root, the device would be gone), so every pgt writer refuses such a path. */
+int pgt_replace_file(const char *tmp, const char *path);
+
 #ifdef __cplusplus
 }
 #endif
