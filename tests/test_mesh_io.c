@@ -593,6 +593,62 @@ static void test_ply_groups_ascii(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* Per-vertex texture coordinates (u v, s t, texture_u texture_v: pgt's own soups write u and
+ * v) become each corner's UV when the faces carry no texcoord list; a texcoord list wins. */
+static void test_ply_vertex_uvs(void) {
+    static const char *const pairs[3][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}};
+    for (int p = 0; p < 3; ++p) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                 "property float z\nproperty float %s\nproperty double %s\nelement face 2\n"
+                 "property list uchar int vertex_indices\nend_header\n0 0 0 0 0.25\n1 0 0 0.5 0\n"
+                 "1 1 0 0.75 1\n0 1 0 0.125 0.875\n3 0 1 2\n3 0 2 3\n",
+                 pairs[p][0], pairs[p][1]);
+        pgt_mesh m;
+        pgt_error err;
+        const pgt_result rr = read_mem(&m, text, strlen(text), "vuv.ply", &err);
+        CHECK_MSG(rr == PGT_OK, "%s", err.message);
+        REQUIRE(rr == PGT_OK);
+        static const uint32_t corner[6] = {0, 1, 2, 0, 2, 3};
+        static const float uv[4][2] = {{0, 0.25f}, {0.5f, 0}, {0.75f, 1}, {0.125f, 0.875f}};
+        REQUIRE(m.uvs != NULL && m.face_count == 2);
+        int same = 1;
+        for (int c = 0; c < 6; ++c) /* each corner's vertex is the file's own (no reordering) */
+            same &= m.indices[c] == corner[c] && m.uvs[2 * c] == uv[corner[c]][0] &&
+                    m.uvs[2 * c + 1] == uv[corner[c]][1];
+        CHECK_MSG(same, "%s %s: the corners' UVs are not their vertices'", pairs[p][0],
+                  pairs[p][1]);
+        pgt_mesh_destroy(&m);
+    }
+    { /* a texcoord list wins over per-vertex u v */
+        static const char text[] =
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+            "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+            "end_header\n0 0 0 9 9\n1 0 0 9 9\n0 1 0 9 9\n3 0 1 2 6 0 0 1 0 0 1\n";
+        pgt_mesh m;
+        pgt_error err;
+        const pgt_result rr = read_mem(&m, text, sizeof text - 1, "both.ply", &err);
+        CHECK_MSG(rr == PGT_OK, "%s", err.message);
+        REQUIRE(rr == PGT_OK);
+        CHECK(m.uvs != NULL && m.uvs[0] == 0.0f && m.uvs[2] == 1.0f && m.uvs[5] == 1.0f);
+        pgt_mesh_destroy(&m);
+    }
+    { /* integer coordinates are refused, naming the property's line */
+        static const char text[] =
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nproperty int u\nproperty float v\nelement face 1\n"
+            "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n"
+            "0 1 0 0 1\n3 0 1 2\n";
+        pgt_mesh m;
+        pgt_error err;
+        CHECK(read_mem(&m, text, sizeof text - 1, "intu.ply", &err) == PGT_ERROR_UNSUPPORTED);
+        CHECK_MSG(strstr(err.message, "intu.ply:7:") && strstr(err.message, "'u' is a int"),
+                  "message '%s'", err.message);
+    }
+}
+
 static void test_ply_groups_binary(void) {
     unsigned char buf[2048];
     size_t n = build_binary_ply(buf);
@@ -888,6 +944,7 @@ static const pgt_test_case cases[] = {
     {"numbers_match_strtof", test_numbers_match_strtof},
     {"ply_groups_ascii", test_ply_groups_ascii},
     {"ply_groups_binary", test_ply_groups_binary},
+    {"ply_vertex_uvs", test_ply_vertex_uvs},
     {"origins", test_origins},
     {"real_meshes", test_real_meshes},
     {"paths_and_formats", test_paths_and_formats},

@@ -83,7 +83,9 @@ typedef enum ply_role {
     ROLE_Z,
     ROLE_INDICES,
     ROLE_GROUP,
-    ROLE_TEXCOORD
+    ROLE_TEXCOORD,
+    ROLE_VERTEX_U, /* per-vertex texture coordinates (u v, s t or texture_u texture_v) */
+    ROLE_VERTEX_V
 } ply_role;
 typedef enum ply_kind { KIND_OTHER, KIND_VERTEX, KIND_FACE } ply_kind;
 
@@ -111,6 +113,7 @@ typedef struct ply_header {
     size_t nelems;
     ply_elem elems[PLY_MAX_ELEMENTS];
     ply_elem *vertex, *face;
+    int vertex_uv;     /* the vertex element has a pair of texture coordinates */
     size_t end_line;   /* line of end_header */
     size_t data_start; /* offset of the first data byte */
 } ply_header;
@@ -447,6 +450,28 @@ static pgt_result parse_header(ply_header *h, const char *data, size_t size, con
                                     xyz[k], ply_type_name(found->type));
         found->role = (ply_role)(ROLE_X + k);
     }
+    /* Per-vertex texture coordinates, the first pair present (pgt's own soups write u and v):
+     * used when the faces carry no texcoord list, which can hold seams where these cannot. */
+    static const char *const uv_names[3][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}};
+    for (int p = 0; p < 3 && !h->vertex_uv; ++p) {
+        ply_prop *found[2] = {NULL, NULL};
+        for (size_t i = 0; i < h->vertex->nprops; ++i)
+            for (int k = 0; k < 2; ++k)
+                if (pgt_io_token_is(h->vertex->props[i].name, h->vertex->props[i].name_len,
+                                    uv_names[p][k]))
+                    found[k] = &h->vertex->props[i];
+        if (!found[0] || !found[1]) continue;
+        for (int k = 0; k < 2; ++k) {
+            if (found[k]->is_list || ply_is_int(found[k]->type))
+                return pgt_io_fail_line(err, PGT_ERROR_UNSUPPORTED, name, found[k]->line,
+                                        "vertex property '%s' is a %s%s (texture coordinates are "
+                                        "float or double)",
+                                        uv_names[p][k], found[k]->is_list ? "list of " : "",
+                                        ply_type_name(found[k]->type));
+            found[k]->role = (ply_role)(ROLE_VERTEX_U + k);
+        }
+        h->vertex_uv = 1;
+    }
     if (!h->face)
         return pgt_io_fail_line(err, PGT_ERROR_EMPTY, name, t.line,
                                 "header has no 'face' element (no faces)");
@@ -569,6 +594,7 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
 
     const uint64_t V = h->vertex->count;
     float *positions = malloc(((size_t)V * 3 + 1) * sizeof(float));
+    float *vertex_uv = h->vertex_uv ? malloc(((size_t)V * 2 + 1) * sizeof(float)) : NULL;
     pgt_io_tris tris;
     memset(&tris, 0, sizeof(tris));
     tris.use_where = origin != NULL;
@@ -578,7 +604,7 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
         tris.use_uvs |= h->face->props[j].role == ROLE_TEXCOORD;
         tris.use_labels |= h->face->props[j].role == ROLE_GROUP;
     }
-    if (!positions) {
+    if (!positions || (h->vertex_uv && !vertex_uv)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu vertices",
                           name, (unsigned long long)V);
         goto done;
@@ -615,6 +641,11 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                 case ROLE_Z:
                     r = ply_read_real(&in, pr->type, "coordinate",
                                       &positions[3 * i + (uint64_t)(pr->role - ROLE_X)]);
+                    break;
+                case ROLE_VERTEX_U:
+                case ROLE_VERTEX_V:
+                    r = ply_read_real(&in, pr->type, "texture coordinate",
+                                      &vertex_uv[2 * i + (uint64_t)(pr->role - ROLE_VERTEX_U)]);
                     break;
                 case ROLE_INDICES:
                     r = ply_list_count(&in, pr, &count);
@@ -693,10 +724,23 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                                size - in.pos);
         goto done;
     }
+    if (!tris.use_uvs && h->vertex_uv) { /* each corner takes its vertex's coordinates */
+        tris.use_uvs = 1;
+        if (pgt_io_f32_reserve(&tris.uvs, 6 * tris.triangle_count + 1) != 0) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+            goto done;
+        }
+        for (size_t c = 0; c < 3 * tris.triangle_count; ++c)
+            for (int k = 0; k < 2; ++k)
+                tris.uvs.data[2 * c + (size_t)k] =
+                    vertex_uv[2 * (size_t)tris.indices.data[c] + (size_t)k];
+        tris.uvs.len = 6 * tris.triangle_count;
+    }
     pgt_io_note_fan(name, tris.polygon_count, quiet);
     r = pgt_io_finish(out, positions, (size_t)V, &tris, tris.use_uvs, origin, h->binary, name, err);
 done:
     free(positions);
+    free(vertex_uv);
     free(poly.data);
     free(uv.data);
     pgt_io_tris_free(&tris);

@@ -59,8 +59,9 @@ typedef struct pgt_mesh_write_options {
  * polygons fan-triangulated with a note on stderr; o g s usemtl mtllib ignored. OFF: "OFF"
  * header, optional comments, polygons fan-triangulated. PLY: vertex x y z (float or double),
  * face vertex_indices (or vertex_index) list, optional int face property `group` stored as the
- * label, other properties skipped; optional per-face `texcoord` list of 6 floats as wedge UVs.
- * opts may be NULL. On failure *out is zeroed.
+ * label, other properties skipped; optional per-face `texcoord` list of 6 floats as wedge UVs,
+ * else per-vertex texture coordinates (`u v`, `s t` or `texture_u texture_v`, as pgt's soups
+ * write them) copied to each corner. opts may be NULL. On failure *out is zeroed.
  *
  * Details of what is accepted:
  * - Every format: a polygon (v0 .. vn-1) becomes the fan (v0, vi, vi+1), i = 1 .. n-2, its UVs
@@ -85,10 +86,12 @@ typedef struct pgt_mesh_write_options {
  *   PGT_ERROR_UNSUPPORTED). Types char uchar short ushort int uint float double and their
  *   int8 .. float64 names. x y z must be float or double (an integer type is UNSUPPORTED).
  *   `group` may be any integer type whose values fit int32; `texcoord` a float or double list
- *   of 2 values per corner. Other elements, properties and lists are skipped. Ascii PLY holds
- *   one element instance per line, each ending with '\n'. A header whose `vertex` element is
- *   missing, or lacks x y z, or whose face element lacks the index list, is PGT_ERROR_PARSE;
- *   no `face` element or zero faces is PGT_ERROR_EMPTY.
+ *   of 2 values per corner; per-vertex texture coordinates float or double scalars (an integer
+ *   type or a list is UNSUPPORTED), the first of the three pairs present, used only without a
+ *   `texcoord` list (which can hold seams, as one UV per vertex cannot). Other elements, properties
+ * and lists are skipped. Ascii PLY holds one element instance per line, each ending with '\n'. A
+ * header whose `vertex` element is missing, or lacks x y z, or whose face element lacks the index
+ * list, is PGT_ERROR_PARSE; no `face` element or zero faces is PGT_ERROR_EMPTY.
  *
  * Error codes (text messages are "FILE:LINE: ...", binary PLY data "FILE: byte offset N: ..."):
  * - PGT_ERROR_IO: the file cannot be opened or read (or is a directory).
