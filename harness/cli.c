@@ -244,15 +244,13 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
 }
 
 int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint32_t n,
-                                const char *shared_dir, const char *out) {
+                                const char *shared_dir, const char *flag, const char *out) {
     for (uint32_t k = 0; k < n; ++k) {
         char buf[4096];
         const char *path = named_path(names[k], shared_dir, buf, sizeof buf);
         if (path && pgt_cli_same_file(path, out))
-            return pgt_cli_fail(verb,
-                                "--out %s is the input mesh %s; pgt never overwrites an "
-                                "input",
-                                out, names[k]);
+            return pgt_cli_fail(verb, "%s %s is the input mesh %s; pgt never overwrites an input",
+                                flag, out, names[k]);
     }
     return 0;
 }

@@ -127,11 +127,11 @@ const char *pgt_cli_mesh_label(const char *name);
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err);
 
-/* 0 unless out is the file of one of the n mesh names (pgt_cli_load_named's rule); else prints
- * "pgt VERB: --out OUT is the input mesh NAME; ..." and returns PGT_EXIT_USAGE (a benchmark's
- * table must not replace its input). */
+/* 0 unless out (given by `flag`) is the file of one of the n mesh names (pgt_cli_load_named's
+ * rule); else prints "pgt VERB: FLAG OUT is the input mesh NAME; ..." and returns
+ * PGT_EXIT_USAGE (a benchmark's table or pgt ivy's outputs must not replace their input). */
 int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint32_t n,
-                                const char *shared_dir, const char *out);
+                                const char *shared_dir, const char *flag, const char *out);
 
 /* Parses exactly n comma-separated finite floats ("A,B,C") into out; a single number > lo_excl
  * and <= hi. On failure both print one line naming verb, flag and text and return nonzero. */

@@ -423,7 +423,7 @@ int pgt_cmd_bench(int argc, char **argv) {
             for (uint32_t i = 0; i < pgt_cli_shared_mesh_count; ++i)
                 cfg.meshes[cfg.n_meshes++] = pgt_cli_shared_meshes[i];
     }
-    if (pgt_cli_refuse_named_inputs("bench", cfg.meshes, cfg.n_meshes, cfg.shared_dir,
+    if (pgt_cli_refuse_named_inputs("bench", cfg.meshes, cfg.n_meshes, cfg.shared_dir, "--out",
                                     cfg.out_path))
         return PGT_EXIT_USAGE;
     /* Open the GPU backends once: kernel builds and instance creation stay out of the timings. */

@@ -113,7 +113,7 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     if (add && pgt_cli_name_list("bench", "--add", add, add_buf, sizeof add_buf, meshes,
                                  BENCH_ATLAS_MAX_LIST, &n_meshes))
         return PGT_EXIT_USAGE;
-    if (pgt_cli_refuse_named_inputs("bench", meshes, n_meshes, shared, out_path))
+    if (pgt_cli_refuse_named_inputs("bench", meshes, n_meshes, shared, "--out", out_path))
         return PGT_EXIT_USAGE;
     if (!n_threads) {
         threads[n_threads++] = 1;

@@ -510,11 +510,12 @@ int pgt_cmd_ivy(int argc, char **argv) {
         const char *inputs[7] = {in_path,    grammar_path, seed_file,   mask_path,
                                  paint_path, forbid_path,  density_path};
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
+        static const char *const flags[4] = {"-o", "--curves", "--mask-out", "--mask-mesh"};
         if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4)) return PGT_EXIT_USAGE;
         /* the input named as a shared mesh ("spot.obj") is a file of the shared folder */
         for (int k = 0; k < 4; ++k)
-            if (outputs[k] &&
-                pgt_cli_refuse_named_inputs(verb, &in_path, 1, PGT_CLI_SHARED_MESH_DIR, outputs[k]))
+            if (outputs[k] && pgt_cli_refuse_named_inputs(
+                                  verb, &in_path, 1, PGT_CLI_SHARED_MESH_DIR, flags[k], outputs[k]))
                 return PGT_EXIT_USAGE;
     }
 

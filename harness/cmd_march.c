@@ -473,7 +473,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     if (add && pgt_cli_name_list(verb, "--add", add, add_buf, sizeof add_buf, meshes,
                                  BENCH_MARCH_MAX_LIST, &n_meshes))
         return PGT_EXIT_USAGE;
-    if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, out_path))
+    if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, "--out", out_path))
         return PGT_EXIT_USAGE;
 
     char tmp[4200];
