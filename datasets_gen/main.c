@@ -149,7 +149,7 @@ static int city_main(int argc, char **argv) {
     char comment[128];
     snprintf(comment, sizeof comment, "pgt_datasets city %llu %llu (pgt_gen_city)", v[0], v[1]);
     int rc = 0;
-    if (pgt_facade_file_write(out, &f.scene, (const char *const *)f.names,
+    if (pgt_facade_file_write(out, NULL, &f.scene, (const char *const *)f.names,
                               (const char *const *)f.paths, comment, &err) != PGT_OK) {
         fprintf(stderr, "pgt_datasets: city: %s\n", err.message);
         rc = 1;

@@ -16,13 +16,19 @@
 #include "pgt/mesh_io.h"
 #include "png_io.h"
 
+/* The stage whose names pgt_cli_fail turns back into the outputs' paths (pgt_cli_stage_add
+ * sets it; a verb stages its outputs in one place). */
+static const pgt_cli_stage *cli_active_stage;
+
 int pgt_cli_fail(const char *verb, const char *fmt, ...) {
+    char msg[4096];
     va_list ap;
-    fprintf(stderr, "pgt %s: ", verb);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
+    /* a writer names the staging file it was given: the user's path instead */
+    if (cli_active_stage) pgt_cli_stage_unname(cli_active_stage, msg, sizeof msg);
+    fprintf(stderr, "pgt %s: %s\n", verb, msg);
     return PGT_EXIT_USAGE;
 }
 
@@ -158,8 +164,26 @@ int pgt_cli_same_file(const char *a, const char *b) {
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+/* The folder part of path ("." without one, "/" for a file at the root) into buf. */
+static void folder_of(const char *path, char *buf, size_t size) {
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(buf, size, ".");
+    else if (slash == path)
+        snprintf(buf, size, "/");
+    else
+        snprintf(buf, size, "%.*s", (int)(slash - path), path);
+}
+
 int pgt_cli_same_output(const char *a, const char *b) {
-    return !strcmp(a, b) || pgt_cli_same_file(a, b);
+    if (!strcmp(a, b) || pgt_cli_same_file(a, b)) return 1;
+    /* files that do not exist yet ("o.ply" and "./o.ply"): one name in one folder */
+    const char *na = strrchr(a, '/'), *nb = strrchr(b, '/');
+    if (strcmp(na ? na + 1 : a, nb ? nb + 1 : b)) return 0;
+    char da[4096], db[4096];
+    folder_of(a, da, sizeof da);
+    folder_of(b, db, sizeof db);
+    return pgt_cli_same_file(da, db);
 }
 
 int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
@@ -304,31 +328,57 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
 
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     if (s->count == PGT_CLI_STAGE_MAX) return NULL;
+    /* path's folder ("." without one) and the staging folder inside it */
+    const char *slash = strrchr(path, '/');
+    char dir[4200];
+    if (slash)
+        snprintf(dir, sizeof dir, "%.*s/.pgt-stage.%ld", (int)(slash - path), path, (long)getpid());
+    else
+        snprintf(dir, sizeof dir, ".pgt-stage.%ld", (long)getpid());
+    uint32_t d = 0;
+    while (d < s->dir_count && strcmp(s->dir[d], dir)) ++d;
+    if (d == s->dir_count) {
+        snprintf(s->dir[d], sizeof s->dir[0], "%s", dir);
+        /* only a folder made here is removed at the end; when it cannot be made (the output's
+         * folder is missing or read-only) the writer fails on the name below and says why */
+        s->made[d] = mkdir(dir, 0700) == 0;
+        s->dir_count++;
+    }
     char *tmp = s->tmp[s->count];
-    snprintf(tmp, sizeof s->tmp[0], "%s.stage.%ld", path, (long)getpid());
+    snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, slash ? slash + 1 : path);
     s->path[s->count++] = path;
+    cli_active_stage = s;
     return tmp;
 }
 
 void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
-    for (uint32_t k = 0; k < s->count; ++k) {
-        char *at = strstr(msg, s->tmp[k]);
-        if (!at) continue;
-        const char *after = at + strlen(s->tmp[k]);
-        if (!strncmp(after, ".tmp.", 5)) { /* a writer's own temporary file of the staged one */
-            after += 5;
-            while (isdigit((unsigned char)*after)) ++after;
+    for (uint32_t k = 0; k < s->count; ++k)
+        for (char *at = strstr(msg, s->tmp[k]); at; at = strstr(at, s->tmp[k])) {
+            const char *after = at + strlen(s->tmp[k]);
+            if (!strncmp(after, ".tmp.", 5)) { /* a writer's own temporary file of it */
+                after += 5;
+                while (isdigit((unsigned char)*after)) ++after;
+            }
+            char rest[1024];
+            snprintf(rest, sizeof rest, "%s", after);
+            const size_t room = size - (size_t)(at - msg);
+            snprintf(at, room, "%s%s", s->path[k], rest);
+            const size_t len = strlen(s->path[k]);
+            at += len < room ? len : room - 1u;
         }
-        char rest[1024];
-        snprintf(rest, sizeof rest, "%s", after);
-        snprintf(at, size - (size_t)(at - msg), "%s%s", s->path[k], rest);
-    }
 }
 
-void pgt_cli_stage_abort(pgt_cli_stage *s) {
-    for (uint32_t k = 0; k < s->count; ++k) remove(s->tmp[k]);
-    s->count = 0;
+/* Removes the staged files from the from-th on (unlink: never a user's folder of that name) and
+ * the staging folders made here (rmdir: only when empty); the stage is empty afterwards. */
+static void stage_clear(pgt_cli_stage *s, uint32_t from) {
+    for (uint32_t k = from; k < s->count; ++k) unlink(s->tmp[k]);
+    for (uint32_t d = 0; d < s->dir_count; ++d)
+        if (s->made[d]) rmdir(s->dir[d]);
+    s->count = s->dir_count = 0;
+    if (cli_active_stage == s) cli_active_stage = NULL;
 }
+
+void pgt_cli_stage_abort(pgt_cli_stage *s) { stage_clear(s, 0); }
 
 int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb) {
     for (uint32_t k = 0; k < s->count; ++k) {
@@ -337,18 +387,18 @@ int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb) {
             /* a rename would replace a device (/dev/null) or a fifo with a regular file */
             pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", s->path[k],
                          S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
-            pgt_cli_stage_abort(s);
+            stage_clear(s, 0);
             return -1;
         }
     }
     for (uint32_t k = 0; k < s->count; ++k)
         if (pgt_replace_file(s->tmp[k], s->path[k]) != 0) {
-            pgt_cli_fail(verb, "cannot write %s: %s", s->path[k], strerror(errno));
-            for (uint32_t j = k; j < s->count; ++j) remove(s->tmp[j]);
-            s->count = 0;
+            const int e = errno;
+            stage_clear(s, k);
+            pgt_cli_fail(verb, "cannot write %s: %s", s->path[k], strerror(e));
             return -1;
         }
-    s->count = 0;
+    stage_clear(s, s->count);
     return 0;
 }
 

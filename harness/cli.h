@@ -50,8 +50,8 @@ void pgt_cli_date(char *buf, size_t size);
 /* Nonzero when a and b name the same existing file (device and inode). */
 int pgt_cli_same_file(const char *a, const char *b);
 
-/* Nonzero when two output paths would write one file: the same text (neither exists yet) or
- * the same existing file. */
+/* Nonzero when two output paths would write one file: the same text, the same existing file,
+ * or (files not written yet) the same name in the same existing folder ("o.ply", "./o.ply"). */
 int pgt_cli_same_output(const char *a, const char *b);
 
 /* 0 when none of the n_out outputs is one of the n_in inputs and no two outputs are the same
@@ -83,22 +83,28 @@ FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t 
 int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb);
 
 /* Outputs of one command that appear together or not at all: each output is written under its
- * staging name (pgt_cli_stage_add: path.stage.PID, in path's folder) and pgt_cli_stage_commit
- * renames them all over their paths once every one is written, after checking that each path
- * is a regular file or nothing (a folder would fail the rename, and a device such as /dev/null
- * would be replaced by a regular file when run as root); a command
- * that fails first calls pgt_cli_stage_abort, which removes the staged files, so a failed run
- * leaves no output and every older file as it was. */
+ * staging name (pgt_cli_stage_add: FOLDER/.pgt-stage.PID/NAME for FOLDER/NAME, a folder of this
+ * process beside the output, so the name is as long as the output's and the rename stays in one
+ * file system), and pgt_cli_stage_commit renames them all over their paths once every one is
+ * written, after checking that each path is a regular file or nothing (a folder would fail the
+ * rename, and a device such as /dev/null would be replaced by a regular file when run as root);
+ * a command that fails first calls pgt_cli_stage_abort, which removes the staged files and the
+ * staging folders, so a failed run leaves no output and every older file as it was. While a
+ * stage holds names, pgt_cli_fail prints each staging name as its output's path. A stage is
+ * initialised with its counts zero. */
 #define PGT_CLI_STAGE_MAX 8
 typedef struct pgt_cli_stage {
-    uint32_t count;
+    uint32_t count, dir_count;
     const char *path[PGT_CLI_STAGE_MAX];
-    char tmp[PGT_CLI_STAGE_MAX][4300];
+    char tmp[PGT_CLI_STAGE_MAX][4400];
+    char dir[PGT_CLI_STAGE_MAX][4200]; /* the staging folders */
+    int made[PGT_CLI_STAGE_MAX];       /* made by this stage (removed at the end) */
 } pgt_cli_stage;
 
 /* The name to write output `path` under (NULL when PGT_CLI_STAGE_MAX are staged already). */
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path);
-/* In an error message, each staging name back to its output's path. */
+/* In a message, each staging name (and a writer's NAME.tmp.PID of it) back to its output's
+ * path. */
 void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
 /* Renames the staged files over their paths; on failure prints a one-line error for verb,
  * removes what is left staged and returns nonzero. The stage is empty afterwards. */

@@ -191,7 +191,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
         /* both files under staging names first, renamed only when both are written: a failed
          * -o or --png leaves no new file behind (nor replaces an old one) */
         pgt_cli_stage stage;
-        stage.count = 0;
+        stage.count = stage.dir_count = 0;
         const char *exr_tmp = pgt_cli_stage_add(&stage, out_path);
         const char *png_tmp = png_path ? pgt_cli_stage_add(&stage, png_path) : NULL;
         if (pgt_image_write_exr_threads(&atlas, exr_tmp, threads, &err) != PGT_OK ||

@@ -315,7 +315,7 @@ int pgt_cmd_facade(int argc, char **argv) {
     memset(&hits, 0, sizeof hits);
     /* every output appears once all are written, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;
-    stage.count = 0;
+    stage.count = stage.dir_count = 0;
     double *ms = calloc(2u * a.frames, sizeof(double));
     if (!ms) {
         pgt_cli_fail(verb, "out of memory");
@@ -372,7 +372,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         else
             snprintf(comment, sizeof comment, "pgt facade --city %u --seed %u (pgt_gen_city)",
                      a.city, a.seed);
-        if (pgt_facade_file_write(pgt_cli_stage_add(&stage, a.save_path), s,
+        if (pgt_facade_file_write(pgt_cli_stage_add(&stage, a.save_path), a.save_path, s,
                                   (const char *const *)file.names, (const char *const *)file.paths,
                                   comment, &err) != PGT_OK) {
             pgt_cli_stage_unname(&stage, err.message, sizeof err.message);

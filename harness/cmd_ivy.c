@@ -521,7 +521,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
 
     /* the outputs appear together once all are written, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;
-    stage.count = 0;
+    stage.count = stage.dir_count = 0;
     pgt_ivy_scene s;
     pgt_ivy_output out;
     memset(&out, 0, sizeof out);

@@ -183,7 +183,7 @@ int pgt_cmd_march(int argc, char **argv) {
     pgt_march_options opts = {0};
     /* -o and --dump's files appear together, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;
-    stage.count = 0;
+    stage.count = stage.dir_count = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {

@@ -66,8 +66,10 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                               "%s", msg);
             break;
         }
+        char *hash = strchr(line, '#'); /* a comment runs to the end of the line */
+        if (hash) *hash = '\0';
         char *save = NULL, *tok = strtok_r(line, " \t\r\n", &save);
-        if (!tok || tok[0] == '#') continue;
+        if (!tok) continue;
         const int is_v = !strcmp(tok, "v"), is_vt = !strcmp(tok, "vt"), is_vn = !strcmp(tok, "vn");
         if (is_v || is_vt || is_vn) {
             const uint32_t need = is_vt ? 2u : 3u;
@@ -88,14 +90,20 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                                       "arithmetic loses its windows beyond)",
                                       path, lineno, tok, t, (double)PGT_FACADE_MAX_COORD);
             }
-            /* what may follow (as the mesh reader): v's and vt's optional weight w, a comment */
+            /* what may follow, read as the mesh reader reads it and unused: up to 4 more
+             * numbers after v's 3 (a weight, or a colour r g b and its weight), 1 after vt's 2 */
+            const uint32_t more = is_v ? 4u : (is_vt ? 1u : 0u);
             for (uint32_t extra = 0; r == PGT_OK;) {
                 char *t = strtok_r(NULL, " \t\r\n", &save), *end = NULL;
-                if (!t || t[0] == '#') break;
-                if (is_vn || extra++ == 1u || (strtof(t, &end), *end != '\0'))
-                    r = pgt_error_set(err, PGT_ERROR_PARSE,
-                                      "%s:%u: %s takes %u numbers%s, got '%s' after them", path,
-                                      lineno, tok, need, is_vn ? "" : " and an optional weight", t);
+                if (!t) break;
+                if (extra++ == more || (strtof(t, &end), *end != '\0'))
+                    r = more ? pgt_error_set(err, PGT_ERROR_PARSE,
+                                             "%s:%u: %s takes %u to %u numbers, got '%s' after "
+                                             "them",
+                                             path, lineno, tok, need, need + more, t)
+                             : pgt_error_set(err, PGT_ERROR_PARSE,
+                                             "%s:%u: %s takes %u numbers, got '%s' after them",
+                                             path, lineno, tok, need, t);
             }
             fbuf *b = is_v ? &pos : (is_vt ? &uv : &nrm);
             if (r == PGT_OK && b->n / need >= PGT_FACADE_QUADS_MAX)
@@ -107,7 +115,7 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
             const uint32_t count[3] = {pos.n / 3u, uv.n / 2u, nrm.n / 3u};
             uint32_t c[4][3], n = 0;
             char *t;
-            while (r == PGT_OK && (t = strtok_r(NULL, " \t\r\n", &save)) && t[0] != '#') {
+            while (r == PGT_OK && (t = strtok_r(NULL, " \t\r\n", &save))) {
                 if (n == 4 || !corner(t, count, c[n]))
                     r = pgt_error_set(err, PGT_ERROR_PARSE,
                                       "%s:%u: a face is 4 corners V/T/N with indices of earlier "

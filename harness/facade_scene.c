@@ -466,7 +466,7 @@ static void write_grammar_path(FILE *fp, const char *scene_path, const char *gpa
     free(dir);
 }
 
-pgt_result pgt_facade_file_write(const char *path, const pgt_facade_scene *s,
+pgt_result pgt_facade_file_write(const char *path, const char *read_path, const pgt_facade_scene *s,
                                  const char *const *names, const char *const *paths,
                                  const char *comment, pgt_error *err) {
     const size_t tn = strlen(path) + 32u;
@@ -501,7 +501,7 @@ pgt_result pgt_facade_file_write(const char *path, const pgt_facade_scene *s,
     }
     for (uint32_t k = 0; k < s->grammar_count; ++k) {
         fprintf(fp, "grammar %s ", names[k]);
-        write_grammar_path(fp, path, paths[k]);
+        write_grammar_path(fp, read_path ? read_path : path, paths[k]);
         fputc('\n', fp);
     }
     for (uint32_t i = 0; i < s->building_count; ++i) {

@@ -52,11 +52,13 @@ pgt_result pgt_facade_file_add_grammar(pgt_facade_file *f, const char *name, con
                                        pgt_error *err);
 
 /* Writes s as a scene file at path (a temporary file renamed over it). grammar k is written as
- * `grammar names[k] P` with P the path of paths[k] relative to path's folder when both resolve
- * (realpath), else paths[k] as given. A building lists the params whose values differ from
+ * `grammar names[k] P` with P the path of paths[k] relative to the folder of read_path (where
+ * the file will be read from: a caller that writes under a staging name and renames it later,
+ * pgt_cli_stage, names the final path; NULL: path) when both resolve (realpath), else paths[k]
+ * as given. A building lists the params whose values differ from
  * what the reader would give without them, at 9 significant digits (the same floats come
  * back). comment (may be NULL) is written as '#' lines at the top. */
-pgt_result pgt_facade_file_write(const char *path, const pgt_facade_scene *s,
+pgt_result pgt_facade_file_write(const char *path, const char *read_path, const pgt_facade_scene *s,
                                  const char *const *names, const char *const *paths,
                                  const char *comment, pgt_error *err);
 

@@ -215,6 +215,13 @@ expect ivy_fail_expand 2 "$pgt" ivy cs.exr --seeds 1 --param stepLength=1e30 --m
 expect ivy_fail_curves 2 "$pgt" ivy cs.exr --seeds 2 -o ivf.ply --curves ivdir.csv --mask-out ivf.png "${short[@]}"
 one_line ivy_fail_curves_one_line "cannot write ivdir.csv: it is a folder, not a regular file"
 [ -z "$(ls ivf.* ivdir.csv.* 2>/dev/null)" ] && ok ivy_fail_writes_nothing || bad ivy_fail_writes_nothing "$(ls ivf.*)"
+# two names of one new file are refused before anything is written; a writer's error names the
+# user's path, not the staging name
+expect ivy_same_new_output 2 "$pgt" ivy cs.exr --seeds 2 -o ivs.ply --mask-mesh ./ivs.ply "${short[@]}"
+one_line ivy_same_new_output_one_line "./ivs.ply is named for two outputs"
+expect ivy_missing_folder 2 "$pgt" ivy cs.exr --seeds 2 -o ivs.ply --curves nodir/c.csv "${short[@]}"
+one_line ivy_missing_folder_one_line "^pgt ivy: cannot write nodir/c.csv: No such file or directory$"
+[ -z "$(ls -d ivs.ply .pgt-stage.* 2>/dev/null)" ] && ok ivy_same_writes_nothing || bad ivy_same_writes_nothing "$(ls -d ivs.ply .pgt-stage.*)"
 expect ivy_one_thread 0 "$pgt" ivy cs.exr --seeds 3 -o ivy1.ply --curves c1.csv --threads 1 "${short[@]}"
 expect ivy_two_threads 0 "$pgt" ivy cs.exr --seeds 3 -o ivy2.ply --curves c2.csv --threads 2 "${short[@]}"
 cmp -s ivy1.ply ivy2.ply && cmp -s c1.csv c2.csv && ok ivy_same_bytes_any_threads || bad ivy_same_bytes_any_threads "outputs differ"
@@ -571,7 +578,7 @@ one_line facade_fail_explicit_names_token "^pgt facade: --explicit: --city: buil
 mkdir -p nfdir.png
 expect facade_fail_png_folder 2 "$pgt" facade --city 1 --width 16 --height 16 -o nf.exr --png nfdir.png
 one_line facade_fail_png_folder_one_line "cannot write nfdir.png: it is a folder, not a regular file"
-ls nf.exr nf.png nf.ply nf.scene nf*.stage.* 2>/dev/null | grep -q . && bad facade_fail_no_output "$(ls nf.* nf*.stage.* 2>/dev/null)" || ok facade_fail_no_output
+ls -d nf.exr nf.png nf.ply nf.scene .pgt-stage.* 2>/dev/null | grep -q . && bad facade_fail_no_output "$(ls -d nf.* .pgt-stage.* 2>/dev/null)" || ok facade_fail_no_output
 expect facade_city 0 "$pgt" facade --city 4 -o f.exr --png f.png --width 96 --height 64 --threads 2 \
   --explicit f.ply --save-scene f.scene
 grep -q "^scene: 4 buildings, 16 facades" out.txt && grep -q "nodes developed per ray" out.txt \

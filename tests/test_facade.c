@@ -44,6 +44,14 @@ static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
     pgt_facade_mesh m;
     const pgt_result r = pgt_facade_explicit(&s, fa, fc, &m, &err);
     CHECK_MSG(r == PGT_OK, "%s", err.message);
+    /* a sound facade's development ends within pgt_facade_explain's bound and finds no error */
+    uint32_t explained = 0;
+    for (uint32_t f = 0; f < fc; ++f) {
+        pgt_error e2 = {0};
+        explained += pgt_facade_explain(&s, &fa[f], f, &e2) == PGT_OK;
+    }
+    CHECK_MSG(explained == fc, "%s: %u of %u facades explained without error", grammar, explained,
+              fc);
     if (r == PGT_OK) {
         oracle o;
         oracle_init(&o, &m, fc + s.building_count); /* roofs are facade_count + building */
@@ -459,6 +467,11 @@ static void test_errors(void) {
     memset(&err, 0, sizeof err);
     CHECK(pgt_facade_explicit(&s, fa, fc, &m, &err) == PGT_ERROR_INVALID_ARGUMENT);
     CHECK_MSG(strstr(err.message, "t.grammar:4:7") != NULL, "%s", err.message);
+    { /* the explanation a render error gets: the same first error, without geometry */
+        pgt_error e2 = {0};
+        CHECK(pgt_facade_explain(&s, &fa[0], 0, &e2) == PGT_ERROR_INVALID_ARGUMENT);
+        CHECK_MSG(!strcmp(e2.message, err.message), "'%s' against '%s'", e2.message, err.message);
+    }
     free(fa);
     pgt_grammar_destroy(&g);
     REQUIRE(compile(&g, "param protrusion = 0.2\nparam recess = 0.1\nF --> Bark(1, C1)\n") ==

@@ -212,7 +212,7 @@ static void test_scene_round_trip(void) {
     const char *path = PGT_BINARY_DIR "/tests/facade_round_trip.scene";
     pgt_error err = {0};
     const pgt_facade_scene *s = &city.file.scene;
-    REQUIRE(pgt_facade_file_write(path, s, (const char *const *)city.file.names,
+    REQUIRE(pgt_facade_file_write(path, NULL, s, (const char *const *)city.file.names,
                                   (const char *const *)city.file.paths, "round trip",
                                   &err) == PGT_OK);
     pgt_facade_file back;

@@ -577,10 +577,9 @@ static void test_obj_round_trip(void) {
         {"v 0 0\n", ":1:", PGT_ERROR_PARSE},
         {"# nothing\n", "no faces", PGT_ERROR_EMPTY},
         /* tokens after the numbers: a weight (v, vt) or a comment only, as the mesh reader */
-        {"v 0 0 0 garbage\n", ":1: v takes 3 numbers and an optional weight, got 'garbage'",
-         PGT_ERROR_PARSE},
-        {"v 0 0 0\nvt 0 0 junk\n", ":2: vt takes 2 numbers", PGT_ERROR_PARSE},
-        {"v 0 0 0 1 2\n", ":1: v takes 3 numbers and an optional weight, got '2'", PGT_ERROR_PARSE},
+        {"v 0 0 0 garbage\n", ":1: v takes 3 to 7 numbers, got 'garbage'", PGT_ERROR_PARSE},
+        {"v 0 0 0\nvt 0 0 junk\n", ":2: vt takes 2 to 3 numbers", PGT_ERROR_PARSE},
+        {"v 0 0 0 1 2 3 4 5\n", ":1: v takes 3 to 7 numbers, got '5'", PGT_ERROR_PARSE},
         {"v 0 0 0\nvt 0 0\nvn 0 0 1 xx\n", ":3: vn takes 3 numbers, got 'xx'", PGT_ERROR_PARSE},
         {"v 0 0 0\nvt 0 0\nvn 0 0 1 1\n", ":3: vn takes 3 numbers, got '1'", PGT_ERROR_PARSE},
     };
@@ -605,9 +604,9 @@ static void test_obj_round_trip(void) {
         CHECK(back.vertex_count == 0 && back.positions == NULL);
     }
     { /* weights and end-of-line comments are read as the mesh reader reads them */
-        REQUIRE(write_text(bpath, "v 0 0 0 1 # a\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0 0\n"
-                                  "vt 1 0\nvt 1 1 # c\nvt 0 1\nvn 0 0 1 # n\n"
-                                  "f 1/1/1 2/2/1 3/3/1 4/4/1 # the quad\n"));
+        REQUIRE(write_text(bpath, "v 0 0 0 1 # a\nv 1 0 0 1 0 0\nv 1 1 0 1 0 0 1\nv 0 1 0#b\n"
+                                  "vt 0 0 0\nvt 1 0\nvt 1 1 # c\nvt 0 1\nvn 0 0 1 # n\n"
+                                  "f 1/1/1 2/2/1 3/3/1 4/4/1#the quad\n"));
         pgt_error e = {0};
         CHECK_MSG(pgt_facade_quads_read_obj(&back, bpath, &e) == PGT_OK, "%s", e.message);
         CHECK(back.quad_count == 1u && back.vertex_count == 4u);
