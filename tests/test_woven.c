@@ -1,8 +1,9 @@
 /* Tests of the woven sphere (woven.h; paper 002 Appendix A; issue 7): counts for every
  * resolution and odd parameters, curve samples on the unit sphere and equal to a double
  * B-spline oracle, loft vertices at the circle's radius, rotation-minimising frames on a great
- * circle, particles inside the box for 10,000 frames (also started on the walls), the key
- * subsets, the same bytes for 1 and 2 threads and two runs, and bad parameters. */
+ * circle and against a double-precision rotation-minimising frame, particles inside the box
+ * for 10,000 frames (also started on the walls) with uniform directions, the key subsets, the same
+ * bytes for 1 and 2 threads and two runs, and bad parameters. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -31,9 +32,8 @@
 #define BSPLINE_TOL 2e-6
 #define BSPLINE_MIN_LENGTH 1e-3
 /* Great circle: the frame's s = t x r is +-z; its normal column at 90 degrees is cos(pi / 2)
- * r + sin(pi / 2) s in float32 (cos(pi / 2) rounds to -4.4e-8) from a frame kept in the plane
- * by reflections whose vectors lie in the plane up to float32 rounding of coordinates <= 1:
- * 1e-5 bounds a drift of a few hundred roundings. */
+ * r + sin(pi / 2) s in float32 (cos(pi / 2) rounds to -4.4e-8) from a frame in the plane up
+ * to float32 rounding of coordinates <= 1: 1e-5 bounds a few hundred roundings. */
 #define GREAT_CIRCLE_TOL 1e-5
 /* Winding: where the curve's radius of curvature is below the tube's radius (tight turns, e.g.
  * a curve passing by the centre of the sphere), any tube of radius 0.025 folds on the inside of
@@ -45,6 +45,29 @@
  * outwards. */
 #define WINDING_MIN_CHORD_RADII 1.0
 #define WINDING_MAX_TILT_DEG 30.0
+/* The loft frames against a double-precision oracle (test_frames_rotation_minimising):
+ * - RMF_SUBSTEPS: the oracle runs the double reflection method (Wang et al. 2008) on the double
+ *   B-spline, spherified, at 64 steps per sample interval; its error is O(h^4) per unit
+ *   length, far below the tolerances here;
+ * - FD_STEP: the oracle's derivatives are central differences (one-sided of second order at the
+ *   ends) of the double curve in the global parameter (spans of length 1): truncation about
+ *   h^2 |S3| / 6 ~ 1e-11 |S3| (S3: the third derivative), rounding 1e-16 / h ~ 1e-11;
+ * - FRAME_TOL: |n . T| for every ring normal n (the ring's plane perpendicular to the curve) and
+ *   |n_0 - r| for column 0 against the oracle's frame r, in radians for small angles. The
+ *   implementation's t comes from float32 sums of 4 keys (|k| <= sqrt 3) and a float32
+ *   projection: an error of a few 1e-7 |c'| / (|c| |S'|), which the conditioning bound below
+ *   keeps under 1e-5; 1e-4 is a 10x margin (measured: at most 6.5e-6). The double reflection
+ *   at the samples' spacing in float32, which the loft used before 2026-11, fails it: 246 of
+ *   17,550 rings of 179k off by up to 0.049 (2.8 degrees).
+ * - FRAME_MIN_CONDITION: samples where |c| |S'| < 1e-2 |c'| (the curve heading nearly straight
+ *   at the centre, where its spherified direction is ill-conditioned in float32) are not
+ *   compared, and a curve whose fine steps come within FRAME_MIN_LENGTH of the centre is left
+ *   out of the transport (there S turns through large angles within one fine step). */
+#define RMF_SUBSTEPS 64u
+#define FD_STEP 1e-5
+#define FRAME_TOL 1e-4
+#define FRAME_MIN_CONDITION 1e-2
+#define FRAME_MIN_LENGTH 0.05
 /* Key histogram: each particle is a key of C K / P curves on average; counts must lie within
  * this relative distance (10,000 curves x 4 keys over 10 particles: mean 4000, standard
  * deviation ~55, so 10 % is ~7 sigma: a check of the rule with a fixed seed, not a flake). */
@@ -190,6 +213,23 @@ static void check_geometry(const model *md, const char *what) {
               (unsigned long long)seam);
 }
 
+/* Runs check on a model of every odd parameter set (seed `seed`), after one frame (`step`) or
+ * at frame 0 (the initial particles, evaluated), named "odd params I". */
+static void check_odd_params(uint32_t seed, int step, void (*check)(const model *, const char *)) {
+    char what[64];
+    for (size_t i = 0; i < ODD_COUNT; ++i) {
+        model md;
+        REQUIRE(model_make(&md, &odd_params[i], seed));
+        if (step)
+            pgt_woven_frame(&md.m, &md.w, 1);
+        else
+            pgt_woven_evaluate(&md.m, &md.w, 1);
+        snprintf(what, sizeof what, "odd params %zu", i);
+        check(&md, what);
+        model_free(&md);
+    }
+}
+
 static void test_sphere_and_radius(void) {
     char what[64];
     for (uint32_t r = 0; r < PGT_WOVEN_RESOLUTION_COUNT; ++r) {
@@ -202,14 +242,7 @@ static void test_sphere_and_radius(void) {
         }
         model_free(&md);
     }
-    for (size_t i = 0; i < ODD_COUNT; ++i) {
-        model md;
-        REQUIRE(model_make(&md, &odd_params[i], 5));
-        pgt_woven_frame(&md.m, &md.w, 1);
-        snprintf(what, sizeof what, "odd params %zu", i);
-        check_geometry(&md, what);
-        model_free(&md);
-    }
+    check_odd_params(5, 1, check_geometry);
 }
 
 /* The curves against a double-precision uniform cubic B-spline of the same keys (woven.h, 2.),
@@ -248,7 +281,6 @@ static void check_bspline(const model *md, const char *what) {
 }
 
 static void test_curves_match_bspline(void) {
-    char what[64];
     for (uint32_t r = 0; r < PGT_WOVEN_RESOLUTION_COUNT; r += 2) {
         model md;
         REQUIRE(model_make(&md, &pgt_woven_resolutions[r].params, 9));
@@ -256,18 +288,11 @@ static void test_curves_match_bspline(void) {
         check_bspline(&md, pgt_woven_resolutions[r].name);
         model_free(&md);
     }
-    for (size_t i = 0; i < ODD_COUNT; ++i) {
-        model md;
-        REQUIRE(model_make(&md, &odd_params[i], 9));
-        pgt_woven_evaluate(&md.m, &md.w, 1); /* frame 0: the initial particles */
-        snprintf(what, sizeof what, "odd params %zu", i);
-        check_bspline(&md, what);
-        model_free(&md);
-    }
+    check_odd_params(9, 0, check_bspline);
 }
 
 /* Keys in the plane z = 0: every curve is on the equator, the rotation-minimising frame keeps
- * r in the plane (r_0 = p_0; reflections in vectors of the plane), so s = t x r = +-z: the
+ * r in the plane (r = p), so s = t x r = +-z: the
  * normal column at 90 degrees is +-z and column 0 has z = 0. (A frame that twisted would tilt
  * both.) */
 static void test_frames_on_great_circle(void) {
@@ -290,6 +315,144 @@ static void test_frames_on_great_circle(void) {
               (unsigned long long)tilted, (unsigned long long)rings);
     check_geometry(&md, "great circle");
     model_free(&md);
+}
+
+/* The double B-spline curve c of curve `key` at global parameter g in [0, K - 3] (span
+ * floor(g), the last span for g = K - 3) from the particles' float positions, in double. */
+static void spline_at(const model *md, const uint32_t *key, double g, double out[3]) {
+    const uint32_t K = md->w.params.keys;
+    double sf = floor(g);
+    if (sf > (double)(K - 4u)) sf = (double)(K - 4u);
+    if (sf < 0.0) sf = 0.0;
+    const uint32_t s = (uint32_t)sf;
+    const double u = g - sf, v = 1.0 - u;
+    const double b[4] = {v * v * v / 6.0, (3.0 * u * u * u - 6.0 * u * u + 4.0) / 6.0,
+                         (-3.0 * u * u * u + 3.0 * u * u + 3.0 * u + 1.0) / 6.0, u * u * u / 6.0};
+    out[0] = out[1] = out[2] = 0.0;
+    for (uint32_t i = 0; i < 4; ++i)
+        for (int a = 0; a < 3; ++a)
+            out[a] += b[i] * md->w.positions[3u * (size_t)key[s + i] + (size_t)a];
+}
+
+static double dnorm(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+static double ddot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The spherified curve S = c / |c| at g, and the derivatives S' and c' of the parabolas through
+ * three points h apart around g (centred, or shifted inside [0, K - 3] at the ends: one-sided of
+ * second order). Returns |c|. */
+static double sphere_curve(const model *md, const uint32_t *key, double g, double S[3],
+                           double dS[3], double dc[3]) {
+    const double gmax = (double)(md->w.params.keys - 3u), h = FD_STEP;
+    const double g0 = g - h < 0.0 ? g : g + h > gmax ? g - 2.0 * h : g - h;
+    double c0[3], c1[3], c2[3], c[3];
+    spline_at(md, key, g0, c0);
+    spline_at(md, key, g0 + h, c1);
+    spline_at(md, key, g0 + 2.0 * h, c2);
+    spline_at(md, key, g, c);
+    const double l0 = dnorm(c0), l1 = dnorm(c1), l2 = dnorm(c2), l = dnorm(c);
+    /* the parabola's derivative at g = g0 + o h, o in {0, 1, 2} */
+    const double o = (g - g0) / h;
+    const double w0 = (o - 1.5) / h, w1 = (2.0 - 2.0 * o) / h, w2 = (o - 0.5) / h;
+    for (int a = 0; a < 3; ++a) {
+        S[a] = c[a] / l;
+        dS[a] = w0 * c0[a] / l0 + w1 * c1[a] / l1 + w2 * c2[a] / l2;
+        dc[a] = w0 * c0[a] + w1 * c1[a] + w2 * c2[a];
+    }
+    return l;
+}
+
+/* v -= (2 / a.a)(a . v) a in double (the oracle's reflection), skipped for a = 0. */
+static void dreflect(double v[3], const double a[3]) {
+    const double aa = ddot(a, a);
+    if (!(aa > 0.0)) return;
+    const double f = 2.0 * ddot(a, v) / aa;
+    for (int k = 0; k < 3; ++k) v[k] -= f * a[k];
+}
+
+/* The loft's frames against a double-precision oracle: every ring lies in the plane
+ * perpendicular to the curve's tangent (finite differences of the double curve: this checks
+ * the tangent's derivative weights), and column 0 points along the rotation-minimising frame
+ * that the double reflection method carries from r_0 = S(0) along the curve in fine steps
+ * (this checks that the frame neither twists nor lags). */
+static void check_frames(const model *md, const char *what) {
+    const pgt_woven_params *p = &md->w.params;
+    const uint32_t K = p->keys, U = p->ring, V = p->samples;
+    uint64_t tilted = 0, twisted = 0, compared = 0, transported = 0;
+    double worst_tilt = 0.0, worst_twist = 0.0;
+    const double gmax = (double)(K - 3u);
+    for (uint32_t c = 0; c < p->curves; ++c) {
+        const uint32_t *key = &md->w.keys[(size_t)c * K];
+        double S[3], dS[3], dc[3], r[3], T[3];
+        double l = sphere_curve(md, key, 0.0, S, dS, dc);
+        int clear = l >= FRAME_MIN_LENGTH; /* the transport is trusted on this curve so far */
+        for (int a = 0; a < 3; ++a) T[a] = dS[a] / dnorm(dS);
+        const double st = ddot(S, T);
+        for (int a = 0; a < 3; ++a) r[a] = S[a] - st * T[a];
+        for (uint32_t j = 0; j < V; ++j) {
+            const double gj = (double)j * gmax / (double)(V - 1u);
+            const double gp = j ? (double)(j - 1u) * gmax / (double)(V - 1u) : 0.0;
+            for (uint32_t k = 1; j > 0 && k <= RMF_SUBSTEPS; ++k) { /* from sample j - 1 to j */
+                const double g = k == RMF_SUBSTEPS ? gj : gp + (gj - gp) * (double)k / RMF_SUBSTEPS;
+                double S1[3], T1[3], v1[3], tl[3], v2[3];
+                l = sphere_curve(md, key, g, S1, dS, dc);
+                clear &= l >= FRAME_MIN_LENGTH;
+                for (int a = 0; a < 3; ++a) T1[a] = dS[a] / dnorm(dS);
+                for (int a = 0; a < 3; ++a) v1[a] = S1[a] - S[a], tl[a] = T[a];
+                dreflect(r, v1), dreflect(tl, v1);
+                for (int a = 0; a < 3; ++a) v2[a] = T1[a] - tl[a];
+                dreflect(r, v2);
+                memcpy(S, S1, sizeof S), memcpy(T, T1, sizeof T);
+            }
+            /* a sample whose spherified direction is ill-conditioned in float32 is skipped */
+            if (!(l * dnorm(dS) >= FRAME_MIN_CONDITION * dnorm(dc))) continue;
+            const size_t first = ((size_t)c * V + j) * U;
+            double tilt = 0.0;
+            for (uint32_t m = 0; m + 1u < U; ++m) {
+                const float *n = &md->m.normals[3u * (first + m)];
+                const double nd[3] = {n[0], n[1], n[2]};
+                tilt = fmax(tilt, fabs(ddot(nd, T)));
+            }
+            worst_tilt = fmax(worst_tilt, tilt);
+            tilted += !(tilt <= FRAME_TOL);
+            compared++;
+            if (!clear) continue;
+            const float *n0 = &md->m.normals[3u * first];
+            const double rl = dnorm(r);
+            const double d[3] = {n0[0] - r[0] / rl, n0[1] - r[1] / rl, n0[2] - r[2] / rl};
+            worst_twist = fmax(worst_twist, dnorm(d));
+            twisted += !(dnorm(d) <= FRAME_TOL);
+            transported++;
+        }
+    }
+    const uint64_t rings = (uint64_t)p->curves * V;
+    CHECK_MSG(tilted == 0, "%s: %llu of %llu rings tilted from the normal plane (worst %.3g)", what,
+              (unsigned long long)tilted, (unsigned long long)compared, worst_tilt);
+    CHECK_MSG(twisted == 0,
+              "%s: %llu of %llu rings twisted from the transported frame (worst %.3g)", what,
+              (unsigned long long)twisted, (unsigned long long)transported, worst_twist);
+    /* the skips are the exception: most of the model is compared */
+    CHECK_MSG(compared * 10u >= 9u * rings && transported * 2u >= rings,
+              "%s: only %llu (%llu transported) of %llu rings compared", what,
+              (unsigned long long)compared, (unsigned long long)transported,
+              (unsigned long long)rings);
+    if (getenv("PGT_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: %llu of %llu rings, worst tilt %.3g; %llu transported, worst %.3g\n",
+                what, (unsigned long long)compared, (unsigned long long)rings, worst_tilt,
+                (unsigned long long)transported, worst_twist);
+}
+
+static void test_frames_rotation_minimising(void) {
+    for (uint32_t r = 0; r < PGT_WOVEN_RESOLUTION_COUNT; r += 2) {
+        model md;
+        REQUIRE(model_make(&md, &pgt_woven_resolutions[r].params, 4));
+        for (uint32_t f = 0; f < 2; ++f) pgt_woven_frame(&md.m, &md.w, 2);
+        check_frames(&md, pgt_woven_resolutions[r].name);
+        model_free(&md);
+    }
+    check_odd_params(4, 0, check_frames);
 }
 
 /* Particles stay inside [-1,1]^3 over 10,000 frames; speeds per axis keep their bits; every
@@ -481,10 +644,11 @@ static int same_mesh(const pgt_woven_mesh *x, const pgt_woven_mesh *y) {
            !memcmp(x->triangles, y->triangles, 3u * (size_t)x->counts.triangles * sizeof(uint32_t));
 }
 
-/* The same bytes for 1 and 2 threads and for two runs of the same seed (on the largest model,
- * where both the step's and the loft's loops are split among threads). */
-static void test_same_bytes(void) {
-    const pgt_woven_params *p = &pgt_woven_resolutions[PGT_WOVEN_RESOLUTION_COUNT - 1u].params;
+/* The same bytes for 1 and 2 threads and for two runs of the same seed: on the largest model
+ * (the loft's loop split among threads; its 1432 particles are too few to split the step) and
+ * on one with 20,000 particles, whose step is split too (pgt_parallel_for splits from 2 x 4096
+ * items). */
+static void same_bytes_of(const pgt_woven_params *p) {
     model one, two, again, other;
     REQUIRE(model_make(&one, p, 7));
     REQUIRE(model_make(&two, p, 7));
@@ -501,6 +665,42 @@ static void test_same_bytes(void) {
     }
     CHECK(!same_mesh(&one.m, &other.m));
     model_free(&one), model_free(&two), model_free(&again), model_free(&other);
+}
+
+static void test_same_bytes(void) {
+    same_bytes_of(&pgt_woven_resolutions[PGT_WOVEN_RESOLUTION_COUNT - 1u].params);
+    same_bytes_of(&(pgt_woven_params){20000, 8, 50, 4, 10});
+}
+
+/* Directions uniform on the sphere (woven.h, 1.): over N particles the mean velocity is 0 and
+ * each axis's mean square is speed^2 / 3 (a uniform direction's coordinate is uniform in
+ * [-1, 1]: variance 1/3, fourth moment 1/5). Bounds of DIRECTION_SIGMAS standard deviations of
+ * those means (a fixed seed: a check of the rule, not a flake). A biased draw (a hemisphere, or
+ * half the azimuths) moves a mean by about half the speed, hundreds of sigmas here. */
+#define DIRECTION_SIGMAS 6.0
+static void test_particle_directions(void) {
+    const pgt_woven_params p = {200000, 4, 1, 4, 2};
+    model md;
+    REQUIRE(model_make(&md, &p, 21));
+    const double N = p.particles, speed = PGT_WOVEN_SPEED;
+    double mean[3] = {0.0, 0.0, 0.0}, square[3] = {0.0, 0.0, 0.0};
+    uint32_t off_speed = 0;
+    for (uint32_t i = 0; i < p.particles; ++i) {
+        const float *v = &md.w.velocities[3u * (size_t)i];
+        for (int a = 0; a < 3; ++a)
+            mean[a] += v[a] / speed / N, square[a] += (v[a] / speed) * (v[a] / speed) / N;
+        off_speed += !(fabs(norm3(v) / speed - 1.0) < NORMAL_UNIT_TOL);
+    }
+    CHECK_MSG(off_speed == 0, "%u particles off the speed", off_speed);
+    const double mean_bound = DIRECTION_SIGMAS * sqrt(1.0 / 3.0 / N),
+                 square_bound = DIRECTION_SIGMAS * sqrt((1.0 / 5.0 - 1.0 / 9.0) / N);
+    for (int a = 0; a < 3; ++a) {
+        CHECK_MSG(fabs(mean[a]) < mean_bound, "axis %d: mean direction %.3g (bound %.3g)", a,
+                  mean[a], mean_bound);
+        CHECK_MSG(fabs(square[a] - 1.0 / 3.0) < square_bound,
+                  "axis %d: mean square %.5f, not 1/3 (bound %.3g)", a, square[a], square_bound);
+    }
+    model_free(&md);
 }
 
 /* The error code, and the message naming what is wrong. */
@@ -588,11 +788,13 @@ static const pgt_test_case cases[] = {
     {"sphere_and_radius", test_sphere_and_radius},
     {"curves_match_bspline", test_curves_match_bspline},
     {"frames_on_great_circle", test_frames_on_great_circle},
+    {"frames_rotation_minimising", test_frames_rotation_minimising},
     {"winding_outward", test_winding_outward},
     {"particles_in_box", test_particles_in_box},
     {"particles_at_walls", test_particles_at_walls},
     {"keys", test_keys},
     {"same_bytes", test_same_bytes},
+    {"particle_directions", test_particle_directions},
     {"bad_params", test_bad_params},
     {"frames", test_frames},
 };

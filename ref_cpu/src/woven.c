@@ -1,5 +1,6 @@
 /* pgt: the woven sphere reference model (woven.h; paper 002 Appendix A and section 4.5; the
- * loft's frames by the double reflection method of Wang et al. 2008). */
+ * loft's frames: the sphere's normal, the exact rotation-minimising frame of a curve on the
+ * sphere, woven.h 4.). */
 #include "pgt/woven.h"
 
 #include <assert.h>
@@ -289,13 +290,6 @@ static void any_perpendicular(const float t[3], float r[3]) {
     if (!normalize3(r)) r[0] = 1.0f, r[1] = 0.0f, r[2] = 0.0f;
 }
 
-/* v -= (2 / a.a)(a . v) a, the reflection in the plane through 0 perpendicular to a; skipped
- * when a.a is below FLT_MIN (a zero step or an unchanged tangent: nothing to reflect). */
-static void reflect3(float v[3], const float a[3], float aa) {
-    const float f = (2.0f / aa) * dot3(a, v);
-    for (int k = 0; k < 3; ++k) v[k] -= f * a[k];
-}
-
 typedef struct eval_ctx {
     pgt_woven_mesh *out;
     const pgt_woven *w;
@@ -311,7 +305,7 @@ static void eval_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker
     const float R = PGT_WOVEN_RADIUS;
     for (uint32_t c = begin; c < end; ++c) {
         const uint32_t *key = &w->keys[(size_t)c * K];
-        float pp[3] = {0.0f, 0.0f, 1.0f}, tp[3] = {0.0f, 0.0f, 0.0f}, r[3] = {0.0f, 0.0f, 0.0f};
+        float pp[3] = {0.0f, 0.0f, 1.0f}, tp[3] = {0.0f, 0.0f, 0.0f};
         for (uint32_t j = 0; j < V; ++j) {
             const uint32_t s = w->span[j];
             const float *n = &w->basis[8u * j];
@@ -339,18 +333,8 @@ static void eval_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker
                 else
                     any_perpendicular(p, t);
             }
-            /* 4. rotation-minimising frame: r_0 = p_0, then the double reflection */
-            if (j == 0) {
-                memcpy(r, p, sizeof r);
-            } else {
-                const float v1[3] = {p[0] - pp[0], p[1] - pp[1], p[2] - pp[2]};
-                const float c1 = dot3(v1, v1);
-                float tl[3] = {tp[0], tp[1], tp[2]};
-                if (c1 >= FLT_MIN) reflect3(r, v1, c1), reflect3(tl, v1, c1);
-                const float v2[3] = {t[0] - tl[0], t[1] - tl[1], t[2] - tl[2]};
-                const float c2 = dot3(v2, v2);
-                if (c2 >= FLT_MIN) reflect3(r, v2, c2);
-            }
+            /* 4. rotation-minimising frame: the sphere's normal (woven.h 4.) */
+            float r[3] = {p[0], p[1], p[2]};
             const float rt = dot3(r, t);
             for (int a = 0; a < 3; ++a) r[a] -= rt * t[a];
             if (!normalize3(r)) any_perpendicular(t, r);
