@@ -36,7 +36,7 @@ int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t 
                  uint32_t *out) {
     char *end = NULL;
     errno = 0;
-    if (!text || !*text || *text == '-' || *text == '+') goto bad;
+    if (!text || !(*text >= '0' && *text <= '9')) goto bad; /* no spaces, no sign */
     unsigned long long v = strtoull(text, &end, 10);
     if (errno || *end || v < lo || v > hi) goto bad;
     *out = (uint32_t)v;
@@ -50,8 +50,10 @@ bad:
 int pgt_cli_int(const char *verb, const char *flag, const char *text, int32_t *out) {
     char *end = NULL;
     errno = 0;
-    long long v = text && *text ? strtoll(text, &end, 10) : 0;
-    if (!text || !*text || errno || *end || v < INT32_MIN || v > INT32_MAX) {
+    /* a digit or a minus sign first: strtoll would skip spaces and take '+' */
+    const int starts = text && ((*text >= '0' && *text <= '9') || *text == '-');
+    long long v = starts ? strtoll(text, &end, 10) : 0;
+    if (!starts || errno || *end || v < INT32_MIN || v > INT32_MAX) {
         pgt_cli_fail(verb, "%s: expected a 32-bit integer, got '%s'", flag, text ? text : "");
         return -1;
     }
@@ -126,6 +128,19 @@ uint64_t pgt_cli_memory_bytes(void) {
     return pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page : 0u;
 }
 
+uint64_t pgt_cli_available_bytes(void) {
+    FILE *f = fopen("/proc/meminfo", "r");
+    unsigned long long kib = 0;
+    int found = 0;
+    if (f) {
+        char line[256];
+        while (!found && fgets(line, sizeof line, f))
+            found = sscanf(line, "MemAvailable: %llu kB", &kib) == 1;
+        fclose(f);
+    }
+    return found ? (uint64_t)kib * 1024u : pgt_cli_memory_bytes();
+}
+
 void pgt_cli_commit(char *buf, size_t size) {
     snprintf(buf, size, "unknown");
 #ifdef PGT_SOURCE_DIR
@@ -186,6 +201,30 @@ int pgt_cli_same_output(const char *a, const char *b) {
     return pgt_cli_same_file(da, db);
 }
 
+int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
+    for (int k = 0; k < n; ++k) {
+        const char *path = paths[k];
+        if (!path) continue;
+        struct stat st;
+        if (stat(path, &st) == 0) {
+            if (S_ISREG(st.st_mode)) continue;
+            return pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", path,
+                                S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
+        }
+        char dir[4096];
+        folder_of(path, dir, sizeof dir);
+        int e = 0;
+        if (stat(dir, &st) != 0)
+            e = errno;
+        else if (!S_ISDIR(st.st_mode))
+            e = ENOTDIR;
+        else if (access(dir, W_OK | X_OK) != 0)
+            e = errno;
+        if (e) return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(e));
+    }
+    return 0;
+}
+
 int pgt_cli_refuse_overwrite(const char *verb, const char *const *inputs, int n_in,
                              const char *const *outputs, int n_out) {
     for (int o = 0; o < n_out; ++o) {
@@ -231,17 +270,21 @@ const uint32_t pgt_cli_shared_mesh_count =
 
 int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char *buf,
                       size_t buf_size, const char **out, uint32_t max, uint32_t *n) {
-    if (strlen(text) >= buf_size)
+    const size_t len = strlen(text);
+    if (len >= buf_size)
         return pgt_cli_fail(verb, "%s: list longer than %zu characters", flag, buf_size - 1u);
-    memcpy(buf, text, strlen(text) + 1u);
-    const uint32_t before = *n;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-         tok = strtok_r(NULL, ",", &save)) {
-        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u names in all", flag, max);
-        out[(*n)++] = tok;
+    if (strspn(text, ",") == len) return pgt_cli_fail(verb, "%s: empty list", flag);
+    memcpy(buf, text, len + 1u);
+    /* split by hand: strtok would merge "a,,b" into two items and hide the typo */
+    for (char *item = buf;;) {
+        char *comma = strchr(item, ',');
+        if (comma) *comma = '\0';
+        if (!*item) return pgt_cli_fail(verb, "%s %s: an empty item in the list", flag, text);
+        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u items in all", flag, max);
+        out[(*n)++] = item;
+        if (!comma) return 0;
+        item = comma + 1;
     }
-    if (*n == before) return pgt_cli_fail(verb, "%s: empty list", flag);
-    return 0;
 }
 
 const char *pgt_cli_mesh_label(const char *name) {
@@ -282,15 +325,13 @@ int pgt_cli_refuse_named_inputs(const char *verb, const char *const *names, uint
 int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint32_t lo,
                       uint32_t hi, uint32_t *out, uint32_t max, uint32_t *n) {
     char buf[1024];
-    snprintf(buf, sizeof buf, "%s", text);
-    *n = 0;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-         tok = strtok_r(NULL, ",", &save)) {
-        if (*n >= max) return pgt_cli_fail(verb, "%s: at most %u values", flag, max);
-        if (pgt_cli_uint(verb, flag, tok, lo, hi, &out[*n])) return PGT_EXIT_USAGE;
-        (*n)++;
-    }
-    if (*n == 0) return pgt_cli_fail(verb, "%s: empty list", flag);
+    const char *items[256];
+    uint32_t count = 0;
+    if (pgt_cli_name_list(verb, flag, text, buf, sizeof buf, items, max < 256u ? max : 256u,
+                          &count))
+        return PGT_EXIT_USAGE;
+    for (*n = 0; *n < count; ++*n)
+        if (pgt_cli_uint(verb, flag, items[*n], lo, hi, &out[*n])) return PGT_EXIT_USAGE;
     return 0;
 }
 
@@ -323,6 +364,17 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
         remove(tmp);
         return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
     }
+    return 0;
+}
+
+int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb,
+                        int failures) {
+    if (!failures) return pgt_cli_table_close(f, tmp, path, verb);
+    char failed[4200];
+    snprintf(failed, sizeof failed, "%s.failed", path);
+    if (pgt_cli_table_close(f, tmp, failed, verb)) return -1;
+    fprintf(stderr, "pgt %s: %d failure%s: %s left as it was; this run's rows are in %s\n", verb,
+            failures, failures == 1 ? "" : "s", path, failed);
     return 0;
 }
 

@@ -44,6 +44,12 @@ void pgt_cli_json_string(FILE *f, const char *s);
 void pgt_cli_machine(char *buf, size_t size);
 /* Bytes of physical memory (sysconf), 0 when unknown. */
 uint64_t pgt_cli_memory_bytes(void);
+
+/* The memory a new allocation can have without swapping (MemAvailable of /proc/meminfo: free
+ * memory plus the page cache the kernel can drop), or pgt_cli_memory_bytes where that file
+ * does not tell. What a guard against overcommit compares with: RAM that other programs hold
+ * is not there for the taking. */
+uint64_t pgt_cli_available_bytes(void);
 void pgt_cli_commit(char *buf, size_t size);
 void pgt_cli_date(char *buf, size_t size);
 
@@ -53,6 +59,13 @@ int pgt_cli_same_file(const char *a, const char *b);
 /* Nonzero when two output paths would write one file: the same text, the same existing file,
  * or (files not written yet) the same name in the same existing folder ("o.ply", "./o.ply"). */
 int pgt_cli_same_output(const char *a, const char *b);
+
+/* Before the work: 0 when each of the n output paths (NULL entries skipped) can be written
+ * as far as can be told now (an existing regular file, or a new name in an existing folder
+ * this process may write to); else one line "pgt VERB: cannot write PATH: why" (the words the
+ * final write would use) and PGT_EXIT_USAGE, so that a long run does not end on a typo in -o.
+ * The final write still checks (the file system may change meanwhile). */
+int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n);
 
 /* 0 when none of the n_out outputs is one of the n_in inputs and no two outputs are the same
  * (NULL entries are skipped); else prints "pgt VERB: OUTPUT is an input file; pgt never
@@ -81,6 +94,12 @@ FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t 
 /* Closes a file of pgt_cli_tmp_open or pgt_cli_table_open and renames it over path; on failure
  * removes it, prints a one-line error for verb and returns nonzero. */
 int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *verb);
+
+/* A benchmark's table: pgt_cli_table_close when the run had no failures; else the rows go to
+ * PATH.failed and PATH is left as it was (a run that lost meshes or columns does not replace a
+ * whole table, e.g. the main job's results/), with a note on stderr. Nonzero when the file
+ * cannot be written. */
+int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb, int failures);
 
 /* Outputs of one command that appear together or not at all: each output is written under its
  * staging name (pgt_cli_stage_add: FOLDER/.pgt-stage.PID/NAME for FOLDER/NAME, a folder of this
@@ -120,7 +139,8 @@ extern const uint32_t pgt_cli_shared_mesh_count;
 
 /* Appends the comma-separated names of `text` (a flag's value) to out[*n ...], at most max in
  * all: copies text into buf (which the names then point into; it must outlive them). A clear
- * error naming `flag` (returns PGT_EXIT_USAGE) for an empty list or too many names, else 0. */
+ * error naming `flag` (returns PGT_EXIT_USAGE) for an empty list, an empty item ("a,,b", a
+ * leading or trailing comma), too many names or a text that does not fit buf, else 0. */
 int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char *buf,
                       size_t buf_size, const char **out, uint32_t max, uint32_t *n);
 

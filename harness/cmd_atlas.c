@@ -153,7 +153,9 @@ int pgt_cmd_atlas(int argc, char **argv) {
     }
     {
         const char *outputs[2] = {out_path, png_path};
-        if (pgt_cli_refuse_overwrite(verb, &in_path, 1, outputs, 2)) return PGT_EXIT_USAGE;
+        if (pgt_cli_refuse_overwrite(verb, &in_path, 1, outputs, 2) ||
+            pgt_cli_check_outputs(verb, outputs, 2))
+            return PGT_EXIT_USAGE;
     }
 
     pgt_error err = {0};

@@ -60,6 +60,7 @@ typedef struct bench_cfg {
     int oracles, quick;
     int gpu_asked[2]; /* cl, vk: timed when a device opens (asked explicitly: must open) */
     int gpu_explicit; /* --backends given */
+    int device_explicit; /* --device given: a missing device is an error, not a skipped column */
     uint32_t device;
     pgt_backend gpu[2]; /* open backends (kind CPU = not open) */
     char mesh_list_buf[4096];
@@ -240,10 +241,10 @@ static int bench_subdiv(bench_cfg *cfg) {
                 pgt_error e1 = {0}, e2 = {0};
                 have_cg =
                     pgt_oracle_sqrt3("cgal_sqrt3", in_off, k, "-", cfg->repeat, &cg, &e1) == PGT_OK;
-                if (!have_cg) fprintf(stderr, "pgt bench: %s\n", e1.message);
+                if (!have_cg) fprintf(stderr, "pgt bench: %s\n", e1.message), failures++;
                 have_om = pgt_oracle_sqrt3("openmesh_sqrt3", in_off, k, "-", cfg->repeat, &om,
                                            &e2) == PGT_OK;
-                if (!have_om) fprintf(stderr, "pgt bench: %s\n", e2.message);
+                if (!have_om) fprintf(stderr, "pgt bench: %s\n", e2.message), failures++;
             }
             fprintf(stderr, "[%u/%u] %s (%u faces) k=%u:", step, steps, name, m.face_count, k);
             double gdev[2] = {-1.0, -1.0}, gtot[2] = {-1.0, -1.0};
@@ -311,10 +312,11 @@ static int bench_subdiv(bench_cfg *cfg) {
     }
     free(times);
     rmdir(tmpdir);
-    if (pgt_cli_table_close(csv, tmp_csv, cfg->out_path, "bench")) return PGT_EXIT_USAGE;
-    fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)%s\n",
-            cfg->out_path, cfg->n_meshes, cfg->n_iters, cfg->n_threads,
-            failures || mismatches ? " with failures (see above)" : "");
+    if (pgt_cli_bench_close(csv, tmp_csv, cfg->out_path, "bench", failures + mismatches))
+        return PGT_EXIT_USAGE;
+    if (!failures && !mismatches)
+        fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)\n",
+                cfg->out_path, cfg->n_meshes, cfg->n_iters, cfg->n_threads);
     /* an error outranks a found problem (cli.h) */
     return failures ? PGT_EXIT_USAGE : mismatches ? PGT_EXIT_FAIL : PGT_EXIT_OK;
 }
@@ -374,15 +376,10 @@ int pgt_cmd_bench(int argc, char **argv) {
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--meshes")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
-            snprintf(cfg.mesh_list_buf, sizeof cfg.mesh_list_buf, "%s", v);
             cfg.n_meshes = 0;
-            for (char *save = NULL, *tok = strtok_r(cfg.mesh_list_buf, ",", &save); tok;
-                 tok = strtok_r(NULL, ",", &save)) {
-                if (cfg.n_meshes >= BENCH_MAX_LIST)
-                    return pgt_cli_fail("bench", "--meshes: at most %d meshes", BENCH_MAX_LIST);
-                cfg.meshes[cfg.n_meshes++] = tok;
-            }
-            if (!cfg.n_meshes) return pgt_cli_fail("bench", "--meshes: empty list");
+            if (pgt_cli_name_list("bench", a, v, cfg.mesh_list_buf, sizeof cfg.mesh_list_buf,
+                                  cfg.meshes, BENCH_MAX_LIST, &cfg.n_meshes))
+                return PGT_EXIT_USAGE;
             have_meshes = 1;
         } else if (!strcmp(a, "--no-oracles")) {
             cfg.oracles = 0;
@@ -405,6 +402,7 @@ int pgt_cmd_bench(int argc, char **argv) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
                 pgt_cli_uint("bench", a, v, 0, 1024, &cfg.device))
                 return PGT_EXIT_USAGE;
+            cfg.device_explicit = 1;
         } else {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench --help)", a);
         }
@@ -432,7 +430,7 @@ int pgt_cmd_bench(int argc, char **argv) {
         const pgt_backend_kind kind = g ? PGT_BACKEND_VK : PGT_BACKEND_CL;
         pgt_error err = {0};
         if (pgt_backend_open(&cfg.gpu[g], kind, cfg.device, 1, &err) != PGT_OK) {
-            if (cfg.gpu_explicit) {
+            if (cfg.gpu_explicit || cfg.device_explicit) {
                 pgt_backend_close(&cfg.gpu[0]), pgt_backend_close(&cfg.gpu[1]);
                 return pgt_cli_fail("bench", "%s", err.message);
             }

@@ -202,8 +202,9 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     }
     free(runs);
     free(scratch);
-    if (pgt_cli_table_close(csv, tmp_csv, out_path, "bench")) return PGT_EXIT_USAGE;
-    fprintf(stderr, "pgt bench atlas: wrote %s (%u meshes x %u thread counts)%s\n", out_path,
-            n_meshes, n_threads, failures ? " with failures (see above)" : "");
+    if (pgt_cli_bench_close(csv, tmp_csv, out_path, "bench", failures)) return PGT_EXIT_USAGE;
+    if (!failures)
+        fprintf(stderr, "pgt bench atlas: wrote %s (%u meshes x %u thread counts)\n", out_path,
+                n_meshes, n_threads);
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

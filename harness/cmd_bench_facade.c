@@ -47,19 +47,20 @@ static const char *bench_facade_usage =
 
 static int parse_res(const char *text, uint32_t *w, uint32_t *h, uint32_t *n) {
     char buf[512];
-    snprintf(buf, sizeof buf, "%s", text);
-    *n = 0;
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-         tok = strtok_r(NULL, ",", &save)) {
-        char *x = strchr(tok, 'x');
-        if (!x || *n == BENCH_FACADE_MAX_LIST) goto bad;
-        *x = '\0';
-        if (pgt_cli_uint("bench", "--res", tok, 1, 16384, &w[*n]) ||
+    const char *items[BENCH_FACADE_MAX_LIST];
+    uint32_t count = 0;
+    if (pgt_cli_name_list("bench", "--res", text, buf, sizeof buf, items, BENCH_FACADE_MAX_LIST,
+                          &count))
+        return -1;
+    for (*n = 0; *n < count; ++*n) {
+        char *x = strchr(items[*n], 'x');
+        if (!x) goto bad;
+        *x = '\0'; /* items point into buf */
+        if (pgt_cli_uint("bench", "--res", items[*n], 1, 16384, &w[*n]) ||
             pgt_cli_uint("bench", "--res", x + 1, 1, 16384, &h[*n]))
             return -1;
-        ++*n;
     }
-    if (*n) return 0;
+    return 0;
 bad:
     pgt_cli_fail("bench", "--res: expected WxH[,WxH...], got '%s'", text);
     return -1;
@@ -280,8 +281,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
         pgt_facade_file_free(&file);
     }
     free(ms);
-    if (pgt_cli_table_close(csv, tmp, out_path, verb)) failures++;
-    fprintf(stderr, "pgt bench facade: wrote %s%s\n", out_path,
-            failures ? " (with failures, see above)" : "");
+    if (pgt_cli_bench_close(csv, tmp, out_path, verb, failures)) failures++;
+    if (!failures) fprintf(stderr, "pgt bench facade: wrote %s\n", out_path);
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

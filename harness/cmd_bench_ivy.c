@@ -290,7 +290,7 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
                 t.total, t.expand, t.bezier, t.terminals, sc->paper_ms);
         pgt_ivy_scene_free(&s);
     }
-    if (pgt_cli_table_close(csv, tmp, out_path, "bench")) failures++;
+    if (pgt_cli_bench_close(csv, tmp, out_path, "bench", failures)) failures++;
 
     /* Figure 11 */
     FILE *f11 = pgt_cli_table_open(fig11_path,
@@ -352,8 +352,7 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
         pgt_ivy_scene_free(&s);
     }
     pgt_ivy_destroy(&out);
-    if (pgt_cli_table_close(f11, tmp, fig11_path, "bench")) failures++;
-    fprintf(stderr, "pgt bench ivy: wrote %s and %s%s\n", out_path, fig11_path,
-            failures ? " (with failures, see above)" : "");
+    if (pgt_cli_bench_close(f11, tmp, fig11_path, "bench", failures)) failures++;
+    if (!failures) fprintf(stderr, "pgt bench ivy: wrote %s and %s\n", out_path, fig11_path);
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

@@ -52,7 +52,7 @@ static int time_frames(const pgt_woven_params *p, uint32_t seed, uint32_t thread
     if (pgt_woven_create(&w, p, seed, &err) != PGT_OK ||
         pgt_woven_mesh_create(&m, p, &err) != PGT_OK) {
         pgt_woven_destroy(&w);
-        return pgt_cli_fail("bench", "woven: %s", err.message);
+        return pgt_cli_fail("bench", "%s", err.message); /* "woven: ..." */
     }
     pgt_woven_frame(&m, &w, threads); /* warm-up: first touch of the output */
     for (uint32_t f = 0; f < frames; ++f) {
@@ -179,8 +179,7 @@ int pgt_cmd_bench_woven(int argc, char **argv) {
         }
     }
     free(ms);
-    if (pgt_cli_table_close(csv, tmp, out_path, "bench")) failures++;
-    fprintf(stderr, "pgt bench woven: wrote %s%s\n", out_path,
-            failures ? " (with failures, see above)" : "");
+    if (pgt_cli_bench_close(csv, tmp, out_path, "bench", failures)) failures++;
+    if (!failures) fprintf(stderr, "pgt bench woven: wrote %s\n", out_path);
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

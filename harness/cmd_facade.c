@@ -239,6 +239,7 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         for (int k = 0; k < o; ++k)
             if (outs[o] && outs[k] && pgt_cli_same_output(outs[o], outs[k]))
                 return pgt_cli_fail(verb, "%s %s is also %s's output", flags[o], outs[o], flags[k]);
+    if (pgt_cli_check_outputs(verb, outs, FACADE_OUTPUTS)) return PGT_EXIT_USAGE;
     if (!a->grammar_path) a->grammar_path = PGT_FACADE_DEFAULT_GRAMMAR;
     return 0;
 }

@@ -511,7 +511,9 @@ int pgt_cmd_ivy(int argc, char **argv) {
                                  paint_path, forbid_path,  density_path};
         const char *outputs[4] = {out_path, curves_path, mask_out, mask_mesh};
         static const char *const flags[4] = {"-o", "--curves", "--mask-out", "--mask-mesh"};
-        if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4)) return PGT_EXIT_USAGE;
+        if (pgt_cli_refuse_overwrite(verb, inputs, 7, outputs, 4) ||
+            pgt_cli_check_outputs(verb, outputs, 4))
+            return PGT_EXIT_USAGE;
         /* the input named as a shared mesh ("spot.obj") is a file of the shared folder */
         for (int k = 0; k < 4; ++k)
             if (outputs[k] && pgt_cli_refuse_named_inputs(

@@ -254,7 +254,9 @@ int pgt_cmd_march(int argc, char **argv) {
     {
         const char *inputs[3] = {in_path, mask_path, density_path};
         const char *outputs[3] = {out_path, dump ? dumped.png : NULL, dump ? dumped.csv : NULL};
-        if (pgt_cli_refuse_overwrite(verb, inputs, 3, outputs, 3)) return PGT_EXIT_USAGE;
+        if (pgt_cli_refuse_overwrite(verb, inputs, 3, outputs, 3) ||
+            pgt_cli_check_outputs(verb, outputs, 3))
+            return PGT_EXIT_USAGE;
     }
 
     const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];
@@ -410,17 +412,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             if (!(add = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--threads")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
-            char buf[512];
-            snprintf(buf, sizeof buf, "%s", v);
-            n_threads = 0;
-            for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
-                 tok = strtok_r(NULL, ",", &save)) {
-                if (n_threads >= BENCH_MARCH_MAX_LIST)
-                    return pgt_cli_fail(verb, "--threads: at most %d values", BENCH_MARCH_MAX_LIST);
-                if (pgt_cli_uint(verb, a, tok, 1, 256, &threads[n_threads])) return PGT_EXIT_USAGE;
-                n_threads++;
-            }
-            if (!n_threads) return pgt_cli_fail(verb, "--threads: empty list");
+            if (pgt_cli_uint_list(verb, a, v, 1, 256, threads, BENCH_MARCH_MAX_LIST, &n_threads))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--walkers")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_uint(verb, a, v, 1, 1u << 20, &walkers))
@@ -601,8 +594,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         pgt_mesh_destroy(&m);
     }
     free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
-    if (pgt_cli_table_close(csv, tmp, out_path, verb)) return PGT_EXIT_USAGE;
-    fprintf(stderr, "pgt bench march: wrote %s%s\n", out_path,
-            failures ? " with failures (see above)" : "");
+    if (pgt_cli_bench_close(csv, tmp, out_path, verb, failures)) return PGT_EXIT_USAGE;
+    if (!failures) fprintf(stderr, "pgt bench march: wrote %s\n", out_path);
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

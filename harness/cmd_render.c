@@ -197,6 +197,7 @@ int pgt_cmd_render(int argc, char **argv) {
                          args[i].path);
             goto done;
         }
+    if (pgt_cli_check_outputs(verb, &out_path, 1)) goto done;
     if (!has_png_extension(out_path)) {
         pgt_cli_fail(verb, "-o %s: the picture is a .png file", out_path);
         goto done;

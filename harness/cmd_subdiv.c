@@ -114,6 +114,7 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     if (protect_path && pgt_cli_same_file(protect_path, out_path))
         return pgt_cli_fail(verb, "-o %s is the --protect file; pgt never overwrites an input",
                             out_path);
+    if (pgt_cli_check_outputs(verb, &out_path, 1)) return PGT_EXIT_USAGE;
 
     pgt_error err = {0};
     pgt_mesh in = {0}, out = {0};

@@ -89,6 +89,7 @@ int pgt_cmd_woven(int argc, char **argv) {
                                 : "no model: give --res NAME or --params P,K,C,U,V");
     if (out_path && pgt_mesh_format_from_path(out_path) != PGT_FORMAT_PLY)
         return pgt_cli_fail(verb, "-o %s: the output is a PLY file (name it *.ply)", out_path);
+    if (pgt_cli_check_outputs(verb, &out_path, 1)) return PGT_EXIT_USAGE;
     pgt_woven_params p;
     pgt_error err = {0};
     if (res && pgt_woven_find_resolution(res, &p, &err) != PGT_OK)
@@ -106,11 +107,11 @@ int pgt_cmd_woven(int argc, char **argv) {
             return pgt_cli_fail(verb, "--params %s: %s", params_text, bare(err.message));
         /* within 32-bit indices the arrays reach ~150 GB: with the kernel's overcommit the
          * allocation succeeds and the first frame gets the process killed */
-        const uint64_t mem = pgt_cli_memory_bytes();
+        const uint64_t mem = pgt_cli_available_bytes();
         if (mem && c.bytes > mem)
             return pgt_cli_fail(verb,
-                                "--params %s: the model's arrays take %.1f GiB, more than this "
-                                "machine's %.1f GiB of memory",
+                                "--params %s: the model's arrays take %.1f GiB, more than the "
+                                "%.1f GiB of memory available now",
                                 params_text, (double)c.bytes / 1073741824.0,
                                 (double)mem / 1073741824.0);
     }
@@ -122,7 +123,7 @@ int pgt_cmd_woven(int argc, char **argv) {
     int rc = PGT_EXIT_USAGE;
     if (pgt_woven_create(&w, &p, seed, &err) != PGT_OK ||
         pgt_woven_mesh_create(&m, &p, &err) != PGT_OK) {
-        pgt_cli_fail(verb, "%s", err.message);
+        pgt_cli_fail(verb, "%s", bare(err.message));
         goto done;
     }
     if (!ms) {

@@ -5,6 +5,7 @@
  * through all three writers, fan triangulation with UVs, PLY groups and skipped properties, the
  * real meshes of ../shared/datasets/meshes (counts from its SOURCES.md), and atomic writes. */
 #include <dirent.h>
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -16,6 +17,7 @@
 #include <unistd.h>
 
 #include <pgt/mesh_io.h>
+#include <pgt/result.h>
 
 #include "test_scratch.h"
 #include "test_util.h"
@@ -931,7 +933,35 @@ static void test_atomic_writes(void) {
     scratch_remove();
 }
 
+/* pgt_replace_file, every writer's last step: a regular file is replaced; a folder (EISDIR) or a
+ * fifo (EPERM) is refused and left as it was, with the temporary file left for the caller. */
+static void test_replace_file(void) {
+    scratch_make_for("replace");
+    REQUIRE(scratch[0]);
+    char tmp[512], fifo[512], dir[512], reg[512];
+    snprintf(tmp, sizeof tmp, "%s", scratch_path("t.tmp"));
+    snprintf(fifo, sizeof fifo, "%s", scratch_path("fifo.obj"));
+    snprintf(dir, sizeof dir, "%s", scratch_path("dir.obj"));
+    snprintf(reg, sizeof reg, "%s", scratch_path("reg.obj"));
+    FILE *f = fopen(tmp, "w");
+    REQUIRE(f);
+    fputs("new\n", f);
+    fclose(f);
+    REQUIRE(mkfifo(fifo, 0600) == 0 && mkdir(dir, 0700) == 0);
+    struct stat st;
+    errno = 0;
+    CHECK(pgt_replace_file(tmp, fifo) == -1 && errno == EPERM);
+    CHECK(stat(fifo, &st) == 0 && S_ISFIFO(st.st_mode) && access(tmp, F_OK) == 0);
+    errno = 0;
+    CHECK(pgt_replace_file(tmp, dir) == -1 && errno == EISDIR);
+    CHECK(stat(dir, &st) == 0 && S_ISDIR(st.st_mode) && access(tmp, F_OK) == 0);
+    CHECK(pgt_replace_file(tmp, reg) == 0);
+    CHECK(stat(reg, &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 4 && access(tmp, F_OK) != 0);
+    scratch_remove();
+}
+
 static const pgt_test_case cases[] = {
+    {"replace_file", test_replace_file},
     {"malformed_corpus", test_malformed_corpus},
     {"truncated_binary_ply", test_truncated_binary_ply},
     {"truncated_off", test_truncated_off},
