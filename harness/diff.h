@@ -39,6 +39,9 @@ typedef struct pgt_diff_sqrt3 {
     pgt_diff_floats positions;
     double diagonal; /* of the reference output */
     const pgt_tolerance *tolerance;
+    uint32_t iterations; /* k of the run: the bounds grow past 3 (pgt_tolerance_sqrt3_bounds) */
+    uint32_t max_ulp;    /* the bounds in force, set by pgt_diff_sqrt3_compare */
+    double max_abs_rel;
     int pass; /* counts and integer outputs equal, positions within the tolerance; or both
                  refused the input with the same error code */
     double ref_ms, got_ms;

@@ -29,11 +29,28 @@ static const pgt_tolerance pgt_tolerances[] = {
      * convex combinations (they do not amplify an error), so k <= 3 iterations stay within
      * 3 x 3 ulp of cancellation-free data; 16 ulp adds margin for the sums' reordering a
      * compiler may not do but a driver might. 1e-6 x diagonal is 8x float epsilon over a unit
-     * model: the absolute floor for coordinates near zero. */
+     * model: the absolute floor for coordinates near zero. An element fails only beyond both,
+     * so the bound in force is max(16 ulp, 1e-6 x diagonal): the absolute one for coordinates
+     * below about half the diagonal (16 ulp of 0.5 is 9.5e-7), the ulp one beyond. For k > 3
+     * both grow (pgt_tolerance_sqrt3_bounds). */
     {"sqrt3", "positions", 16u, 1e-6,
      "division may be 2.5 ulp on OpenCL/Vulkan devices; k <= 3 convex relaxations do not "
      "amplify; 1e-6 x diagonal floors coordinates near 0"},
 };
+
+/* Each sqrt(3) iteration past the 3 the table's entry covers adds one division-rounded weight per
+ * vertex (about 3 ulp, not amplified by the convex relaxations): 4 ulp and 1/3 of the absolute
+ * floor more per iteration. */
+#define PGT_TOLERANCE_SQRT3_COVERED_ITERATIONS 3u
+#define PGT_TOLERANCE_SQRT3_ULP_PER_ITERATION 4u
+
+/* The sqrt(3) position bounds in force for k iterations (k <= 3: the table's entry). */
+static inline void pgt_tolerance_sqrt3_bounds(const pgt_tolerance *t, uint32_t k, uint32_t *max_ulp,
+                                              double *max_abs_rel) {
+    const uint32_t c = PGT_TOLERANCE_SQRT3_COVERED_ITERATIONS, more = k > c ? k - c : 0u;
+    *max_ulp = t->max_ulp + PGT_TOLERANCE_SQRT3_ULP_PER_ITERATION * more;
+    *max_abs_rel = t->max_abs_rel * (double)(c + more) / (double)c;
+}
 
 static inline const pgt_tolerance *pgt_tolerance_find(const char *algorithm, const char *output) {
     for (size_t i = 0; i < sizeof pgt_tolerances / sizeof *pgt_tolerances; ++i)

@@ -64,6 +64,17 @@ static void tolerance_table_entries(void) {
     REQUIRE(t != NULL);
     CHECK(t->max_ulp > 0 && t->max_abs_rel > 0.0 && t->why && strlen(t->why) > 20);
     CHECK(pgt_tolerance_find("sqrt3", "nothing") == NULL);
+    /* the entry's bounds hold for k <= 3 and grow, never shrink, with each further iteration */
+    uint32_t ulp = 0, prev_ulp = 0;
+    double rel = 0.0, prev_rel = 0.0;
+    for (uint32_t k = 0; k <= PGT_SQRT3_MAX_ITERATIONS; ++k) {
+        pgt_tolerance_sqrt3_bounds(t, k, &ulp, &rel);
+        if (k <= 3u)
+            CHECK(ulp == t->max_ulp && rel == t->max_abs_rel);
+        else
+            CHECK_MSG(ulp > prev_ulp && rel > prev_rel, "k = %u: bounds do not grow", k);
+        prev_ulp = ulp, prev_rel = rel;
+    }
 }
 
 /* The reference against itself through the diff: every case equal. */
