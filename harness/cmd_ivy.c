@@ -87,13 +87,16 @@ static const char *ivy_usage2 =
     "  --threads N     threads of every stage (default: the number of CPUs)\n"
     "  --curves F.csv  one row per Bezier segment: branch,segment,p0x,p0y,p0z,b1x,b1y,b1z,\n"
     "                  b2x,b2y,b2z,p1x,p1y,p1z,n0x,n0y,n0z,n1x,n1y,n1z (segment: its index\n"
-    "                  along its branch from 0; n0, n1: the surface normals at its ends)\n"
+    "                  along its branch from 0; n0, n1: the surface normals at its ends). A\n"
+    "                  branch is a chain of first children (pgt/expand.h): with ivy.grammar,\n"
+    "                  whose Branch lists the secondary branch first, a branch is one main-stem\n"
+    "                  segment followed by a secondary branch, and the stem goes on in a new one\n"
     "  --res N         atlas resolution when MESH_OR_ATLAS is a mesh (default 1024)\n"
     "  --seed S        seed id of seed 0 (seed i has id S + i: the grammar's rand and the\n"
     "                  leaves) and of the random seed placement; default 1\n"
     "  --rotation R    direction at chart jumps: atlas (the paper, default) or jacobian\n"
-    "  --mask-out F    write the mask the marches used (1 forbidden = red, painted = white) as\n"
-    "                  a PNG of the atlas's size\n"
+    "  --mask-out F    write the mask the marches used as a grey PNG of the atlas's size:\n"
+    "                  forbidden texels white, the others black (--mask reads it back)\n"
     "  --mask-mesh F   write the painted surface as a mesh for figures (paper Fig. 10's red\n"
     "                  areas): the texels --paint and --forbid brushed, else those --mask\n"
     "                  forbids, as triangles between texel centres lifted off the surface\n"
@@ -349,15 +352,15 @@ static int write_curves(const char *path, const pgt_ivy_output *o) {
     return pgt_cli_table_close(f, tmp, path, "ivy") ? -1 : 0;
 }
 
+/* The mask as --mask reads it back (its first channel / 255): grey, forbidden texels white (1),
+ * the others black (0). */
 static int write_mask_png(const char *path, const float *mask, uint32_t w, uint32_t h) {
-    uint8_t *px = malloc((size_t)w * h * 3u);
+    uint8_t *px = malloc((size_t)w * h);
     if (!px) return pgt_cli_fail("ivy", "out of memory");
-    for (size_t i = 0; i < (size_t)w * h; ++i) {
-        const int forbidden = mask && mask[i] >= PGT_MARCH_MASK_THRESHOLD;
-        px[3 * i] = 255, px[3 * i + 1] = px[3 * i + 2] = forbidden ? 40 : 255;
-    }
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        px[i] = mask && mask[i] >= PGT_MARCH_MASK_THRESHOLD ? 255 : 0;
     pgt_error err = {0};
-    const pgt_result r = pgt_png_write(path, w, h, 3, px, &err);
+    const pgt_result r = pgt_png_write(path, w, h, 1, px, &err);
     free(px);
     return r == PGT_OK ? 0 : pgt_cli_fail("ivy", "--mask-out %s", err.message);
 }

@@ -263,6 +263,9 @@ expect ivy_seed_file_too_few 2 "$pgt" ivy cs.exr --seeds 3 -o x.ply --seed-file 
 printf 'stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\nstroke\npoint 0 0 1\n' >strokes.txt
 expect ivy_paint 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --paint strokes.txt --mask-out m.png "${short[@]}"
 grep -q "painted 2 strokes, 4 points" out.txt && [ -s m.png ] && ok ivy_paint_reports || bad ivy_paint_reports "$(cat out.txt)"
+# --mask-out writes what --mask reads: the mask read back and written again is the same picture
+expect ivy_mask_out_read_back 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --mask m.png --mask-out m2.png "${short[@]}"
+cmp -s m.png m2.png && ok ivy_mask_out_same || bad ivy_mask_out_same "m.png and m2.png differ"
 expect ivy_forbid 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --forbid strokes.txt --mask-mesh red.ply "${short[@]}"
 grep -q "forbidden 2 strokes, 4 points" out.txt && head -c 300 red.ply | grep -a -q "element face [1-9]" \
   && ok ivy_forbid_mask_mesh || bad ivy_forbid_mask_mesh "$(cat out.txt)"

@@ -433,6 +433,11 @@ static void test_bounds(void) {
     o.max_items = 1000;
     expect_limit(&f, "A --> B(0)\nB(n) --> case n < 20 : Branch(2) {B(n + 1), B(n + 1)} else : NIL",
                  &o, "runaway:2:", "max_items");
+    /* ... past the 65,536 items after which a seed above a failed one stops early: the error
+     * stays the lowest failing seed's */
+    o.max_items = 300000;
+    expect_limit(&f, "A --> B(0)\nB(n) --> case n < 20 : Branch(2) {B(n + 1), B(n + 1)} else : NIL",
+                 &o, "runaway:2:", "max_items");
     o.max_items = 0;
     /* ... and one making 2^12 Bark records on one segment */
     o.max_terminals = 100;

@@ -10,6 +10,7 @@
 #include "pgt/expand.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -60,7 +61,15 @@ typedef struct xjob {
     uint32_t max_points, max_depth, max_terminals, max_items, candidates, stream;
     float cand_angle[PGT_EXPAND_MAX_CANDIDATES];
     xseed *seeds;
+    /* The lowest index of a seed that failed so far (UINT32_MAX: none). pgt_expand reports the
+     * lowest failing seed's error, so a seed above it has nothing left to tell: it is skipped,
+     * or stopped within EXPAND_CHECK_ITEMS items (a runaway grammar fails on every seed, each
+     * after max_items items: 16 seeds took 6x as long as one to give the same error). */
+    atomic_uint *first_failed;
 } xjob;
+
+/* Items a seed runs between looks at xjob.first_failed (a relaxed atomic load). */
+#define EXPAND_CHECK_ITEMS 65536u
 
 /* The context planes and their size (pgt_grammar_context_fn's data). */
 typedef struct xcontext {
@@ -383,6 +392,13 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
             res = limit(&r, it, "grammar items run", job->max_items, "max_items");
             break;
         }
+        if (r.items % EXPAND_CHECK_ITEMS == 0 &&
+            atomic_load_explicit(job->first_failed, memory_order_relaxed) < index) {
+            res =
+                pgt_error_set(&out->err, PGT_ERROR_LIMIT, "seed %u: stopped (a lower seed failed)",
+                              index); /* never reported: the lower seed's error is */
+            break;
+        }
         xwork rest = w; /* no tail-call elimination: see expand.h */
         rest.pos++;
         res = push(&r, it, &rest);
@@ -395,7 +411,15 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
 static void run_range(void *ctx, uint32_t begin, uint32_t end, uint32_t worker) {
     const xjob *job = ctx;
     (void)worker;
-    for (uint32_t i = begin; i < end; ++i) run_seed(job, i, &job->seeds[i]);
+    for (uint32_t i = begin; i < end; ++i) {
+        if (atomic_load_explicit(job->first_failed, memory_order_relaxed) < i) return;
+        if (run_seed(job, i, &job->seeds[i]) == PGT_OK) continue;
+        unsigned low = atomic_load_explicit(job->first_failed, memory_order_relaxed);
+        while (i < low &&
+               !atomic_compare_exchange_weak_explicit(job->first_failed, &low, i,
+                                                      memory_order_relaxed, memory_order_relaxed)) {
+        }
+    }
 }
 
 void pgt_expand_destroy(pgt_expand_output *out) {
@@ -526,6 +550,8 @@ pgt_result pgt_expand(pgt_expand_output *out, const pgt_expand_input *in,
         const float a = 1.57079632679489662f * (float)((j + 1u) / 2u) / (float)half;
         job.cand_angle[j - 1] = j % 2u ? a : -a;
     }
+    atomic_uint first_failed = UINT32_MAX;
+    job.first_failed = &first_failed;
     job.seeds = calloc(in->seed_count ? in->seed_count : 1u, sizeof(xseed));
     if (!job.seeds) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_expand: out of memory");
     pgt_parallel_for_items(in->seed_count, EXPAND_SEED_WEIGHT, o->threads ? o->threads : 1u,
