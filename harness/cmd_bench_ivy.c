@@ -140,7 +140,7 @@ static int scene_setup(pgt_ivy_scene *s, const char *mesh, const char *param_lis
     float *points = NULL;
     uint32_t *first = NULL, point_count = 0;
     if (!painted) {
-        if (pgt_ivy_random_seeds(s->seeds, seeds, &s->atlas, seed, &err) != PGT_OK)
+        if (pgt_ivy_random_seeds(s->seeds, seeds, &s->atlas, s->mask, seed, &err) != PGT_OK)
             return pgt_cli_fail("bench", "%s", err.message);
     } else {
         if (pgt_ivy_guide_strokes(&s->atlas, "bench", strokes, steps, seed, &points, &point_count,

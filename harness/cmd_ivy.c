@@ -605,7 +605,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
             }
             if (q->dx == 0.0f && q->dy == 0.0f) random_dir(seed, i, &q->dx, &q->dy);
         }
-    } else if (pgt_ivy_random_seeds(s.seeds, seeds, a, seed, &err) != PGT_OK) {
+    } else if (pgt_ivy_random_seeds(s.seeds, seeds, a, s.mask, seed, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }

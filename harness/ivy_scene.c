@@ -99,7 +99,7 @@ int pgt_ivy_guide_strokes(const pgt_march_atlas *a, const char *verb, uint32_t c
         free(p), free(f);
         return pgt_cli_fail(verb, "out of memory");
     }
-    if (pgt_ivy_random_seeds(starts, count, a, seed, &err) != PGT_OK) {
+    if (pgt_ivy_random_seeds(starts, count, a, NULL, seed, &err) != PGT_OK) {
         free(p), free(f);
         return pgt_cli_fail(verb, "%s", err.message);
     }

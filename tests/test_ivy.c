@@ -28,8 +28,8 @@ static void test_random_seeds(void) {
     const pgt_march_atlas *a = &s->atlas;
     pgt_expand_seed many[200], few[10];
     pgt_error err = {0};
-    REQUIRE(pgt_ivy_random_seeds(many, 200, a, 7, &err) == PGT_OK);
-    REQUIRE(pgt_ivy_random_seeds(few, 10, a, 7, &err) == PGT_OK);
+    REQUIRE(pgt_ivy_random_seeds(many, 200, a, NULL, 7, &err) == PGT_OK);
+    REQUIRE(pgt_ivy_random_seeds(few, 10, a, NULL, 7, &err) == PGT_OK);
     CHECK(!memcmp(many, few, sizeof few)); /* seed i does not depend on the count */
     uint32_t distinct = 0;
     for (uint32_t i = 0; i < 200; ++i) {
@@ -42,8 +42,23 @@ static void test_random_seeds(void) {
     }
     CHECK(distinct > 190); /* 200 draws among ~600k inner texels: collisions are rare */
     pgt_expand_seed other[10];
-    REQUIRE(pgt_ivy_random_seeds(other, 10, a, 8, &err) == PGT_OK);
+    REQUIRE(pgt_ivy_random_seeds(other, 10, a, NULL, 8, &err) == PGT_OK);
     CHECK(memcmp(other, few, sizeof few) != 0);
+    /* with a mask forbidding the left half of the atlas, every seed lands on the right half,
+     * and a mask forbidding everything is PGT_ERROR_EMPTY */
+    const size_t texels = (size_t)a->width * a->height;
+    float *mask = malloc(texels * sizeof(float));
+    REQUIRE(mask);
+    for (size_t i = 0; i < texels; ++i) mask[i] = i % a->width < a->width / 2u ? 1.0f : 0.0f;
+    REQUIRE(pgt_ivy_random_seeds(many, 200, a, mask, 7, &err) == PGT_OK);
+    uint32_t left = 0;
+    for (uint32_t i = 0; i < 200; ++i) left += many[i].x < (float)(a->width / 2u);
+    CHECK_MSG(left == 0, "%u of 200 seeds on forbidden texels", left);
+    for (size_t i = 0; i < texels; ++i) mask[i] = 1.0f;
+    pgt_error e2 = {0};
+    CHECK(pgt_ivy_random_seeds(many, 1, a, mask, 7, &e2) == PGT_ERROR_EMPTY &&
+          strstr(e2.message, "mask") != NULL);
+    free(mask);
 }
 
 static double dist_point_segment(const double p[3], const float *a, const float *b) {

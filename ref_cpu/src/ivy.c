@@ -15,21 +15,27 @@
 
 #define TWO_PI 6.283185307179586
 
+/* An inner texel the mask (NULL: none) allows. */
+static int seedable(const pgt_march_atlas *a, const float *mask, size_t i) {
+    return (a->codes[i] & 3u) == PGT_TEXEL_INNER && !(mask && mask[i] >= PGT_MARCH_MASK_THRESHOLD);
+}
+
 pgt_result pgt_ivy_random_seeds(pgt_expand_seed *out, uint32_t count, const pgt_march_atlas *a,
-                                uint32_t seed, pgt_error *err) {
+                                const float *mask, uint32_t seed, pgt_error *err) {
     if (!count) return PGT_OK;
     if (!out || !a || !a->codes)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "ivy seeds: NULL argument");
     const size_t texels = (size_t)a->width * a->height;
     uint32_t inner = 0;
-    for (size_t i = 0; i < texels; ++i) inner += (a->codes[i] & 3u) == PGT_TEXEL_INNER;
+    for (size_t i = 0; i < texels; ++i) inner += seedable(a, mask, i);
     if (!inner)
-        return pgt_error_set(err, PGT_ERROR_EMPTY, "ivy seeds: the atlas has no inner texel");
+        return pgt_error_set(err, PGT_ERROR_EMPTY, "ivy seeds: the atlas has no inner texel%s",
+                             mask ? " that the mask allows" : "");
     uint32_t *list = malloc((size_t)inner * sizeof(uint32_t));
     if (!list) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "ivy seeds: out of memory");
     uint32_t n = 0;
     for (size_t i = 0; i < texels; ++i)
-        if ((a->codes[i] & 3u) == PGT_TEXEL_INNER) list[n++] = (uint32_t)i;
+        if (seedable(a, mask, i)) list[n++] = (uint32_t)i;
     for (uint32_t s = 0; s < count; ++s) {
         uint64_t k =
             (uint64_t)(pgt_rng_double(seed, PGT_IVY_SEED_STREAM, 2u * (uint64_t)s) * inner);

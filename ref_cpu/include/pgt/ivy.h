@@ -42,9 +42,12 @@ extern "C" {
 /* `count` seeds at uniformly random inner texels (each inner texel equally likely), at the
  * texel's centre, heading in a uniformly random texel-space direction; draw 2 i and 2 i + 1 of
  * pgt_rng_double(seed, PGT_IVY_SEED_STREAM, .) place seed i, so seed i does not depend on
- * count. PGT_ERROR_EMPTY: the atlas has no inner texel; PGT_ERROR_OUT_OF_MEMORY. */
+ * count. With a mask (width * height floats, NULL for none) only the inner texels it allows
+ * (below PGT_MARCH_MASK_THRESHOLD, as the marches read it) are drawn from: a seed on a
+ * forbidden texel could not take its first step. PGT_ERROR_EMPTY: no such texel;
+ * PGT_ERROR_OUT_OF_MEMORY. */
 pgt_result pgt_ivy_random_seeds(pgt_expand_seed *out, uint32_t count, const pgt_march_atlas *a,
-                                uint32_t seed, pgt_error *err);
+                                const float *mask, uint32_t seed, pgt_error *err);
 
 /* Paints strokes into `mask` (width * height floats of the atlas, row-major): every inner or
  * indirection texel whose P lies within `radius` (> 0, finite) of a stroke gets 0. Strokes:
