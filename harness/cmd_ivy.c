@@ -622,9 +622,19 @@ int pgt_cmd_ivy(int argc, char **argv) {
     o.expand.march.mask = s.mask;
     o.no_leaves = no_leaves;
     o.terminals.no_triangle_segment = 1;
+    /* the bark and leaves within the memory available now (about 58 MB a seed on spot with the
+     * paper's grammar): past it a clear error instead of an overcommitted allocation that gets
+     * the process killed while it writes */
+    o.terminals.max_bytes = pgt_cli_available_bytes();
     o.threads = threads;
     if (pgt_ivy_generate(&out, &in, &o, &err) != PGT_OK) {
-        pgt_cli_fail(verb, "%s", err.message);
+        if (err.code == PGT_ERROR_LIMIT && !strncmp(err.message, "terminals:", 10))
+            pgt_cli_fail(verb,
+                         "%s now (--seeds %u; the grammar's leafDensity and Bark records "
+                         "set the size)",
+                         err.message, seeds);
+        else
+            pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }
     const double t0 = pgt_cli_now_ms();

@@ -723,6 +723,22 @@ static void test_errors(void) {
     }
     expect_error(s, PGT_ERROR_LIMIT, "2^32 - 1", NULL);
     scene_free(s);
+    /* max_bytes: the chain's output (counted by a build without the bound) one byte over it
+     * is refused before anything is allocated; exactly at it, built */
+    s = chain_scene(4, PGT_BEZIER_C1);
+    REQUIRE(s);
+    pgt_terminals_input in = scene_input(s, 1);
+    pgt_terminals_output full;
+    REQUIRE(pgt_terminals_build(&full, &in, NULL, NULL) == PGT_OK);
+    const uint64_t bytes = 32u * (uint64_t)full.vertex_count + 16u * (uint64_t)full.triangle_count;
+    pgt_terminals_destroy(&full);
+    pgt_terminals_options lim = {0};
+    lim.max_bytes = bytes - 1u;
+    expect_error(s, PGT_ERROR_LIMIT, "more than the", &lim);
+    lim.max_bytes = bytes;
+    REQUIRE(pgt_terminals_build(&full, &in, &lim, NULL) == PGT_OK);
+    pgt_terminals_destroy(&full);
+    scene_free(s);
 }
 
 /* ---- part 2: ivy.grammar on the cube-sphere, expand -> Bezier -> terminals ------------- */

@@ -535,6 +535,18 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
     out->bark_quads = (uint64_t)out->bark_segments * c.sides * c.rings;
     out->bark_triangle_count = (uint32_t)(ttotal - 2u * (uint64_t)out->leaf_count);
     out->bark_vertex_count = (uint32_t)(vtotal - 4u * (uint64_t)out->leaf_count);
+    const int with_segments = !o->no_triangle_segment;
+    const uint64_t bytes = 32u * vtotal + (with_segments ? 16u : 12u) * ttotal;
+    if (o->max_bytes && bytes > o->max_bytes)
+        return fail(&c, out,
+                    pgt_error_set(err, PGT_ERROR_LIMIT,
+                                  "terminals: %llu vertices and %llu triangles (%llu bark "
+                                  "segments, %llu leaves) would take %.1f GiB, more than the "
+                                  "%.1f GiB allowed",
+                                  (unsigned long long)vtotal, (unsigned long long)ttotal,
+                                  (unsigned long long)out->bark_segments,
+                                  (unsigned long long)out->leaf_count, (double)bytes / 1073741824.0,
+                                  (double)o->max_bytes / 1073741824.0));
     if (vtotal > out->vertex_capacity || !out->positions) {
         free(out->positions), free(out->normals), free(out->uvs);
         out->positions = malloc(3u * (size_t)vtotal * sizeof(float) + 1u);
@@ -542,7 +554,6 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
         out->uvs = malloc(2u * (size_t)vtotal * sizeof(float) + 1u);
         out->vertex_capacity = vtotal;
     }
-    const int with_segments = !o->no_triangle_segment;
     if (ttotal > out->triangle_capacity || !out->triangles ||
         (with_segments && !out->triangle_segment)) {
         free(out->triangles), free(out->triangle_segment);

@@ -127,6 +127,11 @@ typedef struct pgt_terminals_options {
     /* 1: no triangle_segment (NULL): 12 % fewer bytes written, for callers that do not need
      * it. */
     int no_triangle_segment;
+    /* Most bytes of output arrays (positions, normals, uvs, triangles, triangle_segment) to
+     * allocate; 0: no bound. Past it the build fails with PGT_ERROR_LIMIT before allocating,
+     * naming the counts (a caller passes the memory available: an allocation the kernel
+     * overcommits would get the process killed while it writes). */
+    uint64_t max_bytes;
 } pgt_terminals_options;
 
 typedef struct pgt_terminals_output {
