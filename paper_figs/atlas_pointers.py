@@ -21,13 +21,12 @@ HALF channels, NONE / ZIPS / ZIP compression); Debian's python3 has no OpenEXR m
 import os
 import struct
 import sys
-import tempfile
 import zlib
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
@@ -130,7 +129,7 @@ def main(argv):
 
     tu, tv = a["ptr.u"], a["ptr.v"]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 6.3))
-    ax1.imshow(img, interpolation="nearest", extent=(0, W, H, 0))
+    ax1.imshow(img, interpolation="none", extent=(0, W, H, 0))  # PDF: texels kept
     ax1.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ec="yellow", lw=1.2))
     ys, xs = np.nonzero(k[y0:y1, x0:x1] == INDIRECTION)
     ys, xs = ys + y0, xs + x0
@@ -151,7 +150,7 @@ def main(argv):
         ty, tx = int(tv[y, x]), int(tu[y, x])
         z[y - y0, x - x0] = cols[int(ch[ty, tx]) % nch]
     z[zk == DEAD_END] = (1.0, 0.0, 0.0)
-    ax2.imshow(z, interpolation="nearest", extent=(x0, x1, y1, y0))
+    ax2.imshow(z, interpolation="none", extent=(x0, x1, y1, y0))
     for y, x in zip(ys, xs):
         d = np.array([tu[y, x] - x, tv[y, x] - y], float)
         n = np.hypot(*d)

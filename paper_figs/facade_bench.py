@@ -18,12 +18,11 @@ input is a message on stderr and exit status 2.
 import math
 import os
 import sys
-import tempfile
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -49,7 +48,11 @@ def num(row, key, path, line):
         x = float(v)
     except ValueError:
         die(f"{path}:{line}: column {key}: '{v}' is not a number")
-    return x if math.isfinite(x) and x > 0 else None
+    if not (math.isfinite(x) and x > 0):
+        print(f"facade_bench: warning: {path}:{line}: column {key}: '{v}' is not a positive "
+              f"number, left out", file=sys.stderr)
+        return None
+    return x
 
 
 def read(path):
@@ -71,6 +74,8 @@ def read(path):
         (paper if r["source"] == "paper" else ours).append(r)
     if not ours:
         die(f"{path}: no rows of ours (source=ours)")
+    if not any(r["ms"] for r in ours):
+        die(f"{path}: no ms per frame in any row of ours: nothing to plot")
     return meta, ours, paper
 
 
@@ -81,12 +86,13 @@ def main(argv):
     meta, ours, paper = read(path)
     resolutions = sorted({r["res"] for r in ours},
                          key=lambda s: int(s.split("x")[0]) * int(s.split("x")[1]))
-    fig, (a_ms, a_mr, a_mem) = plt.subplots(1, 3, figsize=(13.5, 4.2))
+    fig, (a_ms, a_mr, a_mem) = plt.subplots(1, 3, figsize=(13.5, 5.4))
     for i, res in enumerate(resolutions):
         rows = sorted((r for r in ours if r["res"] == res), key=lambda r: r["facades"])
         c = COLOURS[i % len(COLOURS)]
         pts = [(r["facades"], r["ms"]) for r in rows if r["ms"]]
-        a_ms.plot(*zip(*pts), "-o", color=c, label=f"ours {res}")
+        if pts:
+            a_ms.plot(*zip(*pts), "-o", color=c, label=f"ours {res}")
         mins = [(r["facades"], r["ms_min"]) for r in rows if r["ms_min"]]
         if mins:
             a_ms.plot(*zip(*mins), "_", color=c, markersize=10)
@@ -135,8 +141,9 @@ def main(argv):
     a_ms.set_ylim(bottom=lowest / 3.0, top=TARGET_MS * 1.6)
     for a in (a_ms, a_mr, a_mem):
         a.grid(True, which="both", lw=0.3, alpha=0.5)
-        # the frame-time legend below the lines, clear of the target's label
-        a.legend(fontsize=7, loc="lower right" if a is a_ms else "best")
+        # below the panel: inside it a legend covered the data (the 1000-facade throughput)
+        a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2,
+                 frameon=False)
     fig.suptitle("Per-pixel procedural facades (paper 003 sec. 9) vs Embree on the explicit "
                  "geometry, generated cities", fontsize=11)
     fig.text(0.01, 0.01, "; ".join(results_csv.footnote(meta) + [f"pgt bench facade ({path})"]),

@@ -10,24 +10,24 @@ in one row), each titled; --title puts a title over the whole figure. Writes OUT
 (200 dpi) and OUT_PREFIX.pdf. A missing or unreadable frame is an error (exit 2).
 
 For Fig. 11 (flat buildings, macroscopic geometry and shadowing, normal mapping, relief
-mapping), the lead's step in scripts/main.sh would be, e.g.:
-  facade_panels.py paper_figs/out/facade_lod lod0.exr "(a) flat" lod1.exr "(b) macroscopic" \
-      lod2.exr "(c) normal mapping" lod3.exr "(d) relief mapping" --columns 2
+mapping) scripts/main.sh's step 18 runs, in short:
+  facade_panels.py paper_figs/out/facade_lod facade_lod_flat.png "(a) flat ..." \
+      facade_lod_geometry.png "(b) ..." facade_lod_normal.png "(c) ..." \
+      facade_lod_relief.png "(d) ..." --columns 2 --title "..."
 """
 
 import os
 import sys
-import tempfile
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from exrread import ExrError, read_exr  # noqa: E402
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -92,6 +92,11 @@ def main(argv):
     fig.tight_layout(pad=0.3)
     try:
         fig.savefig(out + ".png", dpi=200)
+        # the PDF embeds each frame at its own resolution (resampled at 200 dpi it lost a third
+        # of the pixels); the viewer scales it
+        for ax in axes.flat:
+            for image in ax.get_images():
+                image.set_interpolation("none")
         fig.savefig(out + ".pdf", dpi=200)
     except OSError as e:
         die(f"{out}: {e.strerror}")

@@ -11,12 +11,11 @@ unreadable image is an error (exit 2).
 
 import os
 import sys
-import tempfile
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402

@@ -13,13 +13,14 @@ or malformed file is an error (exit 2).
 """
 
 import os
+import re
 import sys
-import tempfile
+import textwrap
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -67,10 +68,12 @@ def main():
         pts = sorted((fnum(r, "seeds", f11), fnum(r, "total_ms", f11), fnum(r, "polygons", f11))
                      for r in rows if r["scenario"] == sc)
         if not pts:
+            print(f"ivy_seeds: warning: {f11}: no rows of scenario '{sc}'", file=sys.stderr)
             continue
         xs, ts, ps = zip(*pts)
         ax.plot(xs, ts, "o-", ms=3, color=COLOURS[sc], label=LABELS[sc])
-        ax2.plot(xs, [p / 1e6 for p in ps], ":", color=COLOURS[sc], lw=1)
+        ax2.plot(xs, [p / 1e6 for p in ps], ":", color=COLOURS[sc], lw=1,
+                 label=f"{LABELS[sc]}: polygons (right axis)")
         print(f"ivy_seeds: {sc}: {slope(xs, ts):.2f} ms per added seed "
               f"({ts[0]:.1f} ms at {xs[0]:.0f} seed(s), {ts[-1]:.1f} ms at {xs[-1]:.0f})")
     threads = rows[0]["threads"]
@@ -81,10 +84,18 @@ def main():
     ax.set_ylim(0, None)
     ax2.set_ylim(0, None)
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper left", fontsize=8, frameon=False)
+    lines, texts = ax.get_legend_handles_labels()
+    lines2, texts2 = ax2.get_legend_handles_labels()
+    ax.legend(lines + lines2, texts + texts2, loc="upper left", fontsize=8, frameon=False)
     ax.set_title("Generation time vs seeds (paper 000 Fig. 11)", fontsize=10)
 
-    names = [f"{r['scene']}\n{r['mesh'].replace('.obj', '')}, {r['seeds']} seeds" for r in table]
+    # ours ran on a stand-in mesh; the paper's scene is named under it
+    def paper_scene(r):  # "Fig. 1b (shack; painted guidance)" -> "Fig. 1b, shack"
+        m = re.match(r"(.*?) \((.*?)[;)]", r.get("figure") or "")
+        return f"{m.group(1)}, {m.group(2)}" if m else (r.get("figure") or r["scene"])
+
+    names = [f"{r['mesh'].replace('.obj', '')}, {r['seeds']} seeds\n"
+             + textwrap.fill(f"(paper: {paper_scene(r)})", 24) for r in table]
     ours = [fnum(r, "total_ms", t2) for r in table]
     paper = [fnum(r, "paper_ms", t2) for r in table]
     x = range(len(table))
@@ -100,7 +111,7 @@ def main():
     bx.set_xticks(list(x))
     bx.set_xticklabels(names, fontsize=7)
     bx.set_ylabel("generation time (ms)")
-    bx.legend(fontsize=8, frameon=False)
+    bx.legend(fontsize=8, frameon=False, loc="upper right")
     bx.set_title("Table 2 (labels: output polygons)", fontsize=10)
     foot = results_csv.footnote(meta)
     if foot:

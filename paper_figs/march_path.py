@@ -25,12 +25,11 @@ import argparse
 import csv
 import os
 import sys
-import tempfile
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -43,6 +42,10 @@ EVENTS = ("start", "inner", "jump", "search", "stop")
 JUMP_COLOUR = "#1a9641"
 CLOUD_COLOUR = (0.55, 0.58, 0.62)
 # Above this many jumps the arrow numbers only clutter the atlas panel.
+# jump labels (label_jumps), as fractions of the atlas width: jumps whose ends lie within
+# LABEL_MERGE of each other share a label; a label stands LABEL_OFFSET beside its arrow
+LABEL_MERGE = 0.012
+LABEL_OFFSET = 0.018
 MAX_NUMBERED_JUMPS = 40
 # Path points whose nearest texel's normal faces away from the camera by more than this cosine
 # are drawn as hidden (a small margin so that silhouettes do not flicker).
@@ -141,9 +144,45 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
+def label_jumps(ax, uv, jumps, w):
+    """Numbers the jumps beside their arrows. Jumps whose ends nearly coincide (the same seam
+    crossed both ways, or twice) share one label ("6, 10"); each label stands off its arrow's
+    middle along the arrow's normal, pushed further while it would touch an earlier label, with
+    a thin leader line (at its middle a number covered the path's dots)."""
+    merge, off = LABEL_MERGE * w, LABEL_OFFSET * w
+    groups = []  # [from, to, [jump numbers]]
+    for k, i in enumerate(jumps, start=1):
+        a, b = uv[i - 1], uv[i]
+        for g in groups:
+            same = np.linalg.norm(a - g[0]) < merge and np.linalg.norm(b - g[1]) < merge
+            back = np.linalg.norm(a - g[1]) < merge and np.linalg.norm(b - g[0]) < merge
+            if same or back:
+                g[2].append(k)
+                break
+        else:
+            groups.append([a, b, [k]])
+    placed = []
+    for a, b, numbers in groups:
+        mid = 0.5 * (a + b)
+        d = b - a
+        n = np.array([-d[1], d[0]])
+        n = n / np.linalg.norm(n) if np.linalg.norm(n) > 0 else np.array([0.0, -1.0])
+        pos = mid + off * n
+        for _ in range(12):
+            if all(np.linalg.norm(pos - q) >= 1.6 * off for q in placed):
+                break
+            pos = pos + 0.8 * off * n
+        placed.append(pos)
+        ax.annotate(", ".join(map(str, numbers)), xy=mid, xytext=pos, color=JUMP_COLOUR,
+                    fontsize=6, fontweight="bold", ha="center", va="center", zorder=5,
+                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85),
+                    arrowprops=dict(arrowstyle="-", color=JUMP_COLOUR, lw=0.4, shrinkA=0,
+                                    shrinkB=0))
+
+
 def draw_atlas(ax, atlas, uv, events):
     h, w = atlas.shape[0], atlas.shape[1]
-    ax.imshow(atlas, extent=(0, w, h, 0), interpolation="nearest")
+    ax.imshow(atlas, extent=(0, w, h, 0), interpolation="none")  # PDF: texels kept
     jump = np.isin(events, ("jump", "search"))
     # runs of consecutive positions inside one chart: split before every jump step
     starts = [0] + [i for i in range(1, len(uv)) if jump[i]] + [len(uv)]
@@ -156,11 +195,8 @@ def draw_atlas(ax, atlas, uv, events):
         ax.annotate("", xy=uv[i], xytext=uv[i - 1], zorder=4,
                     arrowprops=dict(arrowstyle="-|>", color=JUMP_COLOUR, lw=1.0,
                                     shrinkA=1, shrinkB=1, mutation_scale=8))
-        if len(jumps) <= MAX_NUMBERED_JUMPS:
-            mid = 0.5 * (uv[i] + uv[i - 1])
-            ax.text(mid[0], mid[1], str(k), color=JUMP_COLOUR, fontsize=6, fontweight="bold",
-                    ha="center", va="center", zorder=5,
-                    bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
+    if len(jumps) <= MAX_NUMBERED_JUMPS:
+        label_jumps(ax, uv, jumps, w)
     ax.scatter(uv[:1, 0], uv[:1, 1], s=60, marker="*", c="gold", edgecolors="black",
                linewidths=0.5, zorder=6)
     if events[-1] == "stop":

@@ -13,13 +13,12 @@ on stderr; an empty or malformed file is an error (exit 2).
 import math
 import os
 import sys
-import tempfile
 import textwrap
 
-os.environ.setdefault("MPLCONFIGDIR", tempfile.mkdtemp(prefix="pgt_mpl_"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
 import matplotlib  # noqa: E402
 
-matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
@@ -130,7 +129,11 @@ def plot(series, tmax, meta, out_prefix):
     for k, name in gpu_names.items():
         # "cl 0: Portable Computing Language / pthread-..." -> "ours, OpenCL (Portable ...)"
         dev = name.split(":", 1)[-1].split("/")[0].strip()
-        labels[k] = f"ours, {k}" + (f" ({dev[:28]})" if dev else "")
+        # PoCL's pthread device and Mesa's llvmpipe/lavapipe run on the CPU: the label says so,
+        # so that nobody reads them as GPU times
+        on_cpu = any(w in name.lower() for w in ("pthread", "llvmpipe", "lavapipe", "cpu"))
+        labels[k] = f"ours, {k}" + (f" ({dev[:28]}{', on the CPU' if on_cpu else ''})"
+                                    if dev else "")
     styles = {"ours1": "-", "oursN": "-", "CGAL": "--", "OpenMesh": ":", "OpenCL": "-.",
               "Vulkan": "-."}
 
@@ -159,26 +162,30 @@ def plot(series, tmax, meta, out_prefix):
                    label=labels[k]) for k in series if series[k]]
     meshes = [Line2D([], [], color="0.35", linestyle="none", marker=MARKERS[i % len(MARKERS)],
                      markersize=5, label=f) for i, f in enumerate(fams)]
-    leg1 = ax.legend(handles=impl, loc="upper left", title="Implementation",
-                     title_fontsize=8.5, frameon=True, framealpha=0.9)
+    # both legends outside the axes: inside, they hid points (the largest meshes' at the lower
+    # right, OpenMesh's and Vulkan's of the middle meshes at the upper left)
+    leg1 = ax.legend(handles=impl, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                     title="Implementation", title_fontsize=8.5, frameon=True, framealpha=0.9,
+                     borderaxespad=0.0)
     ax.add_artist(leg1)
-    # outside the axes: inside, it hid the largest meshes' points (lower right)
-    ax.legend(handles=meshes, loc="upper left", bbox_to_anchor=(1.01, 1.0), title="Mesh",
-              title_fontsize=8.5, frameon=True, framealpha=0.9, borderaxespad=0.0)
+    leg2 = ax.legend(handles=meshes, loc="lower left", bbox_to_anchor=(1.01, 0.0), title="Mesh",
+                     title_fontsize=8.5, frameon=True, framealpha=0.9, borderaxespad=0.0)
 
     fig.tight_layout()
     foot = [f[0].upper() + f[1:] for f in results_csv.footnote(meta)]
+    extra = [leg1, leg2]  # outside the axes: bbox_inches="tight" keeps only what is listed
     if foot:
         # one line per field, placed just under the x label (bbox_inches="tight" keeps it)
         lines = [textwrap.fill(foot[0], 100)] + (["    ".join(foot[1:])] if foot[1:] else [])
         fig.canvas.draw()
         bb = ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted())
-        fig.text(bb.x0, bb.y0 - 0.015, "\n".join(lines), fontsize=7, color="0.3", ha="left",
-                 va="top", linespacing=1.4)
+        extra.append(fig.text(bb.x0, bb.y0 - 0.015, "\n".join(lines), fontsize=7, color="0.3",
+                              ha="left", va="top", linespacing=1.4))
     else:
         warn("no '# machine:' or '# commit:' header lines; figure has no footnote")
     for ext, kw in (("png", {"dpi": 200}), ("pdf", {})):
-        fig.savefig(f"{out_prefix}.{ext}", bbox_inches="tight", pad_inches=0.03, **kw)
+        fig.savefig(f"{out_prefix}.{ext}", bbox_inches="tight", pad_inches=0.03,
+                    bbox_extra_artists=extra, **kw)
     plt.close(fig)
 
 

@@ -4,7 +4,7 @@
 # summary of what it wrote.
 #   bash scripts/main.sh [--quick]    (--quick: small inputs, for a smoke run; it writes under
 #                                      build/quick/ so results/ keeps the real tables)
-set -euo pipefail
+set -Eeuo pipefail # -E: the ERR trap below also fires inside functions
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$top"
 quick=()
@@ -16,7 +16,11 @@ export POCL_CACHE_DIR="$top/build/cache/pocl" MESA_SHADER_CACHE_DIR="$top/build/
 export XDG_CACHE_HOME="$top/build/cache/xdg"
 py=/usr/bin/python3
 steps=18
-step() { echo "[main $1/$steps] $2"; }
+current=0
+step() { current=$1; echo "[main $1/$steps] $2"; }
+# set -e stops at the first failing command: say where, and that the files of the steps before
+# are already rewritten while the later ones are as they were
+trap 'echo "[main] FAILED at step $current/$steps (see the message above); the outputs of steps 1-$((current - 1)) are new, the rest untouched" >&2' ERR
 written=()
 
 step 1 "installing missing Debian packages"
@@ -79,6 +83,9 @@ if [ -s "$nef" ]; then
   "$py" paper_figs/atlas_pointers.py "$work/nefertiti_atlas.exr" "$figs/atlas_pointers_voronoi" \
     --title "Indirection geometry image of nefertiti-lowres (MeshLab Voronoi atlas, 1024^2)"
   written+=("$figs/atlas_pointers_voronoi.png" "$figs/atlas_pointers_voronoi.pdf")
+else # MeshLab failed (step 6 said why): no figure rather than an older run's
+  rm -f "$figs/atlas_pointers_voronoi.png" "$figs/atlas_pointers_voronoi.pdf"
+  echo "main: no atlas_pointers_voronoi figure: MeshLab's atlas of nefertiti-lowres failed (step 6)" >&2
 fi
 
 step 8 "benchmark: pgt bench march -> $res/march.csv (marching steps per second per core)"
@@ -184,7 +191,6 @@ step 18 "figure: the four levels of detail of paper 003 Fig. 11 (pgt facade --de
 # macroscopic geometry and self-shadowing, normal mapping, relief mapping in terminal space
 lod_size=(--width 960 --height 600)
 if [ ${#quick[@]} -gt 0 ]; then lod_size=(--width 480 --height 300); fi
-lod_args=()
 for d in flat geometry normal relief; do
   lod_cmd=("$pgt" facade --scene paper_figs/scenes/facade_one.scene
            --camera 3,4.5,19,12,5.5,12,0,1,0,45 --light -40,30,40 --shadows --detail "$d"
