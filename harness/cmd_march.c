@@ -2,6 +2,7 @@
  * pgt bench march: marching steps per second per core. */
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -271,6 +272,19 @@ int pgt_cmd_march(int argc, char **argv) {
         pgt_march_atlas_create(&atlas, &img, in_path, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
+    }
+    {
+        /* a step below half a float32 ulp of the largest texel coordinate moves nothing there:
+         * millions of "inner" rows of a walker standing still */
+        const uint32_t side = atlas.width > atlas.height ? atlas.width : atlas.height;
+        const float least = (float)side * FLT_EPSILON;
+        if (step < least) {
+            pgt_cli_fail(verb,
+                         "--step %g: below %g texels, the float32 resolution of texel "
+                         "coordinates in this %u x %u atlas: the walker would not move",
+                         (double)step, (double)least, atlas.width, atlas.height);
+            goto done;
+        }
     }
     if (mask_path &&
         pgt_cli_read_context(verb, "--mask", mask_path, "mask", atlas.width, atlas.height, &mask))

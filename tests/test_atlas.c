@@ -858,6 +858,15 @@ static void test_exr_round_trip(void) {
                      sizeof(float) * a.width * a.height) == 0);
     }
     CHECK(check_contract(&b, st.band) == 0);
+    CHECK(b.half && !b.half[ch.chart]); /* pgt writes FLOAT */
+    /* the integer channels stored as HALF (another writer's file, marked as the reader marks
+     * it): ids up to 2048 are exact and accepted, a larger one is refused naming the channel */
+    for (uint32_t c = 0; c < b.channel_count; ++c) b.half[c] = 1;
+    CHECK(pgt_atlas_channels_find(&b, path, &ch, &err) == PGT_OK);
+    pgt_image_plane(&b, ch.chart)[0] = 2049.0f;
+    pgt_error e2 = {0};
+    CHECK(pgt_atlas_channels_find(&b, path, &ch, &e2) == PGT_ERROR_PARSE &&
+          strstr(e2.message, "'chart' is stored as HALF") != NULL);
     pgt_image_destroy(&a);
     pgt_image_destroy(&b);
     pgt_mesh_destroy(&m);

@@ -460,6 +460,8 @@ static void test_exr_half_uint_float(void) {
         int32_t cu = pgt_image_find_channel(&img, "uint");
         int32_t cf = pgt_image_find_channel(&img, "float");
         REQUIRE(ch >= 0 && cu >= 0 && cf >= 0);
+        /* the stored types: only the HALF channel is flagged (pgt_image.half) */
+        CHECK(img.half && img.half[ch] == 1 && img.half[cu] == 0 && img.half[cf] == 0);
         int bad_h = 0, bad_u = 0;
         for (uint32_t i = 0; i < W * H; ++i) {
             float want = half_to_float(half[i]), got = pgt_image_plane(&img, (uint32_t)ch)[i];

@@ -89,6 +89,7 @@ void pgt_image_destroy(pgt_image *img) {
     if (!img) return;
     free(img->names);
     free(img->data);
+    free(img->half);
     memset(img, 0, sizeof(*img));
 }
 

@@ -716,9 +716,13 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
                           "%s: out of memory for %u x %u pixels and %u channels", s->name,
                           lay.width, lay.height, lay.channels);
+    if (r == PGT_OK && !(out->half = calloc(lay.channels, 1)))
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", s->name);
     if (r == PGT_OK) {
-        for (uint32_t c = 0; c < lay.channels; ++c)
+        for (uint32_t c = 0; c < lay.channels; ++c) {
             memcpy(out->names[c], ch->entries[c].name.str, (size_t)ch->entries[c].name.length + 1);
+            out->half[c] = ch->entries[c].pixel_type == EXR_PIXEL_HALF;
+        }
         r = read_pixels(ctxt, s, &lay, out, threads, err);
     }
     if (ctxt) exr_finish(&ctxt);

@@ -40,6 +40,9 @@ typedef struct pgt_image {
     uint32_t width, height, channel_count;
     char (*names)[PGT_IMAGE_NAME_SIZE]; /* channel_count NUL-terminated names */
     float *data;                        /* channel_count planes of height rows of width floats */
+    /* channel_count flags, 1 where the file stored the channel as HALF (whole numbers exact
+     * only up to 2048), set by the EXR readers; NULL for an image made in memory */
+    uint8_t *half;
 } pgt_image;
 
 /* Allocates an image with every value 0.0f. names may be NULL (all names empty, for the caller
