@@ -367,6 +367,15 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
     return 0;
 }
 
+int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def) {
+    if (quick && out == def)
+        return pgt_cli_fail(verb,
+                            "--quick without --out would replace %s, the committed table, with "
+                            "a smoke run's numbers: give --out FILE",
+                            def);
+    return 0;
+}
+
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb,
                         int failures) {
     if (!failures) return pgt_cli_table_close(f, tmp, path, verb);

@@ -101,6 +101,10 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
  * cannot be written. */
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb, int failures);
 
+/* A bench's --quick with its default output (out == def, the same pointer: no --out given)
+ * is refused: the default is results/NAME.csv, the committed table. 0 otherwise. */
+int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def);
+
 /* Outputs of one command that appear together or not at all: each output is written under its
  * staging name (pgt_cli_stage_add: FOLDER/.pgt-stage.PID/NAME for FOLDER/NAME, a folder of this
  * process beside the output, so the name is as long as the output's and the rename stays in one

@@ -22,7 +22,7 @@
 
 static const char *bench_atlas_usage =
     "usage: pgt bench atlas [--out FILE] [--repeat R] [--threads LIST] [--res N]\n"
-    "                       [--meshes LIST] [--add LIST] [--shared DIR]\n"
+    "                       [--meshes LIST] [--add LIST] [--shared DIR] [--quick]\n"
     "\n"
     "Times the atlas builder (charts, layout, raster, pointers, angles; no file I/O) and writes\n"
     "Table 1 of paper 000: one CSV row per mesh x thread count (source=ours) after the paper's\n"
@@ -40,7 +40,9 @@ static const char *bench_atlas_usage =
     "                  shown in the CSV by its file name\n"
     "  --add LIST      more meshes after those (scripts/main.sh adds the MeshLab Voronoi\n"
     "                  atlases of mountain and nefertiti-lowres, *_voronoi.obj)\n"
-    "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n";
+    "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
+    "  --quick         small and fast: cube_sphere_8 and spot.obj (unless --meshes), R = 1\n"
+    "                  (unless --repeat); needs --out (the default is the committed table)\n";
 
 #define BENCH_ATLAS_MAX_LIST 32
 
@@ -68,7 +70,9 @@ static double median_of(const pgt_atlas_stats *runs, uint32_t n, size_t offset, 
 }
 
 int pgt_cmd_bench_atlas(int argc, char **argv) {
-    const char *out_path = "results/table1.csv", *shared = PGT_CLI_SHARED_MESH_DIR;
+    static const char *const default_out = "results/table1.csv";
+    const char *out_path = default_out, *shared = PGT_CLI_SHARED_MESH_DIR;
+    int quick = 0, have_repeat = 0;
     uint32_t repeat = 5, res = PGT_ATLAS_DEFAULT_RES, threads[BENCH_ATLAS_MAX_LIST], n_threads = 0;
     const char *meshes[BENCH_ATLAS_MAX_LIST];
     uint32_t n_meshes = 0;
@@ -87,6 +91,9 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
                 pgt_cli_uint("bench", a, v, 1, 1000, &repeat))
                 return PGT_EXIT_USAGE;
+            have_repeat = 1;
+        } else if (!strcmp(a, "--quick")) {
+            quick = 1;
         } else if (!strcmp(a, "--res")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
                 pgt_cli_uint("bench", a, v, PGT_ATLAS_MIN_RES, PGT_ATLAS_MAX_SQUARE_RES, &res))
@@ -107,6 +114,10 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench atlas --help)", a);
         }
     }
+    if (pgt_cli_quick_out("bench", quick, out_path, default_out)) return PGT_EXIT_USAGE;
+    if (quick && !have_repeat) repeat = 1;
+    if (!n_meshes && quick) /* the smoke run: a generated mesh and one with its own UVs */
+        meshes[n_meshes++] = "cube_sphere_8", meshes[n_meshes++] = "spot.obj";
     if (!n_meshes)
         for (size_t i = 0; i < sizeof(default_meshes) / sizeof(default_meshes[0]); ++i)
             meshes[n_meshes++] = default_meshes[i];

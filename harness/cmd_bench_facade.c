@@ -67,7 +67,8 @@ bad:
 }
 
 int pgt_cmd_bench_facade(int argc, char **argv) {
-    const char *verb = "bench", *out_path = "results/facade.csv", *grammar = NULL, *v;
+    static const char *const default_out = "results/facade.csv";
+    const char *verb = "bench", *out_path = default_out, *grammar = NULL, *v;
     uint32_t buildings[BENCH_FACADE_MAX_LIST] = {25, 250, 2500}, nb = 3;
     uint32_t rw[BENCH_FACADE_MAX_LIST] = {512, 1280}, rh[BENCH_FACADE_MAX_LIST] = {512, 720};
     uint32_t nr = 2, threads = 2, frames = 9, seed = 1;
@@ -114,7 +115,9 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
      * checkout's absolute path: the tables are compared across machines */
     const char *grammar_name = grammar ? grammar : "grammars/facade.grammar";
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
-    if (pgt_cli_refuse_overwrite(verb, &grammar, 1, &out_path, 1)) return PGT_EXIT_USAGE;
+    if (pgt_cli_refuse_overwrite(verb, &grammar, 1, &out_path, 1) ||
+        pgt_cli_quick_out(verb, quick, out_path, default_out))
+        return PGT_EXIT_USAGE;
     double *ms = malloc(6u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");
     char tmp[4200];

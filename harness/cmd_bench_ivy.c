@@ -75,7 +75,8 @@ static const char *bench_ivy_usage =
     "  --quick         1 timed run, Figure 11 at 1, 2, 4, ..., 64 seeds only\n"
     "  --save-scenes DIR  also write each scene's strokes (DIR/NAME.strokes) and seeds\n"
     "                  (DIR/NAME.seeds) and the pgt ivy command that grows it\n"
-    "                  (DIR/NAME.cmd), for figures and re-derivation\n"
+    "                  (DIR/NAME.cmd, without -o: add -o IVY.ply to run it; its file paths\n"
+    "                  are as DIR was given), for figures and re-derivation\n"
     "  --seed S        seed of the strokes and random seeds (default 1)\n"
     "\n"
     "Runs reuse the previous run's mesh buffers (pgt_ivy_options.reuse), as an interactive\n"
@@ -187,7 +188,9 @@ static int scene_setup(pgt_ivy_scene *s, const char *mesh, const char *param_lis
 }
 
 int pgt_cmd_bench_ivy(int argc, char **argv) {
-    const char *out_path = "results/table2.csv", *fig11_path = "results/fig11.csv";
+    static const char *const default_out = "results/table2.csv", *const default_fig11 =
+                                                                     "results/fig11.csv";
+    const char *out_path = default_out, *fig11_path = default_fig11;
     const char *save_dir = NULL;
     uint32_t repeat = 5, threads = pgt_cli_cpu_count(), seed = 1;
     int quick = 0;
@@ -220,6 +223,9 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench ivy --help)", a);
         }
     }
+    if (pgt_cli_quick_out("bench", quick, out_path, default_out) ||
+        pgt_cli_quick_out("bench", quick, fig11_path, default_fig11))
+        return PGT_EXIT_USAGE;
     if (quick) repeat = 1;
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);

@@ -68,7 +68,8 @@ static int time_frames(const pgt_woven_params *p, uint32_t seed, uint32_t thread
 }
 
 int pgt_cmd_bench_woven(int argc, char **argv) {
-    const char *out_path = "results/woven.csv", *res_list = NULL;
+    static const char *const default_out = "results/woven.csv";
+    const char *out_path = default_out, *res_list = NULL;
     uint32_t frames = 50, threads = pgt_cli_cpu_count(), seed = 1;
     int quick = 0, have_frames = 0;
     for (int i = 2; i < argc; ++i) {
@@ -99,6 +100,7 @@ int pgt_cmd_bench_woven(int argc, char **argv) {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench woven --help)", a);
         }
     }
+    if (pgt_cli_quick_out("bench", quick, out_path, default_out)) return PGT_EXIT_USAGE;
     if (quick && !have_frames) frames = 5;
     /* which resolutions, in the table's order */
     int wanted[PGT_WOVEN_RESOLUTION_COUNT];

@@ -50,7 +50,7 @@ static const char *ivy_usage =
     "along them. Prints seeds, points, segments, polygons and milliseconds per stage.\n"
     "\n"
     "  MESH_OR_ATLAS   a mesh with UVs (OBJ/OFF/PLY, a file of ../shared/datasets/meshes or a\n"
-    "                  generated dataset such as cube_sphere_32), whose atlas is built here, or\n"
+    "                  generated dataset such as cube_sphere_8), whose atlas is built here, or\n"
     "                  an atlas .exr written by pgt atlas\n"
     "  --seeds N       number of seeds, 1 to 1048576. Where they start: the first N seeds of\n"
     "                  --seed-file; else, with --paint, the starts of the strokes in turn\n"

@@ -245,6 +245,8 @@ int pgt_cmd_march(int argc, char **argv) {
         }
     }
     if (!in_path) return pgt_cli_fail(verb, "no atlas (see pgt march --help)");
+    if (opts.no_rotation && opts.rotation == PGT_MARCH_ROTATION_JACOBIAN)
+        return pgt_cli_fail(verb, "--no-rotation and --rotation jacobian exclude each other");
     if (!have_from) return pgt_cli_fail(verb, "no start: give --from U,V (texels)");
     if (!have_dir) return pgt_cli_fail(verb, "no direction: give --dir DU,DV (texels)");
     if (!have_step) return pgt_cli_fail(verb, "no step length: give --step S (texels)");
@@ -397,8 +399,8 @@ static double process_cpu_ms(void) {
 }
 
 int pgt_cmd_bench_march(int argc, char **argv) {
-    const char *verb = "bench", *out_path = "results/march.csv",
-               *shared_dir = PGT_CLI_SHARED_MESH_DIR;
+    static const char *const default_out = "results/march.csv";
+    const char *verb = "bench", *out_path = default_out, *shared_dir = PGT_CLI_SHARED_MESH_DIR;
     uint32_t threads[BENCH_MARCH_MAX_LIST] = {1, 2}, n_threads = 2, walkers = 16384, steps = 1000,
              res = 1024, repeat = 5;
     float step = 2.0f;
@@ -480,7 +482,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     if (add && pgt_cli_name_list(verb, "--add", add, add_buf, sizeof add_buf, meshes,
                                  BENCH_MARCH_MAX_LIST, &n_meshes))
         return PGT_EXIT_USAGE;
-    if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, "--out", out_path))
+    if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, "--out", out_path) ||
+        pgt_cli_quick_out(verb, quick, out_path, default_out))
         return PGT_EXIT_USAGE;
 
     char tmp[4200];

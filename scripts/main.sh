@@ -67,7 +67,7 @@ done
 voronoi_add=()
 if [ ${#voronoi[@]} -gt 0 ]; then voronoi_add=(--add "$(IFS=,; echo "${voronoi[*]}")"); fi
 atlas_quick=()
-if [ ${#quick[@]} -gt 0 ]; then atlas_quick=(--repeat 1 --meshes cube_sphere_8,spot.obj); fi
+if [ ${#quick[@]} -gt 0 ]; then atlas_quick=(--quick); fi
 "$pgt" bench atlas --out "$res/table1.csv" "${atlas_quick[@]}" "${voronoi_add[@]}"
 written+=("$res/table1.csv")
 

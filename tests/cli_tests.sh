@@ -482,6 +482,10 @@ expect bench_woven_help 0 "$pgt" bench woven --help
 for flag in --out --frames --repeat --threads --res --seed --quick; do
   grep -q -- "$flag" out.txt && ok "bench_woven_help_documents_$flag" || bad "bench_woven_help_documents_$flag" "missing"
 done
+# --quick without --out would overwrite the committed results/woven.csv with a smoke run
+expect bench_woven_quick_no_out 2 "$pgt" bench woven --quick
+one_line bench_woven_quick_no_out_one_line "\-\-quick without \-\-out would replace results/woven.csv"
+[ ! -e results/woven.csv ] && ok bench_woven_quick_no_out_writes_nothing || bad bench_woven_quick_no_out_writes_nothing "written"
 expect bench_woven_bad_res 2 "$pgt" bench woven --res 7k
 one_line bench_woven_bad_res_one_line "\-\-res: unknown resolution '7k'"
 # an empty list is an error, not an empty table over the old one

@@ -415,9 +415,9 @@ static pgt_result repack(atlas_layout *out, const pgt_mesh *mesh, const atlas_ch
                 if (!pack(box, order, C, 0.0, W, H, band, sky, deque, X, Y)) {
                     r = pgt_error_set(err, PGT_ERROR_LIMIT,
                                       "%s: %u charts do not fit in a %ux%u atlas with a free "
-                                      "band of %u texels even at one texel each (raise --res or "
-                                      "lower --band)",
-                                      what, C, W, H, band);
+                                      "band of %u texels even at one texel each (raise --res%s)",
+                                      what, C, W, H, band,
+                                      band > PGT_ATLAS_MIN_BAND ? " or lower --band" : "");
                     goto done;
                 }
                 break;
