@@ -306,6 +306,13 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
     char buf[4096];
     const char *path = named_path(name, shared_dir, buf, sizeof buf);
     if (!path) return pgt_gen_default(pgt_gen_default_find(name), out, err);
+    struct stat st;
+    if (path == buf &&
+        stat(path, &st) != 0) /* a bare name found nowhere: say where it was looked for */
+        return pgt_error_set(err, PGT_ERROR_IO,
+                             "%s: not a generated dataset (pgt_datasets --list), not a file in "
+                             "this folder, not in %s",
+                             name, shared_dir);
     pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
     return pgt_mesh_read(out, path, &ro, err);
 }
