@@ -247,16 +247,17 @@ static int parse_args(int argc, char **argv, facade_args *a) {
 
 /* Message of a PGT_FACADE_ERR_* set. */
 static void ray_errors(uint32_t bits, char *buf, size_t size) {
-    static const char *what[6] = {
+    static const char *what[7] = {
         "the development stack was full (PGT_FACADE_MAX_DEPTH)",
         "a ray developed more than PGT_FACADE_NODE_BUDGET nodes (rules that never split?)",
         "an expression gave NaN or infinity",
         "a split has more than PGT_FACADE_MAX_PARTS parts",
         "an item a facade cannot hold (Marching, Branch, Bark, Leaves, split(z))",
-        "Mesh(id) names no geometry image of the scene"};
+        "Mesh(id) names no geometry image of the scene",
+        "a terminal reaches outside the facade volume [-recess, protrusion]"};
     size_t n = 0;
     buf[0] = '\0';
-    for (int b = 0; b < 6; ++b)
+    for (int b = 0; b < 7; ++b)
         if (bits & (1u << b))
             n += (size_t)snprintf(buf + n, n < size ? size - n : 0, "%s%s", n ? "; " : "", what[b]);
 }

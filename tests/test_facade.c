@@ -67,13 +67,14 @@ static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
                     PGT_OK);
             compare_camera(&s, fa, fc, &o, &cam, &a, 1);
         }
-        const double share = (double)(a.agree + a.near_edge) / a.rays;
         printf("  %s, %u buildings: %u rays, %u agree, %u at an edge, %u other; max |dt|/t %.2g\n",
                grammar, buildings, a.rays, a.agree, a.near_edge, a.other, a.max_rel);
-        CHECK((double)a.agree / a.rays >= AGREEMENT_MIN || a.other == 0);
+        /* the bar on its own (it was or-ed with other == 0, checked next, so it never decided):
+         * rays near an edge may disagree, but not more than the bar allows */
+        CHECK_MSG((double)a.agree / a.rays >= AGREEMENT_MIN, "%u of %u rays agree", a.agree,
+                  a.rays);
         CHECK_MSG(a.other == 0, "%u disagreements away from edges", a.other);
         CHECK_MSG(a.ties == 0, "%u rays meet two faces in one place", a.ties);
-        CHECK(share == 1.0 || a.other > 0);
         oracle_free(&o);
         pgt_facade_mesh_destroy(&m);
     }

@@ -740,11 +740,19 @@ static FACADE_ALWAYS_INLINE void child_span(const pgt_split_child *ch, float o, 
 
 /* getSplitIndex(p): the child of layout sp (flat arrays fl, or NULL) the ray a + t v enters by
  * at t_in, going dir along the split's axis (a, v: their components on it; o and L: the scope's
- * corner and length there); after a gap, the next child that way; PGT_NONE if none. */
+ * corner and length there; [wlo, whi]: the facade's window on it, +-inf for a whole facade);
+ * after a gap, the next child that way; PGT_NONE if none. The entry point is clamped to the
+ * window first: t_in is where the ray enters the window's box, and a rounding of a + t_in v to
+ * just past the window's side picked the child beyond it, which the explicit twin (one quad's
+ * window, half-open) does not hold (a review's tower: 7 rays hit a face that belongs to the next
+ * quad). */
 static FACADE_ALWAYS_INLINE uint32_t entry_child(const facade_split_state *sp,
                                                  const facade_split_flat *fl, float a, float v,
-                                                 float t_in, float o, float L, int dir) {
-    float p = a + t_in * v - o;
+                                                 float t_in, float o, float L, float wlo, float whi,
+                                                 int dir) {
+    float q = a + t_in * v;
+    q = q < wlo ? wlo : (q > whi ? whi : q);
+    float p = q - o;
     p = p < 0.0f ? 0.0f : (p > L ? L : p);
     pgt_split_child ch;
     const uint32_t k = fl ? pgt_split_flat_at(fl->start, fl->end, sp->plan.child_count, p, dir)
@@ -849,6 +857,12 @@ static uint32_t terminal_quads(const facade_ctx *c, facade_cache *cache, const p
     pgt_facade_quad *dst = ce ? ce->q : q_own;
     uint8_t *sd = ce ? ce->surf : surf_own;
     uint32_t n = facade_terminal(c, it, args, argc, key, 0.0f, 0.0f, w, h, dst);
+    for (uint32_t k = 0; k < n; ++k) { /* the explicit twin's test (facade_explicit.c emit) */
+        const float zlo = dst[k].axis == 2 ? dst[k].c : dst[k].lo[1];
+        const float zhi = dst[k].axis == 2 ? dst[k].c : dst[k].hi[1];
+        if ((dst[k].hi[0] > dst[k].lo[0]) && (zlo < -f->recess || zhi > f->protrusion))
+            c->stats->errors |= PGT_FACADE_ERR_VOLUME;
+    }
     n = compact_quads(dst, n, sd);
     *q = dst, *surf = sd, *groups = NULL;
     if (ce) {
@@ -944,6 +958,9 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     /* the facade's window in facade space (x0, y0, x1, y1): a mesh quad's cuts its terminals */
     const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
     const float *wp = whole ? NULL : win;
+    /* entry_child's clamp: the window, or nothing for a whole facade (the same floats as before) */
+    const float wlo[2] = {whole ? -INFINITY : win[0], whole ? -INFINITY : win[1]};
+    const float whi[2] = {whole ? INFINITY : win[2], whole ? INFINITY : win[3]};
     slab(a[0], v[0], win[0], win[2], &t0, &t1);
     slab(a[1], v[1], win[1], win[3], &t0, &t1);
     slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
@@ -1122,7 +1139,7 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
         nf->type = FR_SPLIT, nf->key = key;
         nf->axis = ax, nf->dir = v[ax] < 0.0f ? -1 : 1, nf->t_cur = fr->t_in;
         nf->next = entry_child(nf->sp, nf->fl, a[ax], v[ax], fr->t_in, ax == 0 ? fr->x0 : fr->y0,
-                               ax == 0 ? fr->w : fr->h, nf->dir);
+                               ax == 0 ? fr->w : fr->h, wlo[ax], whi[ax], nf->dir);
     }
     for (uint32_t i = 0; i < sp; ++i) /* frames left by a break */
         if (stack[i].type == FR_SPLIT && stack[i].pinned) stack[i].pinned->pins--;
@@ -1161,6 +1178,7 @@ struct facade_packet_work {
      * frame above it before it knows whether any ray enters the child (and so whether it fits) */
     pframe stack[PGT_FACADE_MAX_DEPTH + 1u];
     float a[3]; /* the rays' origin in facade space: the same for all */
+    float wlo[2], whi[2]; /* the facade's window in x and y (+-inf: a whole facade) */
     float v[FACADE_PACKET][3], inv[FACADE_PACKET][3];
     float best[FACADE_PACKET], best_n[FACADE_PACKET][3];
     uint32_t best_kind[FACADE_PACKET], best_surface[FACADE_PACKET], best_key[FACADE_PACKET];
@@ -1385,7 +1403,8 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
         for (uint64_t m = live; m; m &= m - 1u) {
             const uint32_t r = low_bit(m);
             const int dir = w->v[r][ax] < 0.0f ? -1 : 1;
-            const uint32_t k = entry_child(lay, fl, w->a[ax], w->v[r][ax], fr->t_in[r], o, L, dir);
+            const uint32_t k = entry_child(lay, fl, w->a[ax], w->v[r][ax], fr->t_in[r], o, L,
+                                           w->wlo[ax], w->whi[ax], dir);
             if (k == PGT_NONE) continue; /* the node counts, no child is entered */
             nf->first[r] = k, nf->t_cur[r] = fr->t_in[r];
             if (!tail) nf->t_in[r] = fr->t_in[r], nf->t_out[r] = fr->t_out[r];
@@ -1442,6 +1461,8 @@ static int packet_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint
     uint64_t mask = 0;
     ls.rays = n;
     float *a = w->a;
+    for (int k = 0; k < 2; ++k)
+        w->wlo[k] = whole ? -INFINITY : win[k], w->whi[k] = whole ? INFINITY : win[2 + k];
     local_point(f, whole, org, a);
     if (zscale != 1.0f) a[2] /= zscale;
     /* the volume's faces minus the origin, for every ray's slabs */

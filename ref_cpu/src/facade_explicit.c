@@ -273,11 +273,16 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
             const uint32_t seq = fr->split.seq[ch.part];
             if (seq == PGT_NONE || !(ch.end > ch.start)) continue;
             /* a child outside the window (a mesh quad's, sec. 10) has nothing to show in it:
-             * terminals stay inside their scope */
+             * terminals stay inside their scope. A child that only touches the window's border
+             * is outside too, as for the rays: their development enters the child that holds a
+             * point on the window's interval, the one starting there (half-open [start, end)),
+             * so a child starting at the window's top or ending at its bottom belongs to the
+             * neighbouring quad (kept here, its faces on the border were hit by Embree in this
+             * quad's frame and by no ray of ours: a review found 81 such pixels on a tower) */
             const float o = fr->axis == 0 ? fr->x0 : fr->y0;
             const float wlo = fr->axis == 0 ? f->u0 : f->v0;
             const float whi = wlo + (fr->axis == 0 ? f->width : f->height);
-            if (!facade_is_whole(f) && (o + ch.end < wlo || o + ch.start > whi)) continue;
+            if (!facade_is_whole(f) && (o + ch.end < wlo || o + ch.start >= whi)) continue;
             if (sp == PGT_FACADE_MAX_DEPTH) {
                 st.errors |= PGT_FACADE_ERR_DEPTH;
                 break;

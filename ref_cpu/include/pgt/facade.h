@@ -128,6 +128,9 @@ typedef enum pgt_facade_kind {
 /* Mesh(id) names no geometry image of the scene (on a generic mesh's quad its triangles are cut
  * to the quad's window like every terminal, not refused) */
 #define PGT_FACADE_ERR_GIMAGE 32u
+/* a terminal reaches outside the facade volume [-recess, protrusion] in z (the explicit twin
+ * refuses it with the grammar's place; the rays would show it cut open at the volume's faces) */
+#define PGT_FACADE_ERR_VOLUME 64u
 
 /* One building: an extruded footprint. */
 typedef struct pgt_facade_building {
