@@ -61,8 +61,8 @@ static pgt_result status(RTCDevice dev, monitor *m, const char *what, pgt_error 
 pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
                                     uint32_t threads, pgt_error *err) {
     memset(e, 0, sizeof *e);
-    if (mesh->triangle_count == 0)
-        return pgt_error_set(err, PGT_ERROR_EMPTY, "embree check: the explicit mesh is empty");
+    /* an explicit mesh without triangles (a valid grammar that generates nothing) is a scene
+     * without geometry: every ray misses, as every ray of ours does */
     const double t0 = pgt_cli_now_ms();
     monitor *m = calloc(1, sizeof *m);
     e->vertices = malloc((3u * (size_t)mesh->vertex_count + 1u) * sizeof(float));
@@ -96,6 +96,13 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     pgt_result r = status(dev, m, "rtcNewScene", err);
     if (r != PGT_OK) return r;
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    if (mesh->triangle_count == 0) {
+        rtcCommitScene(scene);
+        if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
+        e->build_ms = pgt_cli_now_ms() - t0;
+        e->embree_bytes = (size_t)atomic_load(&m->peak);
+        return PGT_OK;
+    }
     RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, e->vertices, 0,
                                3u * sizeof(float), mesh->vertex_count);

@@ -74,7 +74,8 @@ typedef struct pgt_facade_embree {
 } pgt_facade_embree;
 
 /* Builds the scene on `threads` threads. The mesh must outlive e. PGT_ERROR_BACKEND with
- * Embree's first message, PGT_ERROR_EMPTY for a mesh without triangles. */
+ * Embree's first message. A mesh without triangles gives a scene without geometry (every ray
+ * misses). */
 pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
                                     uint32_t threads, pgt_error *err);
 void pgt_facade_embree_destroy(pgt_facade_embree *e);

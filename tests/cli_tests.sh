@@ -708,6 +708,11 @@ printf 'param protrusion = 0.5\nparam recess = 0.5\nF --> split(y) { { 3.5 : Row
 expect facade_mesh_window_border 0 "$pgt" facade --mesh border.obj --grammar border.grammar -o border.exr --width 160 --height 180 --threads 2 --embree-check
 grep -Eq "^check: .*, [0-9]+ near an edge, 0 neither\).* -> PASS" out.txt \
   && ok facade_mesh_window_border_agrees || bad facade_mesh_window_border_agrees "$(grep check: out.txt)"
+# a valid grammar that generates nothing: the Embree check compares misses with misses (it
+# refused the empty explicit mesh as bad input)
+printf 'param protrusion = 0.2\nparam recess = 0.5\nF --> split(x) { 0 : Wall() }\n' >nothing.grammar
+expect facade_mesh_nothing_checked 0 "$pgt" facade --mesh border.obj --grammar nothing.grammar -o nothing.exr --width 32 --height 24 --embree-check
+grep -q "^check: agreement 100.0000 % .* -> PASS" out.txt && ok facade_mesh_nothing_agrees || bad facade_mesh_nothing_agrees "$(grep check: out.txt)"
 # a terminal that reaches outside the facade volume: the rays showed it cut open (exit 0) while
 # the explicit twin refused it; now both refuse, naming the grammar's place
 printf 'param protrusion = 0.2\nparam recess = 0.5\nF --> split(y) { { 3 : L }* }\nL --> Ledge(0.5)\n' >outvol.grammar
