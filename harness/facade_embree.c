@@ -78,7 +78,8 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     e->monitor = m;
     e->mesh = mesh;
     e->threads = threads ? threads : pgt_cli_cpu_count();
-    memcpy(e->vertices, mesh->positions, 3u * (size_t)mesh->vertex_count * sizeof(float));
+    if (mesh->vertex_count) /* an empty mesh may have no positions array (memcpy from NULL) */
+        memcpy(e->vertices, mesh->positions, 3u * (size_t)mesh->vertex_count * sizeof(float));
     e->vertices[3u * (size_t)mesh->vertex_count] = 0.0f;
     e->buffer_bytes = (3u * (size_t)mesh->vertex_count + 1u) * sizeof(float) +
                       3u * (size_t)mesh->triangle_count * sizeof(uint32_t);
