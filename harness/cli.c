@@ -19,6 +19,7 @@
 /* The stage whose names pgt_cli_fail turns back into the outputs' paths (pgt_cli_stage_add
  * sets it; a verb stages its outputs in one place). */
 static const pgt_cli_stage *cli_active_stage;
+static void stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
 
 int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     char msg[4096];
@@ -27,7 +28,7 @@ int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     /* a writer names the staging file it was given: the user's path instead */
-    if (cli_active_stage) pgt_cli_stage_unname(cli_active_stage, msg, sizeof msg);
+    if (cli_active_stage) stage_unname(cli_active_stage, msg, sizeof msg);
     fprintf(stderr, "pgt %s: %s\n", verb, msg);
     return PGT_EXIT_USAGE;
 }
@@ -396,13 +397,11 @@ int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *
 
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     if (s->count == PGT_CLI_STAGE_MAX) return NULL;
-    /* path's folder ("." without one) and the staging folder inside it */
+    /* the staging folder inside path's folder */
     const char *slash = strrchr(path, '/');
-    char dir[4200];
-    if (slash)
-        snprintf(dir, sizeof dir, "%.*s/.pgt-stage.%ld", (int)(slash - path), path, (long)getpid());
-    else
-        snprintf(dir, sizeof dir, ".pgt-stage.%ld", (long)getpid());
+    char folder[4096], dir[4200];
+    folder_of(path, folder, sizeof folder);
+    snprintf(dir, sizeof dir, "%s/.pgt-stage.%ld", folder, (long)getpid());
     uint32_t d = 0;
     while (d < s->dir_count && strcmp(s->dir[d], dir)) ++d;
     if (d == s->dir_count) {
@@ -419,7 +418,9 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     return tmp;
 }
 
-void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
+/* In a message, each staging name (and a writer's NAME.tmp.PID of it) back to its output's
+ * path: what pgt_cli_fail prints while a stage holds names. */
+static void stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
     for (uint32_t k = 0; k < s->count; ++k)
         for (char *at = strstr(msg, s->tmp[k]); at; at = strstr(at, s->tmp[k])) {
             const char *after = at + strlen(s->tmp[k]);
@@ -449,15 +450,11 @@ static void stage_clear(pgt_cli_stage *s, uint32_t from) {
 void pgt_cli_stage_abort(pgt_cli_stage *s) { stage_clear(s, 0); }
 
 int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb) {
-    for (uint32_t k = 0; k < s->count; ++k) {
-        struct stat st;
-        if (stat(s->path[k], &st) == 0 && !S_ISREG(st.st_mode)) {
-            /* a rename would replace a device (/dev/null) or a fifo with a regular file */
-            pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", s->path[k],
-                         S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
-            stage_clear(s, 0);
-            return -1;
-        }
+    /* every path checked before the first rename, so that none is made when one would fail (a
+     * rename would also replace a device such as /dev/null or a fifo by a regular file) */
+    if (pgt_cli_check_outputs(verb, s->path, (int)s->count)) {
+        stage_clear(s, 0);
+        return -1;
     }
     for (uint32_t k = 0; k < s->count; ++k)
         if (pgt_replace_file(s->tmp[k], s->path[k]) != 0) {

@@ -126,9 +126,6 @@ typedef struct pgt_cli_stage {
 
 /* The name to write output `path` under (NULL when PGT_CLI_STAGE_MAX are staged already). */
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path);
-/* In a message, each staging name (and a writer's NAME.tmp.PID of it) back to its output's
- * path. */
-void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
 /* Renames the staged files over their paths; on failure prints a one-line error for verb,
  * removes what is left staged and returns nonzero. The stage is empty afterwards. */
 int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb);

@@ -199,9 +199,8 @@ int pgt_cmd_atlas(int argc, char **argv) {
         const char *png_tmp = png_path ? pgt_cli_stage_add(&stage, png_path) : NULL;
         if (pgt_image_write_exr_threads(&atlas, exr_tmp, threads, &err) != PGT_OK ||
             (png_path && write_picture(&atlas, png_tmp, &err) != PGT_OK)) {
-            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
+            pgt_cli_fail(verb, "%s", err.message); /* while staged: names the user's paths */
             pgt_cli_stage_abort(&stage);
-            pgt_cli_fail(verb, "%s", err.message);
             goto done;
         }
         if (pgt_cli_stage_commit(&stage, verb)) goto done;

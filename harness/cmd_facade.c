@@ -378,7 +378,6 @@ int pgt_cmd_facade(int argc, char **argv) {
         if (pgt_facade_file_write(pgt_cli_stage_add(&stage, a.save_path), a.save_path, s,
                                   (const char *const *)file.names, (const char *const *)file.paths,
                                   comment, &err) != PGT_OK) {
-            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
             pgt_cli_fail(verb, "--save-scene %s", err.message);
             goto done;
         }
@@ -491,12 +490,10 @@ int pgt_cmd_facade(int argc, char **argv) {
     const double frame_ms = pgt_cli_median(ms, a.frames),
                  cover_ms = pgt_cli_median(cover, a.frames);
     if (write_exr(&frame, pgt_cli_stage_add(&stage, a.out_path), a.threads, &err) != PGT_OK) {
-        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "-o %s", err.message);
         goto done;
     }
     if (a.png_path && write_png(&frame, pgt_cli_stage_add(&stage, a.png_path), &err) != PGT_OK) {
-        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "--png %s", err.message);
         goto done;
     }
@@ -543,7 +540,6 @@ int pgt_cmd_facade(int argc, char **argv) {
         if (a.explicit_path &&
             pgt_facade_mesh_write_ply(&mesh, pgt_cli_stage_add(&stage, a.explicit_path), &err) !=
                 PGT_OK) {
-            pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
             pgt_cli_fail(verb, "--explicit %s", err.message);
             goto done;
         }

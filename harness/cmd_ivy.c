@@ -642,7 +642,6 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const pgt_vertex_mesh soup = {m->vertex_count, m->triangle_count, m->positions, m->normals,
                                   m->uvs,          m->triangles};
     if (pgt_mesh_write_ply_soup(&soup, pgt_cli_stage_add(&stage, out_path), &err) != PGT_OK) {
-        pgt_cli_stage_unname(&stage, err.message, sizeof err.message);
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
     }

@@ -145,7 +145,6 @@ static int write_dump(const dump_paths *d, const pgt_march_atlas *a, const pgt_i
     const pgt_result r = pgt_png_write(pgt_cli_stage_add(stage, d->png), w, h, 3, px, &err);
     free(px);
     if (r != PGT_OK) {
-        pgt_cli_stage_unname(stage, err.message, sizeof err.message);
         return pgt_cli_fail("march", "--dump: %s", err.message), -1;
     }
     const char *csv = pgt_cli_stage_add(stage, d->csv);

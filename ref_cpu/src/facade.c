@@ -857,10 +857,9 @@ static uint32_t terminal_quads(const facade_ctx *c, facade_cache *cache, const p
     pgt_facade_quad *dst = ce ? ce->q : q_own;
     uint8_t *sd = ce ? ce->surf : surf_own;
     uint32_t n = facade_terminal(c, it, args, argc, key, 0.0f, 0.0f, w, h, dst);
-    for (uint32_t k = 0; k < n; ++k) { /* the explicit twin's test (facade_explicit.c emit) */
-        const float zlo = dst[k].axis == 2 ? dst[k].c : dst[k].lo[1];
-        const float zhi = dst[k].axis == 2 ? dst[k].c : dst[k].hi[1];
-        if ((dst[k].hi[0] > dst[k].lo[0]) && (zlo < -f->recess || zhi > f->protrusion))
+    for (uint32_t k = 0; k < n; ++k) { /* the explicit twin's test */
+        float zlo, zhi;
+        if (facade_quad_outside_volume(f, &dst[k], &zlo, &zhi))
             c->stats->errors |= PGT_FACADE_ERR_VOLUME;
     }
     n = compact_quads(dst, n, sd);
@@ -958,9 +957,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
     /* the facade's window in facade space (x0, y0, x1, y1): a mesh quad's cuts its terminals */
     const float win[4] = {f->u0, f->v0, f->u0 + f->width, f->v0 + f->height};
     const float *wp = whole ? NULL : win;
-    /* entry_child's clamp: the window, or nothing for a whole facade (the same floats as before) */
-    const float wlo[2] = {whole ? -INFINITY : win[0], whole ? -INFINITY : win[1]};
-    const float whi[2] = {whole ? INFINITY : win[2], whole ? INFINITY : win[3]};
+    float wlo[2], whi[2]; /* entry_child's clamp */
+    facade_entry_window(f, wlo, whi);
     slab(a[0], v[0], win[0], win[2], &t0, &t1);
     slab(a[1], v[1], win[1], win[3], &t0, &t1);
     slab(a[2], v[2], -f->recess, f->protrusion, &t0, &t1);
@@ -1461,8 +1459,7 @@ static int packet_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint
     uint64_t mask = 0;
     ls.rays = n;
     float *a = w->a;
-    for (int k = 0; k < 2; ++k)
-        w->wlo[k] = whole ? -INFINITY : win[k], w->whi[k] = whole ? INFINITY : win[2 + k];
+    facade_entry_window(f, w->wlo, w->whi);
     local_point(f, whole, org, a);
     if (zscale != 1.0f) a[2] /= zscale;
     /* the volume's faces minus the origin, for every ray's slabs */

@@ -103,8 +103,8 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
     for (uint32_t k = 0; k < n; ++k) {
         if (!(q[k].hi[0] > q[k].lo[0])) continue;
         const uint32_t ax = q[k].axis;
-        const float zlo = ax == 2 ? q[k].c : q[k].lo[1], zhi = ax == 2 ? q[k].c : q[k].hi[1];
-        if (zlo < -f->recess || zhi > f->protrusion)
+        float zlo, zhi;
+        if (facade_quad_outside_volume(f, &q[k], &zlo, &zhi))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s:%u:%u: building %u facade %u: %s surface %u spans z [%g, %g] "
                                  "outside the facade volume [-recess, protrusion] = [%g, %g] (the "

@@ -2,6 +2,7 @@
 #ifndef PGT_FACADE_INTERNAL_H
 #define PGT_FACADE_INTERNAL_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "pgt/facade.h"
@@ -218,6 +219,23 @@ static inline int facade_is_whole(const pgt_facade *f) {
 static inline void facade_volume(const pgt_facade *f, float lo[3], float hi[3]) {
     lo[0] = f->u0, lo[1] = f->v0, lo[2] = -f->recess;
     hi[0] = f->u0 + f->width, hi[1] = f->v0 + f->height, hi[2] = f->protrusion;
+}
+
+/* The z extent of rectangle q (*zlo, *zhi); nonzero when it has area and reaches outside the
+ * facade volume [-recess, protrusion]: the explicit twin refuses such a terminal, the rays flag
+ * it (PGT_FACADE_ERR_VOLUME). */
+static inline int facade_quad_outside_volume(const pgt_facade *f, const pgt_facade_quad *q,
+                                             float *zlo, float *zhi) {
+    *zlo = q->axis == 2 ? q->c : q->lo[1], *zhi = q->axis == 2 ? q->c : q->hi[1];
+    return q->hi[0] > q->lo[0] && (*zlo < -f->recess || *zhi > f->protrusion);
+}
+
+/* The window entry_child clamps a ray's entry point to, per axis x and y: the facade's window,
+ * or nothing (+-inf) for a whole facade, whose entries then stay the same floats. */
+static inline void facade_entry_window(const pgt_facade *f, float lo[2], float hi[2]) {
+    const int whole = facade_is_whole(f);
+    lo[0] = whole ? -INFINITY : f->u0, lo[1] = whole ? -INFINITY : f->v0;
+    hi[0] = whole ? INFINITY : f->u0 + f->width, hi[1] = whole ? INFINITY : f->v0 + f->height;
 }
 
 /* World ray to facade space (a + t v), and a facade-space point to the world (facade.h: the
