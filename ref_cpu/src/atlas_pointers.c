@@ -9,13 +9,16 @@
  * chart"); its pointer is the inner-boundary texel nearest to p in 3D (kd-tree, ties to the
  * smallest texel index) among the texels of the other charts, and of c itself across a seam
  * inside c (accept_candidate: the way through the chart much longer than the way through
- * space). When no candidate lies within dead_end texel sizes of p (the larger of the median
- * texel size, pgt_atlas_texel_size, and the local one), the texel is a dead end (a mesh border).
+ * space). A candidate counts when it lies within dead_end texel sizes of p, measured in the
+ * larger of the median texel size (pgt_atlas_texel_size) and the source's local one, or in the
+ * candidate's own local size (ATLAS_DEAD_END_FAR_REACHES); with none, the texel is a dead end
+ * (a mesh border).
  * Every query is independent: any thread count gives the same bytes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "alloc_internal.h"
 #include "atlas_internal.h"
 #include "pgt/kdtree.h"
 #include "pgt/parallel.h"
@@ -34,12 +37,14 @@ typedef struct ptr_ctx {
     uint32_t *b_texel;
     int32_t *b_chart;
     float *b_xyz;
+    float *leaf_reach2; /* in leaf order: (dead_end x local_step in its own chart)^2 */
+    float *node_reach2; /* per kd-tree node: the largest leaf_reach2 of its points */
     pgt_kdtree tree;
     int32_t *leaf_chart; /* b_chart in the tree's leaf order */
     const float *P[3];   /* the position planes */
     double texel_size, dead_end;
     uint32_t *row_counts;   /* 4 per row: indirection, dead end, self seam, outer */
-    double *local_rows;     /* per worker: local_step of rows y - 1, y, y + 1 (row r at r % 3) */
+    double *local; /* per texel, set on inner-boundary texels only: local_step in its chart */
     int32_t *classify_cols; /* per worker: 2 W (classify_rows) */
 } ptr_ctx;
 
@@ -120,6 +125,8 @@ static void classify_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker)
     }
 }
 
+static double local_step(const ptr_ctx *c, int32_t x, int32_t y, int32_t chart);
+
 static void gather_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
     (void)worker;
@@ -133,6 +140,9 @@ static void gather_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
             c->b_texel[j] = (uint32_t)idx;
             c->b_chart[j] = c->chart[idx];
             for (uint32_t k = 0; k < 3; ++k) c->b_xyz[3u * j + k] = P[k][idx];
+            /* an inner-boundary texel starts the pointers of about three outer texels and is
+             * a candidate of many: its local step is computed once */
+            c->local[idx] = local_step(c, (int32_t)x, (int32_t)y, c->chart[idx]);
             j++;
         }
     }
@@ -145,6 +155,7 @@ typedef struct accept_ctx {
     int32_t sx[8], sy[8]; /* its adjacent inner-boundary texels */
     double local[8];      /* per start: the largest 3D step to its 4-neighbours in the chart */
     uint32_t starts;
+
 } accept_ctx;
 
 /* Squared 3D distance between texels i and j (double). */
@@ -173,6 +184,19 @@ static double local_step(const ptr_ctx *c, int32_t x, int32_t y, int32_t chart) 
         if (d > e) e = d;
     }
     return sqrt(e);
+}
+
+/* Per kd-tree slot: the chart, and the squared reach of the texel's own side. */
+static void leaf_rows(void *vctx, uint32_t i0, uint32_t i1, uint32_t worker) {
+    ptr_ctx *c = vctx;
+    (void)worker;
+    for (uint32_t i = i0; i < i1; ++i) {
+        const uint32_t id = c->tree.ids[i];
+        const size_t t = c->b_texel[id];
+        c->leaf_chart[i] = c->b_chart[id];
+        const double r = c->dead_end * c->local[t];
+        c->leaf_reach2[i] = (float)(r * r);
+    }
 }
 
 /* A texel of the source's own chart is a candidate only across a seam inside the chart: the
@@ -251,36 +275,31 @@ static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
     return 0;
 }
 
+/* The reach counts on both sides of a seam: a candidate q beyond the source's reach is taken
+ * when it lies within dead_end of q's own local texel sizes (pgt_kdtree_nearest_reach). A seam
+ * whose two sides have texels of very different 3D size (spot's leg caps: 8-13 times) puts the
+ * partner of a fine-side texel several of the source's reaches away, but within the partner
+ * side's: without this closed spot had 62 dead-end texels. On a mesh border nothing qualifies.
+ * The search stops at this many reaches of the source (beyond spot's 13), which bounds what a
+ * texel of a degenerate, very long triangle can claim. */
+#define ATLAS_DEAD_END_FAR_REACHES 16.0
+
 /* The first search radius, as a fraction of the dead-end reach: on pizza.obj (4740 charts)
  * 94 % of the pointers lie within 0.3 of the reach and 98 % within 0.4; a miss costs a second,
  * full search. */
 #define ATLAS_POINTER_NEAR_REACH 0.4
 
-/* local_step of every inner-boundary texel of row y, into the worker's ring of rows. */
-static void local_row(const ptr_ctx *c, double *ring, int32_t y) {
-    double *out = &ring[(size_t)(y % 3) * c->W];
-    for (int32_t x = 0; x < (int32_t)c->W; ++x) {
-        const size_t idx = (size_t)y * c->W + (size_t)x;
-        if (c->kind[idx] & ATLAS_KIND_BOUNDARY_BIT) out[x] = local_step(c, x, y, c->chart[idx]);
-    }
-}
-
 static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
     const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
-    /* an inner-boundary texel starts the pointers of about three outer texels: its local step
-     * is computed once per row in a ring of the three rows around y */
-    double *ring = &c->local_rows[(size_t)worker * 3u * c->W];
-    if (y0 > 0) local_row(c, ring, (int32_t)y0 - 1);
+    (void)worker;
     float *P[3], *N[3];
     for (uint32_t k = 0; k < 3; ++k)
         P[k] = pgt_image_plane(c->atlas, k), N[k] = pgt_image_plane(c->atlas, 3u + k);
     float *chart_plane = pgt_image_plane(c->atlas, 6), *kind_plane = pgt_image_plane(c->atlas, 7);
     float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9),
           *rot = pgt_image_plane(c->atlas, 10);
-    if (y0 < y1) local_row(c, ring, (int32_t)y0);
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
-        if (y + 1 < H) local_row(c, ring, y + 1);
         uint32_t *cnt = &c->row_counts[4u * (uint32_t)y];
         cnt[0] = cnt[1] = cnt[2] = cnt[3] = 0;
         for (int32_t x = 0; x < W; ++x) {
@@ -314,7 +333,7 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
              * several median sizes long, and its seam partner lies that far */
             double local = 0.0;
             for (uint32_t s = 0; s < n; ++s) {
-                a.local[s] = ring[(size_t)(a.sy[s] % 3) * c->W + (size_t)a.sx[s]];
+                a.local[s] = c->local[(size_t)a.sy[s] * c->W + (size_t)a.sx[s]];
                 if (a.local[s] > local) local = a.local[s];
             }
             const double reach = c->dead_end * fmax(c->texel_size, local);
@@ -324,9 +343,12 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             const double near = ATLAS_POINTER_NEAR_REACH * reach;
             uint32_t hit =
                 pgt_kdtree_nearest(&c->tree, q, (float)(near * near), accept_candidate, &a, &d2);
-            if (hit == PGT_NONE)
-                hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a,
-                                         &d2);
+            if (hit == PGT_NONE) {
+                const double far = ATLAS_DEAD_END_FAR_REACHES * reach;
+                hit = pgt_kdtree_nearest_reach(&c->tree, q, (float)(reach * reach),
+                                               (float)(far * far), c->leaf_reach2, c->node_reach2,
+                                               accept_candidate, &a, &d2);
+            }
             chart_plane[idx] = (float)chart;
             for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
             if (hit == PGT_NONE) { /* the kind buffer keeps INDIRECTION for every outer texel */
@@ -496,11 +518,12 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
     const uint32_t workers = pgt_parallel_workers(threads);
-    c.local_rows = malloc(sizeof(double) * 3u * W * workers);
+    /* written at the inner-boundary texels only, read at random: on huge pages */
+    c.local = pgt_alloc_huge(sizeof(double) * (size_t)W * H);
     c.classify_cols = malloc(sizeof(int32_t) * 2u * W * workers);
     pgt_result r = PGT_OK;
     memset(out, 0, sizeof(*out));
-    if (!c.row_boundary || !c.row_counts || !c.local_rows || !c.classify_cols) {
+    if (!c.row_boundary || !c.row_counts || !c.local || !c.classify_cols) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
         goto done;
     }
@@ -518,15 +541,18 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     r = pgt_kdtree_build(&c.tree, c.b_xyz, nb, threads, err);
     if (r != PGT_OK) goto done;
     c.leaf_chart = malloc(sizeof(int32_t) * (nb + 1u));
-    if (!c.leaf_chart) {
+    c.leaf_reach2 = malloc(sizeof(float) * (nb + 1u));
+    c.node_reach2 = malloc(sizeof(float) * (c.tree.node_count + 1u));
+    if (!c.leaf_chart || !c.leaf_reach2 || !c.node_reach2) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
         goto done;
     }
-    for (uint32_t i = 0; i < nb; ++i) c.leaf_chart[i] = c.b_chart[c.tree.ids[i]];
+    c.dead_end = dead_end;
+    pgt_parallel_for(nb, threads, leaf_rows, &c);
+    pgt_kdtree_node_max(&c.tree, c.leaf_reach2, c.node_reach2);
     const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
     out->texel_size = texel_size(atlas, &order, threads, texel_chart);
     c.texel_size = out->texel_size;
-    c.dead_end = dead_end;
     atlas_parallel_rows(H, W, threads, pointer_rows, &c);
     out->inner_boundary = nb;
     for (uint32_t y = 0; y < H; ++y) {
@@ -537,11 +563,13 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
 done:
     free(c.row_boundary);
     free(c.row_counts);
-    free(c.local_rows);
+    free(c.local);
     free(c.classify_cols);
     free(c.b_texel);
     free(c.b_chart);
     free(c.b_xyz);
+    free(c.leaf_reach2);
+    free(c.node_reach2);
     free(c.leaf_chart);
     pgt_kdtree_destroy(&c.tree);
     return r;

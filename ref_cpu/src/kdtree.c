@@ -10,6 +10,7 @@
  * quickselect) and the atlas's 178k queries run in two thirds as well (callgrind). */
 #include "pgt/kdtree.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -324,8 +325,13 @@ void pgt_kdtree_destroy(pgt_kdtree *tree) {
     memset(tree, 0, sizeof(*tree));
 }
 
-uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_dist2,
-                            pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2) {
+/* The search of pgt_kdtree_nearest and, with `reach2` (leaf order) and `node_reach2`,
+ * pgt_kdtree_nearest_reach: inlined into both, so the plain search keeps its own code. A
+ * subtree is skipped when the distance bound of its cell exceeds the best distance so far, or
+ * (with reaches) every reach of its points and the base distance. */
+static inline uint32_t nearest(const pgt_kdtree *tree, const float q[3], float base_dist2,
+                               float max_dist2, const float *reach2, const float *node_reach2,
+                               pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2) {
     uint32_t best_id = PGT_NONE;
     float best = max_dist2;
     if (!tree->point_count) return PGT_NONE;
@@ -340,9 +346,12 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
         --top;
         const float bound = stack[top].bound;
         if (bound > best) continue;
+        uint32_t node = stack[top].node;
+        if (reach2 && bound > base_dist2 && bound > node_reach2[node]) continue;
         /* down to a leaf along the near sides, the far sides on the stack; without branches on
          * the side (half of them would be mispredicted): the children are a pair, b == a + 1 */
-        const pgt_kdtree_node *n = &tree->nodes[stack[top].node];
+        const pgt_kdtree_node *n = &tree->nodes[node];
+        int skip = 0;
         while (n->axis != PGT_KDTREE_LEAF) {
             const float diff = q[n->axis] - n->split, plane = diff * diff;
             const float far_bound = plane > bound ? plane : bound;
@@ -351,14 +360,22 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
             stack[top].bound = far_bound;
             /* a far side beyond the best distance so far would only be popped and skipped */
             top += far_bound <= best;
-            n = &tree->nodes[n->a + right];
+            node = n->a + right;
+            /* the near side's cell keeps the bound: out of every reach, none of it counts */
+            if (reach2 && bound > base_dist2 && bound > node_reach2[node]) {
+                skip = 1;
+                break;
+            }
+            n = &tree->nodes[node];
         }
+        if (skip) continue;
         for (uint32_t i = n->a; i < n->b; ++i) {
             const float dx = tree->xyz[3u * i] - q[0], dy = tree->xyz[3u * i + 1u] - q[1],
                         dz = tree->xyz[3u * i + 2u] - q[2];
             const float d2 = dx * dx + dy * dy + dz * dz;
             const uint32_t id = tree->ids[i];
             if (d2 > best || (d2 == best && id >= best_id)) continue;
+            if (reach2 && d2 > base_dist2 && d2 > reach2[i]) continue;
             if (accept && !accept(ctx, id, i)) continue;
             best = d2;
             best_id = id;
@@ -366,4 +383,29 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
     }
     if (best_id != PGT_NONE && out_dist2) *out_dist2 = best;
     return best_id;
+}
+
+uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_dist2,
+                            pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2) {
+    return nearest(tree, q, max_dist2, max_dist2, NULL, NULL, accept, ctx, out_dist2);
+}
+
+uint32_t pgt_kdtree_nearest_reach(const pgt_kdtree *tree, const float q[3], float base_dist2,
+                                  float max_dist2, const float *reach2, const float *node_reach2,
+                                  pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2) {
+    return nearest(tree, q, base_dist2, max_dist2, reach2, node_reach2, accept, ctx, out_dist2);
+}
+
+void pgt_kdtree_node_max(const pgt_kdtree *tree, const float *value, float *node_max) {
+    /* children are numbered after their parent (kdtree.h): one sweep from the last node up */
+    for (uint32_t i = tree->node_count; i-- > 0;) {
+        const pgt_kdtree_node *n = &tree->nodes[i];
+        float m = -INFINITY;
+        if (n->axis == PGT_KDTREE_LEAF) {
+            for (uint32_t k = n->a; k < n->b; ++k) m = value[k] > m ? value[k] : m;
+        } else {
+            m = node_max[n->a] > node_max[n->b] ? node_max[n->a] : node_max[n->b];
+        }
+        node_max[i] = m;
+    }
 }

@@ -23,10 +23,10 @@
  * Inner texel: a texel whose centre a (non-degenerate) chart triangle covers. Inner-boundary
  * texel: an inner texel with a 4-neighbour that is not an inner texel of its chart.
  * Indirection texel (outer boundary): a non-inner texel 8-adjacent to an inner texel of exactly
- * one chart. Dead end: such a texel whose nearest candidate is farther than the dead-end
- * threshold (open meshes: the mesh border). The layout keeps a free band of at least
- * PGT_ATLAS_MIN_BAND texels around every chart, so an outer-boundary texel never touches two
- * charts. */
+ * one chart. Dead end: such a texel with no candidate within the dead-end threshold, counted in
+ * texel sizes of either side of the seam (open meshes: the mesh border). The layout keeps a free
+ * band of at least PGT_ATLAS_MIN_BAND texels around every chart, so an outer-boundary texel never
+ * touches two charts. */
 #ifndef PGT_ATLAS_H
 #define PGT_ATLAS_H
 

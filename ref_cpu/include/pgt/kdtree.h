@@ -2,7 +2,8 @@
  * pointers, paper 000 section 4: "This search can be greatly accelerated by indexing the
  * inner-boundary texels into a kd-tree").
  *
- * Nodes live in one array and name their children by index; a leaf names a range of the point
+ * Nodes live in one array and name their children by index (always after their parent: one
+ * sweep from the last node up visits children first); a leaf names a range of the point
  * permutation. Building and searching use explicit stacks (no recursion), so a GPU kernel can
  * walk the same arrays. A node splits its points at the middle of their bounding box's widest
  * side (at the median instead when the middle leaves a side empty, and below depth 24, which
@@ -62,6 +63,19 @@ typedef int (*pgt_kdtree_accept_fn)(const void *ctx, uint32_t id, uint32_t slot)
  * be NULL (every point accepted). */
 uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_dist2,
                             pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2);
+
+/* pgt_kdtree_nearest among the points that reach q: point slot may be returned when its squared
+ * distance is <= base_dist2 or <= reach2[slot] (per point, in leaf order), and <= max_dist2.
+ * node_reach2 holds pgt_kdtree_node_max of reach2; it lets the search skip cells none of whose
+ * points reaches q. For a search whose reach counts on both sides (the atlas's pointers: a
+ * coarse seam side lies farther from a fine-side texel than the fine side's reach). */
+uint32_t pgt_kdtree_nearest_reach(const pgt_kdtree *tree, const float q[3], float base_dist2,
+                                  float max_dist2, const float *reach2, const float *node_reach2,
+                                  pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2);
+
+/* node_max[node] = the largest value[slot] of the node's points (value in leaf order,
+ * node_max of tree->node_count). */
+void pgt_kdtree_node_max(const pgt_kdtree *tree, const float *value, float *node_max);
 
 #ifdef __cplusplus
 }
