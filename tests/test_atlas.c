@@ -689,7 +689,8 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
 static uint32_t dead_ends_off_slits(const pgt_image *img) {
     static const int32_t dir[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     const int32_t W = (int32_t)img->width, H = (int32_t)img->height;
-    const float *chart = pgt_image_plane(img, 6), *kind = pgt_image_plane(img, 7);
+    const view v = view_of(img);
+    const float *chart = v.chart, *kind = v.kind;
     uint32_t off = 0;
     for (int32_t y = 0; y < H; ++y)
         for (int32_t x = 0; x < W; ++x) {
@@ -912,8 +913,8 @@ static void test_coarse_seam_side(void) {
     CHECK(st.charts == 6 && st.mirrored_charts == 0 && !st.repacked);
     CHECK(check_contract(&img, st.band) == 0);
     const size_t n = (size_t)img.width * img.height;
-    const float *chart = pgt_image_plane(&img, 6), *kind = pgt_image_plane(&img, 7),
-                *pu = pgt_image_plane(&img, 8), *pv = pgt_image_plane(&img, 9);
+    const view v = view_of(&img);
+    const float *chart = v.chart, *kind = v.kind, *pu = v.pu, *pv = v.pv;
     /* the coarse face's chart: the one with the fewest inner texels */
     uint32_t inner[6] = {0};
     for (size_t i = 0; i < n; ++i)

@@ -1430,8 +1430,8 @@ static double tangent_turn_deg(const double a[3], const double b[3], const float
  * Not all: a pointer names the nearest inner-boundary texel to the outer texel's 3D point and
  * may miss by up to the dead-end threshold (4 texel sizes, atlas_build.h), which is a step's
  * length; pizza's 4740 charts include ~2000 of a few texels each. Measured with 3000 x 100
- * steps of 4 texels, best pointer, either rotation: spot 94.3 to 95.1 %, bob 99.4 to 99.8 %,
- * human 98.7 to 99.3 %, pizza 94.9 to 96.3 % (93.0 to 94.2 and 89 % with earlier atlas builders);
+ * steps of 4 texels, best pointer, either rotation: spot 94.1 to 94.4 %, bob 99.4 to 99.5 %,
+ * human 98.6 to 98.9 %, pizza 96.1 to 96.3 % (93.0 to 94.2 and 89 % with earlier atlas builders);
  * 0.85 leaves room for atlas-builder changes. */
 #define JUMP_LENGTH_MIN_FRACTION 0.85
 
