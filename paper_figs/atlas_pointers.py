@@ -11,8 +11,8 @@ zoom, texel by texel: inner texels in their chart's colour, each indirection tex
 of the chart it points INTO (so the inner border of each neighbour shows up replicated around
 the chart, as in the paper's Fig. 2c), dead ends red, with short arrows towards the targets.
 Without --zoom, the window (SIZE = 1/24 of the atlas side) is the one whose indirection texels
-point into the most different charts. Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf; bad
-input is a message on stderr and exit status 2.
+point into the most different charts. Writes OUT_PREFIX.png (300 dpi, 7 in wide) and
+OUT_PREFIX.pdf; bad input is a message on stderr and exit status 2.
 
 The EXR reader below handles what pgt_image_write_exr writes (single-part scanline, FLOAT or
 HALF channels, NONE / ZIPS / ZIP compression); Debian's python3 has no OpenEXR module.
@@ -24,7 +24,7 @@ import sys
 import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
@@ -128,7 +128,8 @@ def main(argv):
         die(f"--zoom: the window starts outside the {W}x{H} atlas")
 
     tu, tv = a["ptr.u"], a["ptr.v"]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 6.3))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(figsetup.TEXT_WIDTH, 4.1))
+    panel = figsetup.TEXT_WIDTH / 2  # in, for the titles' line breaks
     ax1.imshow(img, interpolation="none", extent=(0, W, H, 0))  # PDF: texels kept
     ax1.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ec="yellow", lw=1.2))
     ys, xs = np.nonzero(k[y0:y1, x0:x1] == INDIRECTION)
@@ -139,7 +140,8 @@ def main(argv):
             x, y = xs[j], ys[j]
             ax1.annotate("", (tu[y, x] + 0.5, tv[y, x] + 0.5), (x + 0.5, y + 0.5),
                          arrowprops=dict(arrowstyle="->", lw=0.5, color="yellow", alpha=0.8))
-    ax1.set_title("(b) atlas: charts, indirection texels (white), dead ends (red)", fontsize=9)
+    ax1.set_title(figsetup.wrap("(b) atlas: charts, indirection texels (white), dead ends (red)",
+                                panel))
     ax1.set_xticks([]), ax1.set_yticks([])
 
     z = np.zeros((y1 - y0, x1 - x0, 3))
@@ -159,18 +161,14 @@ def main(argv):
         d *= min(0.45 * size / 12.0, n) / n
         ax2.annotate("", (x + 0.5 + d[0], y + 0.5 + d[1]), (x + 0.5, y + 0.5),
                      arrowprops=dict(arrowstyle="->", lw=0.4, color="k"))
-    ax2.set_title(f"(c) zoom [{x0}, {x1}) x [{y0}, {y1}): indirection texels in the colour of "
-                  "the chart they point into", fontsize=9)
-    ax2.tick_params(labelsize=7)
-    fig.suptitle(title or f"{os.path.basename(path)}: {W}x{H}, {nch} charts, "
-                 f"{int((k == INDIRECTION).sum())} indirection and "
-                 f"{int((k == DEAD_END).sum())} dead-end texels", fontsize=10)
-    fig.tight_layout()
-    try:
-        fig.savefig(prefix + ".png", dpi=200)
-        fig.savefig(prefix + ".pdf")
-    except OSError as e:
-        die(f"{prefix}: {e.strerror}")
+    ax2.set_title(figsetup.wrap(f"(c) zoom [{x0}, {x1}) x [{y0}, {y1}): indirection texels in "
+                                "the colour of the chart they point into", panel))
+    heading = figsetup.suptitle(fig, figsetup.wrap(
+        title or f"{os.path.basename(path)}: {W}x{H}, {nch} charts, "
+        f"{int((k == INDIRECTION).sum())} indirection and "
+        f"{int((k == DEAD_END).sum())} dead-end texels", figsetup.TEXT_WIDTH, figsetup.TITLE_PT))
+    figsetup.layout(fig, title=heading)
+    figsetup.save(fig, prefix, die)
     print(f"atlas_pointers: wrote {prefix}.png and {prefix}.pdf (zoom {x0},{y0},{size})")
 
 

@@ -3,7 +3,7 @@
 
 usage: facade_bench.py results/facade.csv OUT_PREFIX
 
-Three panels against the number of facades (log x), one line per resolution: ms per frame
+Three panels, stacked, against the number of facades (log x), one line per resolution: ms per frame
 (median, log; ours solid, the fastest of ours as a tick), Mrays/s of ours and of Embree on the
 explicit twin, same rays and threads (the faster of its two modes), and the bytes of the
 procedural representation against Embree's (BVH + buffers) and the explicit twin's arrays
@@ -11,8 +11,8 @@ procedural representation against Embree's (BVH + buffers) and the explicit twin
 stored per pixel) solid, ours shaded dotted, when the CSV has both. The paper's row (source=paper: 10K facades, 1280x720 on a GTX 480, ~650 KB vs ~400 MB)
 is drawn as a star in each panel where it has a number, and the issue's 143 ms target (7 fps)
 is dashed. Footnote: machine, commit and date of the CSV's header. Writes OUT_PREFIX.png
-(200 dpi) and OUT_PREFIX.pdf; on stdout the ours / Embree speed and memory ratios per row. Bad
-input is a message on stderr and exit status 2.
+(300 dpi, 7 in wide) and OUT_PREFIX.pdf; on stdout the ours / Embree speed and memory ratios
+per row. Bad input is a message on stderr and exit status 2.
 """
 
 import math
@@ -20,7 +20,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
@@ -86,7 +86,8 @@ def main(argv):
     meta, ours, paper = read(path)
     resolutions = sorted({r["res"] for r in ours},
                          key=lambda s: int(s.split("x")[0]) * int(s.split("x")[1]))
-    fig, (a_ms, a_mr, a_mem) = plt.subplots(1, 3, figsize=(13.5, 5.4))
+    # stacked, each legend right of its panel: side by side the figure was 13.5 in wide
+    fig, (a_ms, a_mr, a_mem) = plt.subplots(3, 1, figsize=(figsetup.TEXT_WIDTH, 7.8))
     for i, res in enumerate(resolutions):
         rows = sorted((r for r in ours if r["res"] == res), key=lambda r: r["facades"])
         c = COLOURS[i % len(COLOURS)]
@@ -129,7 +130,7 @@ def main(argv):
                        label="paper: explicit (with normals, UVs)")
     a_ms.axhline(TARGET_MS, color="k", ls="--", lw=0.8)
     a_ms.text(min(r["facades"] for r in ours), TARGET_MS * 1.06,
-              "143 ms target (7 fps, 10K facades, 1280x720)", fontsize=7)
+              "143 ms target (7 fps, 10K facades, 1280x720)", fontsize=figsetup.SMALL_PT)
     a_ms.set(xscale="log", yscale="log", xlabel="facades", ylabel="ms per frame (median)",
              title="frame time, 1 ray per pixel")
     a_mr.set(xscale="log", xlabel="facades", ylabel="Mrays/s",
@@ -141,19 +142,14 @@ def main(argv):
     a_ms.set_ylim(bottom=lowest / 3.0, top=TARGET_MS * 1.6)
     for a in (a_ms, a_mr, a_mem):
         a.grid(True, which="both", lw=0.3, alpha=0.5)
-        # below the panel: inside it a legend covered the data (the 1000-facade throughput)
-        a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2,
-                 frameon=False)
-    fig.suptitle("Per-pixel procedural facades (paper 003 sec. 9) vs Embree on the explicit "
-                 "geometry, generated cities", fontsize=11)
-    fig.text(0.01, 0.01, "; ".join(results_csv.footnote(meta) + [f"pgt bench facade ({path})"]),
-             fontsize=7, color="0.3")
-    fig.tight_layout(rect=(0, 0.03, 1, 0.95))
-    try:
-        fig.savefig(out + ".png", dpi=200)
-        fig.savefig(out + ".pdf")
-    except OSError as e:
-        die(f"{out}: {e.strerror}")
+        # beside the panel: inside it a legend covered the data (the 1000-facade throughput)
+        a.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), frameon=False)
+    title = figsetup.suptitle(fig, "Per-pixel procedural facades (paper 003 sec. 9) vs Embree "
+                              "on the explicit geometry,\ngenerated cities")
+    foot = figsetup.footnote(fig, "; ".join(results_csv.footnote(meta)
+                                            + [f"pgt bench facade ({path})"]))
+    figsetup.layout(fig, foot, title, h_pad=0.8)
+    figsetup.save(fig, out, die)
     print(f"{'facades':>8} {'res':>10} {'ms':>9} {'ours Mr/s':>9} {'hits only':>9} "
           f"{'Embree':>8} {'ours/Embree':>11} {'fastest':>7} {'Embree/ours bytes':>17}")
     for r in sorted(ours, key=lambda r: (r["res"], r["facades"])):

@@ -5,9 +5,10 @@ the four levels of detail of its Fig. 11 (`pgt facade --detail`, main job step 1
 usage: facade_panels.py OUT_PREFIX FRAME TITLE [FRAME TITLE ...] [--columns C] [--title T]
 
 Each FRAME is a PNG (shown as stored) or an EXR written by `pgt facade` (its linear R, G, B
-encoded to sRGB as pgt's --png does). Panels keep their aspect ratio, C per row (default: all
-in one row), each titled; --title puts a title over the whole figure. Writes OUT_PREFIX.png
-(200 dpi) and OUT_PREFIX.pdf. A missing or unreadable frame is an error (exit 2).
+encoded to sRGB as pgt's --png does). Panels keep their aspect ratio, C per row (default: as
+many as stay 2.3 in wide in the 7 in figure, i.e. 3), each titled (wrapped to the panel's
+width); --title puts a title over the whole figure. Writes OUT_PREFIX.png (300 dpi) and
+OUT_PREFIX.pdf. A missing or unreadable frame is an error (exit 2).
 
 For Fig. 11 (flat buildings, macroscopic geometry and shadowing, normal mapping, relief
 mapping) scripts/main.sh's step 18 runs, in short:
@@ -25,11 +26,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from exrread import ExrError, read_exr  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.image as mpimg  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
 
 
 def die(msg):
@@ -75,32 +75,23 @@ def main(argv):
         die("usage: facade_panels.py OUT_PREFIX FRAME TITLE [FRAME TITLE ...] [--columns C] "
             "[--title T]")
     out, pairs = args[0], list(zip(args[1::2], args[2::2]))
-    imgs = [(load(p), t) for p, t in pairs]
-    cols = min(columns or len(imgs), len(imgs))
-    rows = (len(imgs) + cols - 1) // cols
-    aspect = max(im.shape[1] / im.shape[0] for im, _ in imgs)
-    pw = 4.6
-    height = (pw / aspect + 0.35) * rows + (0.4 if title else 0.0)
-    fig, axes = plt.subplots(rows, cols, figsize=(pw * cols, height), squeeze=False)
-    for ax in axes.flat:
-        ax.axis("off")
-    for ax, (im, t) in zip(axes.flat, imgs):
+    imgs = [load(p) for p, _ in pairs]
+    # by default as many per row as stay at least 2.3 in wide (three 16:9 frames in a row)
+    cols = min(columns or max(int(figsetup.TEXT_WIDTH // 2.3), 1), len(imgs))
+    fig, axes, fig_title = figsetup.image_grid([im.shape for im in imgs],
+                                               [t for _, t in pairs], cols, title)
+    for ax, im in zip(axes, imgs):
         ax.imshow(im, interpolation="lanczos")
-        ax.set_title(t, fontsize=9)
-    if title:
-        fig.suptitle(title, fontsize=11)
-    fig.tight_layout(pad=0.3)
-    try:
-        fig.savefig(out + ".png", dpi=200)
-        # the PDF embeds each frame at its own resolution (resampled at 200 dpi it lost a third
-        # of the pixels); the viewer scales it
-        for ax in axes.flat:
+
+    def unresampled():
+        # the PDF embeds each frame at its own resolution (resampled at 200 dpi it lost a
+        # third of the pixels); the viewer scales it
+        for ax in axes:
             for image in ax.get_images():
                 image.set_interpolation("none")
-        fig.savefig(out + ".pdf", dpi=200)
-    except OSError as e:
-        die(f"{out}: {e.strerror}")
 
+    figsetup.layout(fig, title=fig_title)
+    figsetup.save(fig, out, die, pdf_kw={"dpi": figsetup.DPI}, before_pdf=unresampled)
 
 if __name__ == "__main__":
     main(sys.argv[1:])

@@ -5,7 +5,8 @@
 usage: ivy_scenes.py OUT_PREFIX IMAGE.png TITLE [IMAGE.png TITLE ...]
 
 Each render is trimmed to the bounding box of its non-background pixels (plus a margin) so the
-models fill their panels. Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf. A missing or
+models fill their panels; two panels per row, 7 in wide. Writes OUT_PREFIX.png (300 dpi) and
+OUT_PREFIX.pdf. A missing or
 unreadable image is an error (exit 2).
 """
 
@@ -13,11 +14,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.image as mpimg  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 # Margin kept around a model when trimming, as a fraction of its larger side.
@@ -54,15 +54,14 @@ def main():
     if len(args) < 3 or len(args) % 2 != 1:
         die("usage: ivy_scenes.py OUT_PREFIX IMAGE.png TITLE [IMAGE.png TITLE ...]")
     out, pairs = args[0], list(zip(args[1::2], args[2::2]))
-    fig, axes = plt.subplots(1, len(pairs), figsize=(3.3 * len(pairs), 4.0))
-    axes = np.atleast_1d(axes)
-    for ax, (path, title) in zip(axes, pairs):
-        ax.imshow(trimmed(path))
-        ax.set_title(title, fontsize=9)
-        ax.axis("off")
-    fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{out}.{ext}", dpi=200)
+    images = [trimmed(path) for path, _ in pairs]
+    # two per row (four in a row at 7 in left each render 1.7 in wide)
+    fig, axes, _ = figsetup.image_grid([im.shape for im in images], [t for _, t in pairs],
+                                       min(len(pairs), 2))
+    for ax, im in zip(axes, images):
+        ax.imshow(im)
+    figsetup.layout(fig)
+    figsetup.save(fig, out, die, pdf_kw={"dpi": figsetup.DPI})
     print(f"ivy_scenes: wrote {out}.png and {out}.pdf")
 
 

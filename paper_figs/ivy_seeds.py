@@ -4,12 +4,13 @@ Table 2 beside the paper's numbers from results/table2.csv (both written by `pgt
 
 usage: ivy_seeds.py FIG11_CSV TABLE2_CSV OUT_PREFIX
 
-Left panel: median generation time (expand + Bezier + terminals, ms) against seeds 1..64 for the
+Top panel: median generation time (expand + Bezier + terminals, ms) against seeds 1..64 for the
 two scenarios (main branch only, guided by painting; with secondary branches and leaves), with
-the polygon count on a second axis. Right panel: Table 2, ours against the paper's GPU times (a GTX 480 is named for Fig. 11 only)
-per scene, with the polygon counts as labels. Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf
-and prints the growth of time with seeds (ms per added seed, least squares) to stdout. An empty
-or malformed file is an error (exit 2).
+the polygon count on a second axis. Bottom panel: Table 2, ours against the paper's GPU times
+(a GTX 480 is named for Fig. 11 only) per scene, with the polygon counts as labels. Legends
+under the panels. Writes OUT_PREFIX.png (300 dpi, 7 in wide) and OUT_PREFIX.pdf and prints the
+growth of time with seeds (ms per added seed, least squares) to stdout. An empty or malformed
+file is an error (exit 2).
 """
 
 import os
@@ -18,7 +19,7 @@ import sys
 import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
@@ -62,7 +63,9 @@ def main():
     meta, rows = read_rows(f11, ("scenario", "seeds", "total_ms", "polygons", "threads"))
     _, table = read_rows(t2, ("scene", "mesh", "seeds", "polygons", "paper_polygons", "total_ms",
                               "paper_ms", "threads"))
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [3, 2]})
+    # stacked: side by side at 7 in, Table 2's scene names ran into each other
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(figsetup.TEXT_WIDTH, 7.2),
+                                 gridspec_kw={"height_ratios": [3, 2]})
     ax2 = ax.twinx()
     for sc in ("main", "full"):
         pts = sorted((fnum(r, "seeds", f11), fnum(r, "total_ms", f11), fnum(r, "polygons", f11))
@@ -78,7 +81,7 @@ def main():
               f"({ts[0]:.1f} ms at {xs[0]:.0f} seed(s), {ts[-1]:.1f} ms at {xs[-1]:.0f})")
     threads = rows[0]["threads"]
     ax.set_xlabel("number of seeds")
-    ax.set_ylabel(f"generation time (ms, median, {threads} CPU threads)")
+    ax.set_ylabel(f"generation time (ms)\nmedian, {threads} CPU threads")
     ax2.set_ylabel("output polygons (millions, dotted)")
     ax.set_xlim(0, None)
     ax.set_ylim(0, None)
@@ -86,8 +89,10 @@ def main():
     ax.grid(alpha=0.3)
     lines, texts = ax.get_legend_handles_labels()
     lines2, texts2 = ax2.get_legend_handles_labels()
-    ax.legend(lines + lines2, texts + texts2, loc="upper left", fontsize=8, frameon=False)
-    ax.set_title("Generation time vs seeds (paper 000 Fig. 11)", fontsize=10)
+    # under the axes, the pad (in font sizes) clearing the x label: inside it lay on the lines
+    ax.legend(lines + lines2, texts + texts2, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+              borderaxespad=4.0, ncol=2, frameon=False)
+    ax.set_title("Generation time vs seeds (paper 000 Fig. 11)")
 
     # ours ran on a stand-in mesh; the paper's scene is named under it
     def paper_scene(r):  # "Fig. 1b (shack; painted guidance)" -> "Fig. 1b, shack"
@@ -105,20 +110,20 @@ def main():
            label=f"ours ({table[0]['threads']} CPU threads)")
     for i, r in enumerate(table):
         bx.text(i + w / 2, ours[i], f"{fnum(r, 'polygons', t2) / 1e6:.2f}M", ha="center",
-                va="bottom", fontsize=7)
+                va="bottom", fontsize=figsetup.SMALL_PT)
         bx.text(i - w / 2, paper[i], f"{fnum(r, 'paper_polygons', t2) / 1e6:.2f}M", ha="center",
-                va="bottom", fontsize=7)
+                va="bottom", fontsize=figsetup.SMALL_PT)
     bx.set_xticks(list(x))
-    bx.set_xticklabels(names, fontsize=7)
+    bx.set_xticklabels(names)
     bx.set_ylabel("generation time (ms)")
-    bx.legend(fontsize=8, frameon=False, loc="upper right")
-    bx.set_title("Table 2 (labels: output polygons)", fontsize=10)
+    bx.set_ylim(top=bx.get_ylim()[1] * 1.08)  # room for the tallest bar's label
+    # under the axes too, clearing the three-line scene names
+    bx.legend(frameon=False, loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=4.6,
+              ncol=2)
+    bx.set_title("Table 2 (labels: output polygons)")
     foot = results_csv.footnote(meta)
-    if foot:
-        fig.text(0.01, 0.01, ", ".join(foot), fontsize=6, color="#555555")
-    fig.tight_layout(rect=(0, 0.03 if foot else 0, 1, 1))
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{out}.{ext}", dpi=200)
+    figsetup.layout(fig, figsetup.footnote(fig, ", ".join(foot)) if foot else None, h_pad=1.2)
+    figsetup.save(fig, out, die)
     print(f"ivy_seeds: wrote {out}.png and {out}.pdf")
 
 

@@ -17,8 +17,8 @@ texels; texels facing away from the camera are left out and the part of the path
 surface is drawn faint and dashed. By default the camera looks at the path from outside (from the
 cloud's centre through the path's centroid); --elev/--azim override it.
 
-Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf. Bad input is an error on stderr and exit
-status 2.
+Writes OUT_PREFIX.png (300 dpi, 7 in wide) and OUT_PREFIX.pdf. Bad input is an error on stderr
+and exit status 2.
 """
 
 import argparse
@@ -27,7 +27,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.image as mpimg  # noqa: E402
@@ -45,7 +45,7 @@ CLOUD_COLOUR = (0.55, 0.58, 0.62)
 # jump labels (label_jumps), as fractions of the atlas width: jumps whose ends lie within
 # LABEL_MERGE of each other share a label; a label stands LABEL_OFFSET beside its arrow
 LABEL_MERGE = 0.012
-LABEL_OFFSET = 0.018
+LABEL_OFFSET = 0.03  # 7 pt labels on a 3.4 in panel (0.018 was for 6 pt on 4.8 in)
 MAX_NUMBERED_JUMPS = 40
 # Path points whose nearest texel's normal faces away from the camera by more than this cosine
 # are drawn as hidden (a small margin so that silhouettes do not flicker).
@@ -174,7 +174,8 @@ def label_jumps(ax, uv, jumps, w):
             pos = pos + 0.8 * off * n
         placed.append(pos)
         ax.annotate(", ".join(map(str, numbers)), xy=mid, xytext=pos, color=JUMP_COLOUR,
-                    fontsize=6, fontweight="bold", ha="center", va="center", zorder=5,
+                    fontsize=figsetup.SMALL_PT, fontweight="bold", ha="center", va="center",
+                    zorder=5,
                     bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85),
                     arrowprops=dict(arrowstyle="-", color=JUMP_COLOUR, lw=0.4, shrinkA=0,
                                     shrinkB=0))
@@ -206,7 +207,7 @@ def draw_atlas(ax, atlas, uv, events):
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])
-    ax.set_title(f"atlas ({w} x {h} texels)", fontsize=9)
+    ax.set_title(f"atlas ({w} x {h} texels)")
 
 
 def draw_surface(ax, cloud, normals, path, events, elev, azim):
@@ -251,7 +252,7 @@ def draw_surface(ax, cloud, normals, path, events, elev, azim):
     ax.set_box_aspect((1, 1, 1), zoom=SURFACE_ZOOM)
     ax.view_init(elev=elev, azim=azim)
     ax.set_axis_off()
-    ax.set_title("surface", fontsize=9)
+    ax.set_title("surface")
 
 
 def main(argv):
@@ -278,7 +279,7 @@ def main(argv):
     perm = up_permutation(args.up)
     path3, cloud3, normals3 = xyz[:, perm], cloud[:, perm], normals[:, perm]
 
-    fig = plt.figure(figsize=(10.0, 5.0))
+    fig = plt.figure(figsize=(figsetup.TEXT_WIDTH, 3.9))
     ax2 = fig.add_subplot(1, 2, 1)
     ax3 = fig.add_subplot(1, 2, 2, projection="3d")
     draw_atlas(ax2, atlas, uv, events)
@@ -287,19 +288,14 @@ def main(argv):
     steps = len(events) - 1
     note = (f"{os.path.basename(args.path_csv)}: {steps} steps, {n_jump} across charts"
             + (", stopped" if events[-1] == "stop" else ""))
-    fig.text(0.01, 0.01, note, fontsize=7, color="0.35")
-    if args.title:
-        fig.suptitle(args.title, fontsize=11)
-    # the top margin keeps the panel titles whole (tight_layout does not see the 3D axes' titles)
-    fig.tight_layout(rect=(0, 0.03, 1, 0.94 if args.title else 0.97))
+    note = fig.text(0.005, 0.005, note, fontsize=figsetup.SMALL_PT, color="0.35", va="bottom")
+    heading = figsetup.suptitle(fig, args.title) if args.title else None
+    # the top margin keeps the panel titles whole (tight_layout does not see the 3D axes' title)
+    figsetup.layout(fig, note, heading, top=0.95)
     out_dir = os.path.dirname(args.out_prefix)
     if out_dir:
         os.makedirs(out_dir, exist_ok=True)
-    try:
-        fig.savefig(args.out_prefix + ".png", dpi=200)
-        fig.savefig(args.out_prefix + ".pdf")
-    except OSError as e:
-        die(f"{args.out_prefix}: cannot write: {e.strerror}")
+    figsetup.save(fig, args.out_prefix, die)
     print(f"march_path: wrote {args.out_prefix}.png and .pdf ({steps} steps, {n_jump} jumps)")
     return 0
 

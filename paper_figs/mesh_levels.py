@@ -8,7 +8,7 @@ MESHi are .off or .ply files (see meshread.py). Every panel uses the same camera
 axis limits (the common bounding box, equal aspect), so sizes compare across levels. Faces are
 flat-shaded with a Lambert term from a light fixed relative to the camera:
 colour = base * (0.25 + 0.75 * max(0, n.l)). Edges are drawn thin and get thinner as the face
-count grows; above EDGE_FACE_LIMIT faces no edges are drawn. Writes OUT_PREFIX.png (200 dpi)
+count grows; above EDGE_FACE_LIMIT faces no edges are drawn. Writes OUT_PREFIX.png (300 dpi)
 and OUT_PREFIX.pdf. Bad input is an error on stderr and exit status 2.
 """
 
@@ -17,7 +17,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
@@ -125,8 +125,9 @@ def main(argv):
     light /= np.linalg.norm(light)
 
     n = len(meshes)
-    plt.rcParams.update({"font.size": 10, "pdf.fonttype": 42})
-    fig = plt.figure(figsize=(2.4 * n, 2.6))
+    # 2.4 in per panel, less when that would make the figure wider than the text
+    pw = min(2.4, figsetup.TEXT_WIDTH / n)
+    fig = plt.figure(figsize=(pw * n, 2.6 * pw / 2.4))
     axes = []
     for i, (V, F) in enumerate(meshes):
         ax = fig.add_axes([i / n, 0.0, 1.0 / n, 1.0], projection="3d")
@@ -184,10 +185,11 @@ def main(argv):
     for i, ((ax, _, nf), label) in enumerate(zip(axes, args.labels)):
         y = to_fig.transform((0, y_lo - gap))[1]
         texts.append(fig.text((i + 0.5) / n, y, f"{label}\n{nf:,} faces", ha="center",
-                              va="top", fontsize=10, linespacing=1.35))
+                              va="top", fontsize=figsetup.TEXT_PT, linespacing=1.35))
     if args.title:
         y = to_fig.transform((0, y_hi + gap))[1]
-        texts.append(fig.text(0.5, y, args.title, ha="center", va="bottom", fontsize=11))
+        texts.append(fig.text(0.5, y, args.title, ha="center", va="bottom",
+                              fontsize=figsetup.TITLE_PT))
     renderer = fig.canvas.get_renderer()
     boxes = [t.get_window_extent(renderer) for t in texts] + [Bbox([[x_lo, y_lo],
                                                                      [x_hi, y_hi]])]
@@ -196,7 +198,7 @@ def main(argv):
     out_dir = os.path.dirname(args.out_prefix)
     if out_dir:
         os.makedirs(out_dir, exist_ok=True)
-    for ext, kw in (("png", {"dpi": 200}), ("pdf", {"dpi": 300})):
+    for ext, kw in (("png", {"dpi": figsetup.DPI}), ("pdf", {"dpi": 300})):
         fig.savefig(f"{args.out_prefix}.{ext}", bbox_inches=crop, **kw)
     plt.close(fig)
     print(f"wrote {args.out_prefix}.png and {args.out_prefix}.pdf", file=sys.stderr)

@@ -5,18 +5,17 @@ usage: subdiv_time.py RESULTS_CSV OUT_PREFIX
 
 Plots median time (ms, log) against output faces (log) for ours at 1 thread, ours at the
 largest thread count in the file, CGAL and OpenMesh; colour = implementation, marker = mesh.
-Writes OUT_PREFIX.png (200 dpi) and OUT_PREFIX.pdf, and prints the speedups at each mesh's
-largest output to stdout. Missing optional columns and empty cells are skipped with a warning
+Legends under the axes. Writes OUT_PREFIX.png (300 dpi, 7 in wide) and OUT_PREFIX.pdf, and
+prints the speedups at each mesh's largest output to stdout. Missing optional columns and empty cells are skipped with a warning
 on stderr; an empty or malformed file is an error (exit 2).
 """
 
 import math
 import os
 import sys
-import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figsetup  # noqa: E402,F401  (before matplotlib: config folder, Agg)
+import figsetup  # noqa: E402  (before matplotlib: config folder, Agg, sizes)
 import matplotlib  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
@@ -137,9 +136,7 @@ def plot(series, tmax, meta, out_prefix):
     styles = {"ours1": "-", "oursN": "-", "CGAL": "--", "OpenMesh": ":", "OpenCL": "-.",
               "Vulkan": "-."}
 
-    plt.rcParams.update({"font.size": 10, "axes.titlesize": 11, "legend.fontsize": 8.5,
-                         "pdf.fonttype": 42, "ps.fonttype": 42})
-    fig, ax = plt.subplots(figsize=(7.4, 4.3))
+    fig, ax = plt.subplots(figsize=(figsetup.TEXT_WIDTH, 5.2))
     for key, per_mesh in series.items():
         for i, fam in enumerate(fams):
             pts = sorted(per_mesh.get(fam, {}).items())
@@ -147,7 +144,7 @@ def plot(series, tmax, meta, out_prefix):
                 continue
             x, y = zip(*pts)
             ax.plot(x, y, linestyle=styles[key], color=COLOURS[key],
-                    marker=MARKERS[i % len(MARKERS)], markersize=5, linewidth=1.4,
+                    marker=MARKERS[i % len(MARKERS)], markersize=4, linewidth=1.2,
                     markeredgecolor="white", markeredgewidth=0.5)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -161,31 +158,26 @@ def plot(series, tmax, meta, out_prefix):
     impl = [Line2D([], [], color=COLOURS[k], linestyle=styles[k], linewidth=1.4,
                    label=labels[k]) for k in series if series[k]]
     meshes = [Line2D([], [], color="0.35", linestyle="none", marker=MARKERS[i % len(MARKERS)],
-                     markersize=5, label=f) for i, f in enumerate(fams)]
-    # both legends outside the axes: inside, they hid points (the largest meshes' at the lower
-    # right, OpenMesh's and Vulkan's of the middle meshes at the upper left)
-    leg1 = ax.legend(handles=impl, loc="upper left", bbox_to_anchor=(1.01, 1.0),
-                     title="Implementation", title_fontsize=8.5, frameon=True, framealpha=0.9,
-                     borderaxespad=0.0)
+                     markersize=4, label=f) for i, f in enumerate(fams)]
+    # both legends under the axes (inside they hid points; beside them the figure was 9.7 in
+    # wide): implementations in 3 columns, then the meshes in 4; the pads are in font sizes,
+    # so they clear the tick labels and the x label whatever the axes' height
+    leg1 = ax.legend(handles=impl, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=3,
+                     title="Implementation", frameon=False, borderaxespad=4.0,
+                     columnspacing=1.5)
     ax.add_artist(leg1)
-    leg2 = ax.legend(handles=meshes, loc="lower left", bbox_to_anchor=(1.01, 0.0), title="Mesh",
-                     title_fontsize=8.5, frameon=True, framealpha=0.9, borderaxespad=0.0)
-
-    fig.tight_layout()
+    fig.canvas.draw()
+    below = 4.0 + leg1.get_window_extent().height * 72 / fig.dpi / figsetup.SMALL_PT + 0.3
+    ax.legend(handles=meshes, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=4,
+              title="Mesh", frameon=False, borderaxespad=below, columnspacing=1.5)
     foot = [f[0].upper() + f[1:] for f in results_csv.footnote(meta)]
-    extra = [leg1, leg2]  # outside the axes: bbox_inches="tight" keeps only what is listed
     if foot:
-        # one line per field, placed just under the x label (bbox_inches="tight" keeps it)
-        lines = [textwrap.fill(foot[0], 100)] + (["    ".join(foot[1:])] if foot[1:] else [])
-        fig.canvas.draw()
-        bb = ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted())
-        extra.append(fig.text(bb.x0, bb.y0 - 0.015, "\n".join(lines), fontsize=7, color="0.3",
-                              ha="left", va="top", linespacing=1.4))
+        foot = figsetup.footnote(fig, "    ".join(foot))
     else:
+        foot = None
         warn("no '# machine:' or '# commit:' header lines; figure has no footnote")
-    for ext, kw in (("png", {"dpi": 200}), ("pdf", {})):
-        fig.savefig(f"{out_prefix}.{ext}", bbox_inches="tight", pad_inches=0.03,
-                    bbox_extra_artists=extra, **kw)
+    figsetup.layout(fig, foot)
+    figsetup.save(fig, out_prefix, die)
     plt.close(fig)
 
 
