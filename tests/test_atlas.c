@@ -487,13 +487,18 @@ static void test_kdtree_reach(void) {
         bad_max += node[k] != m;
     }
     CHECK(bad_max == 0);
-    uint32_t mismatches = 0, far_found = 0, none = 0, bad_slots = 0;
+    uint32_t mismatches = 0, far_found = 0, base_only = 0, at_base = 0, none = 0, bad_slots = 0;
     const accept_odd_ctx actx = {&t, &bad_slots};
     for (uint32_t q = 0; q < queries; ++q) {
         float p[3];
-        for (uint32_t k = 0; k < 3; ++k)
-            p[k] = (float)(pgt_rng_u64(8, 3, 3u * q + k) % 80u) / 10.0f;
-        const float base = q % 3u == 0 ? 0.0f : 0.01f, maxd = q % 5u == 0 ? 0.5f : 100.0f;
+        for (uint32_t k = 0; k < 3; ++k) /* on the points' grid half of the time */
+            p[k] = q % 2u ? (float)(pgt_rng_u64(8, 3, 3u * q + k) % 80u) / 10.0f
+                          : (float)(pgt_rng_u64(8, 3, 3u * q + k) % 64u) / 8.0f;
+        /* squared base distances from none to about the reaches' scale; 1/64 and 1/4 are
+         * squared distances of the grid (dx^2 + dy^2 + dz^2 with steps of 1/8): points exactly
+         * at the base distance */
+        static const float bases[4] = {0.0f, 1.0f / 64.0f, 0.25f, 0.6f};
+        const float base = bases[(q / 2u) % 4u], maxd = q % 5u == 0 ? 0.5f : 100.0f;
         const int odd = (int)(q % 2u);
         float bd;
         const uint32_t best = brute_nearest(xyz, n, p, maxd, odd, reach2, base, &bd);
@@ -502,13 +507,18 @@ static void test_kdtree_reach(void) {
                                                       odd ? accept_odd : NULL, &actx, &got_d);
         if (got != best || (got != PGT_NONE && got_d != bd)) mismatches++;
         far_found += got != PGT_NONE && got_d > base;
+        /* within the base distance only: beyond the answer's own reach */
+        base_only += got != PGT_NONE && got_d <= base && got_d > reach2[got];
+        at_base += got != PGT_NONE && got_d == base && base > 0.0f;
         none += got == PGT_NONE;
     }
-    printf("  nearest_reach: %u of %u queries answered beyond the base distance, %u with none\n",
-           far_found, queries, none);
+    printf("  nearest_reach: %u of %u queries answered beyond the base distance, %u within it "
+           "only (%u exactly at it), %u with none\n",
+           far_found, queries, base_only, at_base, none);
     CHECK(mismatches == 0);
     CHECK(bad_slots == 0);
-    CHECK(far_found > 0 && none > 0); /* both outcomes were exercised */
+    /* every outcome was exercised */
+    CHECK(far_found > 0 && base_only > 0 && at_base > 0 && none > 0);
     free(node);
     pgt_kdtree_destroy(&t);
     free(xyz);
@@ -680,14 +690,16 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
     return s;
 }
 
-/* Dead-end texels that are not in a slit of their own chart: a slit is a gap of at most
- * SLIT_TEXELS - 1 non-background texels across which the chart continues on both sides, along a
- * row, a column or a diagonal (bob's input UVs cut such slits inside its charts, one or two
- * texels wide, whose two sides are the same 3D place: its one pointer can serve only one side,
- * and every candidate is the source's own side or next to it, so they stay dead ends). */
-#define SLIT_TEXELS 3
+/* Dead-end texels that are not in a slit of their own chart: a slit is a narrow gap across which
+ * the chart continues on both sides within SLIT_TEXELS texels, along a row or a column
+ * (not a diagonal: around a concave corner of a chart the two diagonal neighbours are inner
+ * texels, but no row or column through the corner's outer texel meets the chart on both sides).
+ * bob's input UVs cut such slits inside its charts, one to three texels wide, whose two sides
+ * are the same 3D place: a texel touching both has one pointer that can serve only one side,
+ * and every candidate is the source's own side or next to it, so they stay dead ends. */
+#define SLIT_TEXELS 4
 static uint32_t dead_ends_off_slits(const pgt_image *img) {
-    static const int32_t dir[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    static const int32_t dir[2][2] = {{1, 0}, {0, 1}};
     const int32_t W = (int32_t)img->width, H = (int32_t)img->height;
     const view v = view_of(img);
     const float *chart = v.chart, *kind = v.kind;
@@ -697,7 +709,7 @@ static uint32_t dead_ends_off_slits(const pgt_image *img) {
             const size_t i = (size_t)y * (size_t)W + (size_t)x;
             if (kind[i] != (float)PGT_TEXEL_DEAD_END) continue;
             int slit = 0;
-            for (int d = 0; d < 4 && !slit; ++d) {
+            for (int d = 0; d < 2 && !slit; ++d) {
                 int side[2] = {0, 0};
                 for (int s = 0; s < 2; ++s)
                     for (int32_t t = 1; t <= SLIT_TEXELS && !side[s]; ++t) {
@@ -705,10 +717,7 @@ static uint32_t dead_ends_off_slits(const pgt_image *img) {
                                       ny = y + sg * t * dir[d][1];
                         if (nx < 0 || ny < 0 || nx >= W || ny >= H) break;
                         const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
-                        if (kind[j] == (float)PGT_TEXEL_INNER && chart[j] == chart[i])
-                            side[s] = 1;
-                        else if (kind[j] == (float)PGT_TEXEL_BACKGROUND)
-                            break;
+                        side[s] = kind[j] == (float)PGT_TEXEL_INNER && chart[j] == chart[i];
                     }
                 slit = side[0] && side[1];
             }
@@ -936,6 +945,59 @@ static void test_coarse_seam_side(void) {
     CHECK(st.dead_end_texels == 0);
     CHECK(same_chart == 0);
     CHECK(into_coarse >= 4u * 140u);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
+/* Two open square sheets 0.03 apart (about 7 texel sizes of the fine one at 512^2), one with
+ * texels ten times coarser: nothing lies across a mesh border, so every outer texel of the fine
+ * sheet stays a dead end, although the coarse sheet's border texels lie within 4 of their own
+ * texel sizes of it (the reach of the candidate's side, which counts only away from the mesh
+ * border: atlas_pointers.c ATLAS_BORDER_TEXELS; without that rule all of them pointed across).
+ * The coarse sheet's own reach spans the gap: its border points across, as it always has (the
+ * dead-end threshold is relative to the texel size). */
+static void test_open_sheets(void) {
+    pgt_mesh m = {0};
+    pgt_error err = {0};
+    REQUIRE(pgt_mesh_create(&m, 8, 4, 1, 0, &err) == PGT_OK);
+    static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (uint32_t sh = 0; sh < 2; ++sh) {
+        const float side = sh ? 0.045f : 0.45f, o = sh ? 0.55f : 0.02f;
+        for (uint32_t k = 0; k < 4; ++k) {
+            float *p = &m.positions[3u * (4u * sh + k)];
+            p[0] = corner[k][0], p[1] = corner[k][1], p[2] = sh ? 0.03f : 0.0f;
+        }
+        for (uint32_t t = 0; t < 2; ++t)
+            for (uint32_t c = 0; c < 3; ++c) {
+                const uint32_t f = 2u * sh + t, k = tri[t][c];
+                m.indices[3u * f + c] = 4u * sh + k;
+                m.uvs[6u * f + 2u * c] = o + side * corner[k][0];
+                m.uvs[6u * f + 2u * c + 1u] = o + side * corner[k][1];
+            }
+    }
+    pgt_image img = {0};
+    pgt_atlas_stats st;
+    REQUIRE(build(&m, 512, 2, 0, &img, &st, &err) == PGT_OK);
+    CHECK(st.charts == 2 && !st.repacked);
+    const view v = view_of(&img);
+    /* the fine sheet is chart 0 (the smaller face ids) */
+    uint32_t fine_outer = 0, fine_dead = 0, coarse_outer = 0, coarse_across = 0;
+    for (size_t i = 0; i < (size_t)v.W * v.H; ++i) {
+        if (v.kind[i] != (float)PGT_TEXEL_INDIRECTION && v.kind[i] != (float)PGT_TEXEL_DEAD_END)
+            continue;
+        if (v.chart[i] == 0.0f) {
+            fine_outer++;
+            fine_dead += v.kind[i] == (float)PGT_TEXEL_DEAD_END;
+        } else {
+            coarse_outer++;
+            coarse_across += v.kind[i] == (float)PGT_TEXEL_INDIRECTION;
+        }
+    }
+    printf("  open sheets: fine sheet %u outer texels, %u dead ends; coarse sheet %u outer "
+           "texels, %u pointing across\n",
+           fine_outer, fine_dead, coarse_outer, coarse_across);
+    CHECK(fine_outer > 4u * 200u && fine_dead == fine_outer);
     pgt_image_destroy(&img);
     pgt_mesh_destroy(&m);
 }
@@ -1248,6 +1310,7 @@ static const pgt_test_case cases[] = {
     {"kdtree_degenerate", test_kdtree_degenerate},
     {"kdtree_reach", test_kdtree_reach},
     {"coarse_seam_side", test_coarse_seam_side},
+    {"open_sheets", test_open_sheets},
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
     {"mirrored_charts", test_mirrored_charts},

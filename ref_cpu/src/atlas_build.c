@@ -184,7 +184,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
 
     t = pgt_now_ms();
     atlas_pointer_counts pc;
-    r = atlas_pointers(out, texel_chart, kind, dest_chart, dead_end, threads, &pc, err);
+    const atlas_border border = {layout.tex, charts.border_half_edges, charts.border_count};
+    r = atlas_pointers(out, texel_chart, kind, dest_chart, dead_end, &border, threads, &pc, err);
     if (r != PGT_OK) goto done;
     st.inner_boundary_texels = pc.inner_boundary;
     st.indirection_texels = pc.indirection;

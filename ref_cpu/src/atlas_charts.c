@@ -24,6 +24,7 @@ void atlas_charts_destroy(atlas_charts *c) {
     free(c->chart_mirrored);
     free(c->chart_area_uv);
     free(c->chart_area_3d);
+    free(c->border_half_edges);
     memset(c, 0, sizeof(*c));
 }
 
@@ -162,6 +163,21 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     }
     for (uint32_t c = 0; c < charts; ++c)
         if (signed_area[c] < 0.0) out->chart_mirrored[c] = 1, out->mirrored++;
+    {
+        uint32_t n = 0;
+        for (uint32_t h = 0; h < 3u * F; ++h)
+            n += adj.opposite[h] == PGT_NONE && out->face_chart[h / 3u] != PGT_NONE;
+        out->border_half_edges = malloc(sizeof(uint32_t) * (n ? n : 1u));
+        if (!out->border_half_edges) {
+            free(signed_area);
+            free(box);
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (charts)", what);
+            goto done;
+        }
+        for (uint32_t h = 0; h < 3u * F; ++h)
+            if (adj.opposite[h] == PGT_NONE && out->face_chart[h / 3u] != PGT_NONE)
+                out->border_half_edges[out->border_count++] = h;
+    }
     /* Flip mirrored charts in u, degenerate faces of the chart included (they may be
      * rasterized by nobody, but keep the chart's UVs consistent). */
     for (uint32_t f = 0; f < F; ++f) {

@@ -22,6 +22,9 @@ typedef struct atlas_charts {
     double *chart_area_uv;   /* chart_count: sum of |UV area| of its rasterized faces */
     double *chart_area_3d;   /* chart_count: sum of 3D area of the same faces */
     uint32_t mirrored, degenerate_faces, degenerate_charts;
+    /* the mesh border: half-edges h = 3 f + c of rasterized faces (face_chart != PGT_NONE)
+     * without an opposite half-edge (pgt_adjacency; non-manifold edges count too) */
+    uint32_t *border_half_edges, border_count;
 } atlas_charts;
 
 pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *mesh, uint32_t threads,
@@ -85,9 +88,17 @@ typedef struct atlas_pointer_counts {
 
 #define ATLAS_KIND_BOUNDARY_BIT 0x80u
 
+/* The mesh border in texel space, for atlas_pointers: tex as atlas_layout gives it (6 floats per
+ * face), and the border half-edges of atlas_charts. */
+typedef struct atlas_border {
+    const float *tex;
+    const uint32_t *half_edges;
+    uint32_t count;
+} atlas_border;
+
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          int32_t *dest_chart, float dead_end, uint32_t threads,
-                          atlas_pointer_counts *out, pgt_error *err);
+                          int32_t *dest_chart, float dead_end, const atlas_border *border,
+                          uint32_t threads, atlas_pointer_counts *out, pgt_error *err);
 
 /* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2), from atlas_pointers'
  * kind and dest_chart. */

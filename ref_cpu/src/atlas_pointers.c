@@ -11,8 +11,8 @@
  * inside c (accept_candidate: the way through the chart much longer than the way through
  * space). A candidate counts when it lies within dead_end texel sizes of p, measured in the
  * larger of the median texel size (pgt_atlas_texel_size) and the source's local one, or in the
- * candidate's own local size (ATLAS_DEAD_END_FAR_REACHES); with none, the texel is a dead end
- * (a mesh border).
+ * candidate's own local size away from the mesh border (ATLAS_DEAD_END_FAR_REACHES,
+ * ATLAS_BORDER_TEXELS); with none, the texel is a dead end (a mesh border).
  * Every query is independent: any thread count gives the same bytes. */
 #include <math.h>
 #include <stdlib.h>
@@ -44,7 +44,10 @@ typedef struct ptr_ctx {
     const float *P[3];   /* the position planes */
     double texel_size, dead_end;
     uint32_t *row_counts;   /* 4 per row: indirection, dead end, self seam, outer */
-    double *local; /* per texel, set on inner-boundary texels only: local_step in its chart */
+    /* per texel, set on inner-boundary texels only: local_step in its chart (8 bytes a texel,
+     * 8 MiB at 1024^2; double, the precision the reach has always been computed in) */
+    double *local;
+    uint8_t *near_border;   /* per texel: 1 within ATLAS_BORDER_TEXELS of a mesh-border edge */
     int32_t *classify_cols; /* per worker: 2 W (classify_rows) */
 } ptr_ctx;
 
@@ -155,7 +158,6 @@ typedef struct accept_ctx {
     int32_t sx[8], sy[8]; /* its adjacent inner-boundary texels */
     double local[8];      /* per start: the largest 3D step to its 4-neighbours in the chart */
     uint32_t starts;
-
 } accept_ctx;
 
 /* Squared 3D distance between texels i and j (double). */
@@ -279,10 +281,50 @@ static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
  * when it lies within dead_end of q's own local texel sizes (pgt_kdtree_nearest_reach). A seam
  * whose two sides have texels of very different 3D size (spot's leg caps: 8-13 times) puts the
  * partner of a fine-side texel several of the source's reaches away, but within the partner
- * side's: without this closed spot had 62 dead-end texels. On a mesh border nothing qualifies.
- * The search stops at this many reaches of the source (beyond spot's 13), which bounds what a
- * texel of a degenerate, very long triangle can claim. */
-#define ATLAS_DEAD_END_FAR_REACHES 16.0
+ * side's: without this closed spot had 62 dead-end texels (the farthest of them 1.7 source
+ * reaches from its partner). Not next to the mesh border (ATLAS_BORDER_TEXELS), where nothing
+ * lies across. The search stops at this many reaches of the source: across a seam the partner
+ * lies within about 1.5 of its own texel sizes, 1.5 R / 4 source reaches for texels R times the
+ * source's, so 8 serves seams up to R = 20 and bounds what a texel of a degenerate, very long
+ * triangle can claim. */
+#define ATLAS_DEAD_END_FAR_REACHES 8.0
+
+/* How near (texels, centre to edge) a mesh-border edge passes an outer-boundary texel that keeps
+ * the reach of its own side only: the chart's boundary passes between an outer texel's centre
+ * and the centre of an adjacent inner texel, so within sqrt(2) texels of it; 1.5 takes that
+ * with room for rounding. Such a texel is next to the mesh border (or a corner where the
+ * border meets a seam), where nothing lies across: a candidate found only by counting its own
+ * side's reach would be a texel of some other part of the mesh (pizza's rim, whose texels reach
+ * charts 6 source reaches away through stretched texels). */
+#define ATLAS_BORDER_TEXELS 1.5
+
+/* Marks the texels whose centre lies within ATLAS_BORDER_TEXELS of a mesh-border edge: the
+ * edge is walked in half-texel samples, each testing the 5 x 5 texels around it (the exact
+ * distance to the edge decides). Serial: a mesh has few border edges against its texels. */
+static void mark_border(ptr_ctx *c, const atlas_border *b) {
+    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    for (uint32_t i = 0; b && i < b->count; ++i) {
+        const uint32_t h = b->half_edges[i], f = h / 3u, k0 = h % 3u, k1 = (k0 + 1u) % 3u;
+        const double ax = b->tex[6u * f + 2u * k0], ay = b->tex[6u * f + 2u * k0 + 1u];
+        const double ex = b->tex[6u * f + 2u * k1] - ax, ey = b->tex[6u * f + 2u * k1 + 1u] - ay;
+        const double len2 = ex * ex + ey * ey;
+        const uint32_t samples = 1u + (uint32_t)ceil(2.0 * sqrt(len2));
+        for (uint32_t s = 0; s <= samples; ++s) {
+            const double px = ax + ex * s / samples, py = ay + ey * s / samples;
+            for (int32_t y = (int32_t)floor(py) - 2; y <= (int32_t)floor(py) + 2; ++y)
+                for (int32_t x = (int32_t)floor(px) - 2; x <= (int32_t)floor(px) + 2; ++x) {
+                    if (x < 0 || y < 0 || x >= W || y >= H) continue;
+                    /* the centre's distance to the edge a -> a + e */
+                    const double cx = x + 0.5 - ax, cy = y + 0.5 - ay;
+                    double t = len2 > 0.0 ? (cx * ex + cy * ey) / len2 : 0.0;
+                    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+                    const double dx = cx - t * ex, dy = cy - t * ey;
+                    if (dx * dx + dy * dy <= ATLAS_BORDER_TEXELS * ATLAS_BORDER_TEXELS)
+                        c->near_border[(size_t)y * c->W + (size_t)x] = 1;
+                }
+        }
+    }
+}
 
 /* The first search radius, as a fraction of the dead-end reach: on pizza.obj (4740 charts)
  * 94 % of the pointers lie within 0.3 of the reach and 98 % within 0.4; a miss costs a second,
@@ -343,7 +385,10 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             const double near = ATLAS_POINTER_NEAR_REACH * reach;
             uint32_t hit =
                 pgt_kdtree_nearest(&c->tree, q, (float)(near * near), accept_candidate, &a, &d2);
-            if (hit == PGT_NONE) {
+            if (hit == PGT_NONE && c->near_border[idx]) {
+                hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a,
+                                         &d2);
+            } else if (hit == PGT_NONE) {
                 const double far = ATLAS_DEAD_END_FAR_REACHES * reach;
                 hit = pgt_kdtree_nearest_reach(&c->tree, q, (float)(reach * reach),
                                                (float)(far * far), c->leaf_reach2, c->node_reach2,
@@ -508,8 +553,8 @@ double pgt_atlas_texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch
 }
 
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          int32_t *dest_chart, float dead_end, uint32_t threads,
-                          atlas_pointer_counts *out, pgt_error *err) {
+                          int32_t *dest_chart, float dead_end, const atlas_border *border,
+                          uint32_t threads, atlas_pointer_counts *out, pgt_error *err) {
     const uint32_t W = atlas->width, H = atlas->height;
     ptr_ctx c = {0};
     c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.dest_chart = dest_chart, c.W = W,
@@ -520,10 +565,11 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     const uint32_t workers = pgt_parallel_workers(threads);
     /* written at the inner-boundary texels only, read at random: on huge pages */
     c.local = pgt_alloc_huge(sizeof(double) * (size_t)W * H);
+    c.near_border = calloc((size_t)W * H, 1); /* untouched pages stay unmapped zeros */
     c.classify_cols = malloc(sizeof(int32_t) * 2u * W * workers);
     pgt_result r = PGT_OK;
     memset(out, 0, sizeof(*out));
-    if (!c.row_boundary || !c.row_counts || !c.local || !c.classify_cols) {
+    if (!c.row_boundary || !c.row_counts || !c.local || !c.near_border || !c.classify_cols) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (pointers)");
         goto done;
     }
@@ -553,6 +599,7 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t 
     const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
     out->texel_size = texel_size(atlas, &order, threads, texel_chart);
     c.texel_size = out->texel_size;
+    mark_border(&c, border);
     atlas_parallel_rows(H, W, threads, pointer_rows, &c);
     out->inner_boundary = nb;
     for (uint32_t y = 0; y < H; ++y) {
@@ -564,6 +611,7 @@ done:
     free(c.row_boundary);
     free(c.row_counts);
     free(c.local);
+    free(c.near_border);
     free(c.classify_cols);
     free(c.b_texel);
     free(c.b_chart);

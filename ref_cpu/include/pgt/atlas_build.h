@@ -79,8 +79,9 @@ extern "C" {
  * step between its adjacent inner-boundary texels and their 4-neighbours): where a chart is
  * stretched, its seam partner lies several median texel sizes away. The reach counts on both
  * sides: a candidate farther than that is still taken when it lies within this many of its own
- * local texel sizes (up to 16 times the source's reach), for seams whose two sides have texels
- * of very different 3D size (spot's leg caps: 8-13 times). */
+ * local texel sizes (up to 8 times the source's reach), for seams whose two sides have texels
+ * of very different 3D size (spot's leg caps: 8-13 times); not for an outer texel within 1.5
+ * texels of a mesh-border edge, where nothing lies across. */
 #define PGT_ATLAS_DEFAULT_DEAD_END 4.0f
 
 /* A chart seamed to itself: a candidate texel of the source texel's own chart is allowed only

@@ -67,8 +67,10 @@ uint32_t pgt_kdtree_nearest(const pgt_kdtree *tree, const float q[3], float max_
 /* pgt_kdtree_nearest among the points that reach q: point slot may be returned when its squared
  * distance is <= base_dist2 or <= reach2[slot] (per point, in leaf order), and <= max_dist2.
  * node_reach2 holds pgt_kdtree_node_max of reach2; it lets the search skip cells none of whose
- * points reaches q. For a search whose reach counts on both sides (the atlas's pointers: a
- * coarse seam side lies farther from a fine-side texel than the fine side's reach). */
+ * points reaches q. reach2 must hold no NaN (node_max would drop it while the points' own test
+ * would not, and the answer would then depend on the tree's shape). For a search whose reach counts
+ * on both sides (the atlas's pointers: a coarse seam side lies farther from a fine-side texel than
+ * the fine side's reach). */
 uint32_t pgt_kdtree_nearest_reach(const pgt_kdtree *tree, const float q[3], float base_dist2,
                                   float max_dist2, const float *reach2, const float *node_reach2,
                                   pgt_kdtree_accept_fn accept, const void *ctx, float *out_dist2);
