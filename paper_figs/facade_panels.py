@@ -90,7 +90,7 @@ def main(argv):
             for image in ax.get_images():
                 image.set_interpolation("none")
 
-    figsetup.layout(fig, title=fig_title)
+    figsetup.fit_images(fig, axes, title=fig_title)
     figsetup.save(fig, out, die, pdf_kw={"dpi": figsetup.DPI}, before_pdf=unresampled)
 
 if __name__ == "__main__":

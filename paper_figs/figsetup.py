@@ -118,6 +118,33 @@ def image_grid(shapes, titles, cols, title=None):
     return fig, list(axes.flat)[:n], fig_title
 
 
+def fit_images(fig, axes, title=None):
+    """layout() for an image_grid of images of one aspect (facade_panels.py's frames), at the
+    least figure height where the images still fill their panels' width: an image keeps its
+    aspect, so image_grid's estimate of the pads (generous: up to 0.2 in of blank per row)
+    left blank under the images. The layout's pads do not scale with the height, so the height
+    is found by bisection (a figure too low makes the images height-bound: narrower than their
+    panels). Rows mixing tall and wide images (ivy_scenes.py) keep layout(): a height-bound
+    image has no blank to remove there."""
+    def width_bound(height):
+        fig.set_figheight(height)
+        layout(fig, title=title)
+        fig.canvas.draw()
+        return all(a.get_position().width >= a.get_position(original=True).width - 1e-6
+                   for a in axes)
+    hi = fig.get_figheight()
+    if not width_bound(hi):  # the estimate was already short: keep it
+        return
+    lo = 0.5 * hi
+    for _ in range(7):  # to 1/256 of the estimate (under 0.01 in)
+        mid = 0.5 * (lo + hi)
+        if width_bound(mid):
+            hi = mid
+        else:
+            lo = mid
+    width_bound(hi)
+
+
 def save(fig, prefix, die, pdf_kw=None, before_pdf=None):
     """OUT_PREFIX.png at DPI and OUT_PREFIX.pdf (before_pdf() called between the two, e.g. to
     embed images unresampled); a failed write is die(message) (exit 2)."""
