@@ -865,6 +865,23 @@ static void test_mirrored_charts(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* The unit square's corners, counter-clockwise. */
+static const float square_corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+/* Quad q of m as triangles 2q and 2q + 1 over vertices v[4] (counter-clockwise), its corners
+ * carrying the UV square of side `side` at (u0, v0). */
+static void set_square_quad(pgt_mesh *m, uint32_t q, const uint32_t v[4], float u0, float v0,
+                            float side) {
+    static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (uint32_t t = 0; t < 2; ++t)
+        for (uint32_t c = 0; c < 3; ++c) {
+            const uint32_t k = tri[t][c], f = 2u * q + t;
+            m->indices[3u * f + c] = v[k];
+            m->uvs[6u * f + 2u * c] = u0 + side * square_corner[k][0];
+            m->uvs[6u * f + 2u * c + 1u] = v0 + side * square_corner[k][1];
+        }
+}
+
 /* A closed unit cube, each face a chart of its own in a 3 x 2 grid of UV cells: five faces are
  * squares of side 0.3 and `coarse_face` one of side 0.03, so at 512^2 its texels are ten times
  * the size of the others' in 3D. */
@@ -880,28 +897,21 @@ static pgt_result make_cube_coarse_face(pgt_mesh *m, uint32_t coarse_face, pgt_e
         {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
         {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
         {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}}};
-    static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (uint32_t f = 0; f < 6; ++f) {
         uint32_t idx[4];
         for (uint32_t c = 0; c < 4; ++c) {
             uint32_t v = 0;
             for (uint32_t k = 0; k < 3; ++k) {
-                const float x = 0.5f * face[f][0][k] + (corner[c][0] - 0.5f) * face[f][1][k] +
-                                (corner[c][1] - 0.5f) * face[f][2][k];
+                const float x = 0.5f * face[f][0][k] +
+                                (square_corner[c][0] - 0.5f) * face[f][1][k] +
+                                (square_corner[c][1] - 0.5f) * face[f][2][k];
                 v |= (x > 0.0f ? 1u : 0u) << (2u - k);
             }
             idx[c] = v;
         }
         const float side = f == coarse_face ? 0.03f : 0.3f;
-        const float u0 = (float)(f % 3u) / 3.0f + 0.02f, v0 = (float)(f / 3u) / 2.0f + 0.02f;
-        static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
-        for (uint32_t t = 0; t < 2; ++t)
-            for (uint32_t c = 0; c < 3; ++c) {
-                const uint32_t k = tri[t][c], fi = 2u * f + t;
-                m->indices[3u * fi + c] = idx[k];
-                m->uvs[6u * fi + 2u * c] = u0 + side * corner[k][0];
-                m->uvs[6u * fi + 2u * c + 1u] = v0 + side * corner[k][1];
-            }
+        set_square_quad(m, f, idx, (float)(f % 3u) / 3.0f + 0.02f, (float)(f / 3u) / 2.0f + 0.02f,
+                        side);
     }
     return PGT_OK;
 }
@@ -960,21 +970,14 @@ static void test_open_sheets(void) {
     pgt_mesh m = {0};
     pgt_error err = {0};
     REQUIRE(pgt_mesh_create(&m, 8, 4, 1, 0, &err) == PGT_OK);
-    static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
     for (uint32_t sh = 0; sh < 2; ++sh) {
         const float side = sh ? 0.045f : 0.45f, o = sh ? 0.55f : 0.02f;
+        const uint32_t v[4] = {4u * sh, 4u * sh + 1u, 4u * sh + 2u, 4u * sh + 3u};
         for (uint32_t k = 0; k < 4; ++k) {
-            float *p = &m.positions[3u * (4u * sh + k)];
-            p[0] = corner[k][0], p[1] = corner[k][1], p[2] = sh ? 0.03f : 0.0f;
+            float *p = &m.positions[3u * v[k]];
+            p[0] = square_corner[k][0], p[1] = square_corner[k][1], p[2] = sh ? 0.03f : 0.0f;
         }
-        for (uint32_t t = 0; t < 2; ++t)
-            for (uint32_t c = 0; c < 3; ++c) {
-                const uint32_t f = 2u * sh + t, k = tri[t][c];
-                m.indices[3u * f + c] = 4u * sh + k;
-                m.uvs[6u * f + 2u * c] = o + side * corner[k][0];
-                m.uvs[6u * f + 2u * c + 1u] = o + side * corner[k][1];
-            }
+        set_square_quad(&m, sh, v, o, o, side);
     }
     pgt_image img = {0};
     pgt_atlas_stats st;

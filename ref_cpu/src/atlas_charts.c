@@ -28,6 +28,11 @@ void atlas_charts_destroy(atlas_charts *c) {
     memset(c, 0, sizeof(*c));
 }
 
+/* Half-edge h lies on the mesh border (no opposite half-edge) and its face is rasterized. */
+static int on_border(const pgt_adjacency *adj, const uint32_t *face_chart, uint32_t h) {
+    return adj->opposite[h] == PGT_NONE && face_chart[h / 3u] != PGT_NONE;
+}
+
 /* Union-find root with path halving (iterative). */
 static uint32_t find_root(uint32_t *parent, uint32_t x) {
     while (parent[x] != x) {
@@ -165,8 +170,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
         if (signed_area[c] < 0.0) out->chart_mirrored[c] = 1, out->mirrored++;
     {
         uint32_t n = 0;
-        for (uint32_t h = 0; h < 3u * F; ++h)
-            n += adj.opposite[h] == PGT_NONE && out->face_chart[h / 3u] != PGT_NONE;
+        for (uint32_t h = 0; h < 3u * F; ++h) n += on_border(&adj, out->face_chart, h);
         out->border_half_edges = malloc(sizeof(uint32_t) * (n ? n : 1u));
         if (!out->border_half_edges) {
             free(signed_area);
@@ -175,7 +179,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
             goto done;
         }
         for (uint32_t h = 0; h < 3u * F; ++h)
-            if (adj.opposite[h] == PGT_NONE && out->face_chart[h / 3u] != PGT_NONE)
+            if (on_border(&adj, out->face_chart, h))
                 out->border_half_edges[out->border_count++] = h;
     }
     /* Flip mirrored charts in u, degenerate faces of the chart included (they may be

@@ -385,11 +385,8 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             const double near = ATLAS_POINTER_NEAR_REACH * reach;
             uint32_t hit =
                 pgt_kdtree_nearest(&c->tree, q, (float)(near * near), accept_candidate, &a, &d2);
-            if (hit == PGT_NONE && c->near_border[idx]) {
-                hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_candidate, &a,
-                                         &d2);
-            } else if (hit == PGT_NONE) {
-                const double far = ATLAS_DEAD_END_FAR_REACHES * reach;
+            if (hit == PGT_NONE) { /* next to the mesh border, the source's reach alone */
+                const double far = c->near_border[idx] ? reach : ATLAS_DEAD_END_FAR_REACHES * reach;
                 hit = pgt_kdtree_nearest_reach(&c->tree, q, (float)(reach * reach),
                                                (float)(far * far), c->leaf_reach2, c->node_reach2,
                                                accept_candidate, &a, &d2);

@@ -325,6 +325,13 @@ void pgt_kdtree_destroy(pgt_kdtree *tree) {
     memset(tree, 0, sizeof(*tree));
 }
 
+/* With reaches (reach2 not NULL): no point of the cell of `node`, at squared distance at least
+ * `bound` from the query, lies within the base distance or its own reach. */
+static inline int unreached(const float *reach2, const float *node_reach2, float base_dist2,
+                            uint32_t node, float bound) {
+    return reach2 && bound > base_dist2 && bound > node_reach2[node];
+}
+
 /* The search of pgt_kdtree_nearest and, with `reach2` (leaf order) and `node_reach2`,
  * pgt_kdtree_nearest_reach: inlined into both, so the plain search keeps its own code. A
  * subtree is skipped when the distance bound of its cell exceeds the best distance so far, or
@@ -347,7 +354,7 @@ static inline uint32_t nearest(const pgt_kdtree *tree, const float q[3], float b
         const float bound = stack[top].bound;
         if (bound > best) continue;
         uint32_t node = stack[top].node;
-        if (reach2 && bound > base_dist2 && bound > node_reach2[node]) continue;
+        if (unreached(reach2, node_reach2, base_dist2, node, bound)) continue;
         /* down to a leaf along the near sides, the far sides on the stack; without branches on
          * the side (half of them would be mispredicted): the children are a pair, b == a + 1 */
         const pgt_kdtree_node *n = &tree->nodes[node];
@@ -362,10 +369,7 @@ static inline uint32_t nearest(const pgt_kdtree *tree, const float q[3], float b
             top += far_bound <= best;
             node = n->a + right;
             /* the near side's cell keeps the bound: out of every reach, none of it counts */
-            if (reach2 && bound > base_dist2 && bound > node_reach2[node]) {
-                skip = 1;
-                break;
-            }
+            if ((skip = unreached(reach2, node_reach2, base_dist2, node, bound))) break;
             n = &tree->nodes[node];
         }
         if (skip) continue;
