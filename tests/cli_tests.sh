@@ -879,6 +879,9 @@ cmp -s prot.txt prot_keep.off && ok protect_file_kept || bad protect_file_kept "
 printf '1\0005\n' >prot_nul.txt # strtoull read '1' and dropped the '5'
 expect protect_nul 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_nul.txt
 one_line protect_nul_names_line "prot_nul.txt:1:2: a NUL byte (expected text)"
+printf '0 1\n2,\n3,,4\n' >prot_comma.txt # a trailing comma is a separator, an empty entry a typo
+expect protect_empty_entry 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_comma.txt
+one_line protect_empty_entry_names_column "prot_comma.txt:3:3: ',' without a face index before it"
 printf '0 x1\n' >prot_tok.txt
 expect protect_bad_token 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_tok.txt
 one_line protect_bad_token_names_line "prot_tok.txt:1"

@@ -16,6 +16,8 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
     char tok[32];
     size_t n = 0;
     int in_comment = 0, c;
+    /* a comma must follow an index on its line: "0,1,,2" or ",2" is a typo, not a separator */
+    int index_before_comma = 0;
     pgt_result r = PGT_OK;
     do {
         c = fgetc(f);
@@ -50,10 +52,21 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
                 count += !flags[v];
                 flags[v] = 1;
                 n = 0;
+                index_before_comma = 1;
+            }
+            if (c == ',' && !in_comment) {
+                if (!index_before_comma) {
+                    r = pgt_error_set(err, PGT_ERROR_PARSE,
+                                      "%s:%u:%u: ',' without a face index before it", path, line,
+                                      col);
+                    break;
+                }
+                index_before_comma = 0;
             }
             if (c == '\n') {
                 line++, col = 0;
                 in_comment = 0;
+                index_before_comma = 0;
             }
             continue;
         }

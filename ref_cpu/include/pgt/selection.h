@@ -14,7 +14,8 @@ extern "C" {
 /* Reads a face-index file: face indices (0-based decimal) separated by white space or commas,
  * `#` starting a comment to the end of the line. Sets flags[i] = 1 for each listed face (flags has
  * face_count entries and is cleared first). Errors name the file and line: a token that is not a
- * whole number (PGT_ERROR_PARSE), an index >= face_count (PGT_ERROR_INDEX_RANGE), an unreadable
+ * whole number or a comma with no index before it on its line ("0,,1", ",1": PGT_ERROR_PARSE,
+ * with the column), an index >= face_count (PGT_ERROR_INDEX_RANGE), an unreadable
  * file (PGT_ERROR_IO). Repeated indices are allowed. *out_count receives how many distinct faces
  * were selected (may be NULL). */
 pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *path,
