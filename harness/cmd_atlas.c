@@ -216,6 +216,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
         printf(",\"faces\":%u,\"resolution\":[%u,%u],\"band\":%u,\"k\":%u,\"dead_end\":%g,"
                "\"threads\":%u,\"charts\":%u,\"mirrored_charts\":%u,\"degenerate_faces\":%u,"
                "\"degenerate_charts\":%u,\"empty_charts\":%u,\"fold_over_texels\":%u,"
+               "\"crack_texels\":%u,"
                "\"input_overlap_texels\":%u,\"layout\":\"%s\",\"packing_efficiency\":%.4f,"
                "\"inner_texels\":%u,\"inner_boundary_texels\":%u,\"indirection_texels\":%u,"
                "\"dead_end_texels\":%u,\"self_seam_pointers\":%u,\"texel_size\":%.6g,"
@@ -223,11 +224,11 @@ int pgt_cmd_atlas(int argc, char **argv) {
                "\"pointers_ms\":%.3f,\"angles_ms\":%.3f,\"total_ms\":%.3f,\"write_ms\":%.3f}\n",
                st.faces, st.width, st.height, st.band, st.k, (double)dead_end, threads, st.charts,
                st.mirrored_charts, st.degenerate_faces, st.degenerate_charts, st.empty_charts,
-               st.fold_over_texels, st.overlap_texels, st.repacked ? "repacked" : "kept",
-               st.packing_efficiency, st.inner_texels, st.inner_boundary_texels,
-               st.indirection_texels, st.dead_end_texels, st.self_seam_pointers, st.texel_size,
-               t1 - t0, st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles,
-               st.ms_total, t3 - t2);
+               st.fold_over_texels, st.crack_texels, st.overlap_texels,
+               st.repacked ? "repacked" : "kept", st.packing_efficiency, st.inner_texels,
+               st.inner_boundary_texels, st.indirection_texels, st.dead_end_texels,
+               st.self_seam_pointers, st.texel_size, t1 - t0, st.ms_charts, st.ms_layout,
+               st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total, t3 - t2);
     } else {
         printf("atlas: %s (%u faces) -> %s (%ux%u, band %u, %u threads)\n", in_path, st.faces,
                out_path, st.width, st.height, st.band, threads);
@@ -239,6 +240,8 @@ int pgt_cmd_atlas(int argc, char **argv) {
                100.0 * st.packing_efficiency);
         if (st.overlap_texels) printf(" (input charts overlapped on %u texels)", st.overlap_texels);
         if (st.fold_over_texels) printf(", %u fold-over texels", st.fold_over_texels);
+        if (st.crack_texels)
+            printf(", %u texels filled in the cracks of seams inside a chart", st.crack_texels);
         printf("\n  texels: %u inner (%u inner-boundary), %u indirection (%u into their own "
                "chart), %u dead end; texel size %.4g\n",
                st.inner_texels, st.inner_boundary_texels, st.indirection_texels,

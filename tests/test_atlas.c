@@ -690,47 +690,11 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
     return s;
 }
 
-/* Dead-end texels that are not in a slit of their own chart: a slit is a narrow gap across which
- * the chart continues on both sides within SLIT_TEXELS texels, along a row or a column
- * (not a diagonal: around a concave corner of a chart the two diagonal neighbours are inner
- * texels, but no row or column through the corner's outer texel meets the chart on both sides).
- * bob's input UVs cut such slits inside its charts, one to three texels wide, whose two sides
- * are the same 3D place: a texel touching both has one pointer that can serve only one side,
- * and every candidate is the source's own side or next to it, so they stay dead ends. */
-#define SLIT_TEXELS 4
-static uint32_t dead_ends_off_slits(const pgt_image *img) {
-    static const int32_t dir[2][2] = {{1, 0}, {0, 1}};
-    const int32_t W = (int32_t)img->width, H = (int32_t)img->height;
-    const view v = view_of(img);
-    const float *chart = v.chart, *kind = v.kind;
-    uint32_t off = 0;
-    for (int32_t y = 0; y < H; ++y)
-        for (int32_t x = 0; x < W; ++x) {
-            const size_t i = (size_t)y * (size_t)W + (size_t)x;
-            if (kind[i] != (float)PGT_TEXEL_DEAD_END) continue;
-            int slit = 0;
-            for (int d = 0; d < 2 && !slit; ++d) {
-                int side[2] = {0, 0};
-                for (int s = 0; s < 2; ++s)
-                    for (int32_t t = 1; t <= SLIT_TEXELS && !side[s]; ++t) {
-                        const int32_t sg = s ? -1 : 1, nx = x + sg * t * dir[d][0],
-                                      ny = y + sg * t * dir[d][1];
-                        if (nx < 0 || ny < 0 || nx >= W || ny >= H) break;
-                        const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
-                        side[s] = kind[j] == (float)PGT_TEXEL_INNER && chart[j] == chart[i];
-                    }
-                slit = side[0] && side[1];
-            }
-            off += !slit;
-        }
-    return off;
-}
-
-/* spot and bob_tri at the paper's 1024^2: closed meshes, so no dead end except in slits cut
- * inside a chart (dead_ends_off_slits; bob has 52 such texels, spot none); mirrored chart of
+/* spot and bob_tri at the paper's 1024^2: closed meshes, so no dead end; mirrored chart of
  * spot flipped. Before the reach counted on both sides of a seam (pgt_kdtree_nearest_reach),
- * spot had 62 dead ends off slits, where its leg caps' texels are 8-13 times the size of their
- * neighbours'. */
+ * spot had 62 dead ends, where its leg caps' texels are 8-13 times the size of their
+ * neighbours'; before seam cracks were filled (slit_crack), bob had 52 in the slits its UVs cut
+ * inside its charts. */
 static void test_closed_meshes(void) {
     static const struct {
         const char *name;
@@ -751,10 +715,9 @@ static void test_closed_meshes(void) {
         REQUIRE(build(&m, 1024, 2, 0, &img, &st, &err) == PGT_OK);
         CHECK(st.charts == meshes[k].charts && st.mirrored_charts == meshes[k].mirrored);
         CHECK(st.repacked == 1); /* spot's UVs leave [0,1]; bob's leave no 2-texel band */
-        const uint32_t off = dead_ends_off_slits(&img);
-        printf("  %s: %u dead ends, %u of them off slits\n", meshes[k].name, st.dead_end_texels,
-               off);
-        CHECK(off == 0);
+        printf("  %s: %u dead ends, %u texels filled in seam cracks\n", meshes[k].name,
+               st.dead_end_texels, st.crack_texels);
+        CHECK(st.dead_end_texels == 0);
         double rs = 0.0;
         const symmetry s = check_real_atlas(meshes[k].name, &img, &st, &rs);
         CHECK(s.local_share >= SYMMETRY_SHARE);
@@ -1001,6 +964,140 @@ static void test_open_sheets(void) {
            "texels, %u pointing across\n",
            fine_outer, fine_dead, coarse_outer, coarse_across);
     CHECK(fine_outer > 4u * 200u && fine_dead == fine_outer);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
+/* A plane sheet [0,1]^2 of SLIT_QUADS^2 quads (two triangles each) in ONE chart, cut along
+ * x = 1/2 from the bottom border (y = 0) to the centre: a vertex on the cut has one 3D position
+ * and two UVs, the left faces' shifted by -d(y) in u and the right faces' by +d(y), d(y) =
+ * SLIT_G (1 - 2y) below the centre, 0 above; the shift fades to 0 towards x = 0 and x = 1 (a
+ * tent), so the map is continuous but across the cut. UV = 0.1 + 0.8 (u, y). The crack opens
+ * linearly from the tip (y = 1/2) to the border, where it is 2 SLIT_G 0.8 W texels wide. */
+#define SLIT_QUADS 32u
+#define SLIT_RES 256u
+#define SLIT_G 0.0183 /* 6 texels wide at the border at 256^2: filled from the tip to y ~ 1/4 */
+
+static double slit_shift(double x, double y, int side) {
+    const double d = y < 0.5 ? SLIT_G * (1.0 - 2.0 * y) : 0.0;
+    return side * d * (1.0 - 2.0 * fabs(x - 0.5));
+}
+
+static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
+    const uint32_t n = SLIT_QUADS, nv = n + 1u;
+    pgt_result r = pgt_mesh_create(m, nv * nv, 2u * n * n, 1, 0, err);
+    if (r != PGT_OK) return r;
+    for (uint32_t j = 0; j < nv; ++j)
+        for (uint32_t i = 0; i < nv; ++i) {
+            float *p = &m->positions[3u * (j * nv + i)];
+            p[0] = (float)i / (float)n, p[1] = (float)j / (float)n, p[2] = 0.0f;
+        }
+    uint32_t f = 0;
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t c[4] = {j * nv + i, j * nv + i + 1u, (j + 1u) * nv + i + 1u,
+                                   (j + 1u) * nv + i};
+            const int side = 2u * i + 1u < n ? -1 : 1; /* which side of x = 1/2 the quad is */
+            float uv[4][2];
+            for (int k = 0; k < 4; ++k) {
+                const double x = m->positions[3u * c[k]], y = m->positions[3u * c[k] + 1u];
+                uv[k][0] = (float)(0.1 + 0.8 * (x + slit_shift(x, y, side)));
+                uv[k][1] = (float)(0.1 + 0.8 * y);
+            }
+            const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+            for (int t = 0; t < 2; ++t, ++f)
+                for (int k = 0; k < 3; ++k) {
+                    m->indices[3u * f + (uint32_t)k] = c[tri[t][k]];
+                    m->uvs[6u * f + 2u * (uint32_t)k] = uv[tri[t][k]][0];
+                    m->uvs[6u * f + 2u * (uint32_t)k + 1u] = uv[tri[t][k]][1];
+                }
+        }
+    return PGT_OK;
+}
+
+/* Filled crack texels: P on the cut (x = 1/2, z = 0, y that of the texel row: the two copies
+ * of a cut vertex share v, so the fill's position along the edge is linear in v) to float
+ * rounding of values <= 1. */
+#define SLIT_P_TOL 1e-6
+/* Crack widths within this of PGT_ATLAS_CRACK_TEXELS are not checked either way (the test's
+ * double crack edges against the builder's float corners). */
+#define SLIT_WIDTH_TOL 1e-3
+/* rot of a texel next to the fill against the angle between the two copies of the cut (double
+ * here, from float corners in the builder). */
+#define SLIT_ROT_TOL 1e-4
+
+/* The crack of a seam inside a chart (atlas_fill_cracks, PGT_ATLAS_CRACK_TEXELS): where the
+ * cut's two copies lie within 3 texels every texel between them is an inner texel on the cut in
+ * 3D, no wider part is filled, no texel of the slit is a dead end (this sheet's slit made 24
+ * dead ends before the fill), and the texels where the fill stops point across with rot the
+ * angle between the two copies of the cut, +- by side. */
+static void test_slit_crack(void) {
+    pgt_mesh m = {0};
+    pgt_image img = {0};
+    pgt_atlas_stats st;
+    pgt_error err = {0};
+    REQUIRE(make_slit_sheet(&m, &err) == PGT_OK);
+    REQUIRE(build(&m, SLIT_RES, 2, 0, &img, &st, &err) == PGT_OK);
+    CHECK(st.charts == 1 && st.repacked == 0 && check_contract(&img, st.band) == 0);
+    const view v = view_of(&img);
+    const double W = v.W, H = v.H;
+    uint32_t filled = 0, missed = 0, overfilled = 0, bad_p = 0, slit_dead = 0, junction = 0,
+             bad_rot = 0;
+    /* the copies' texel-space directions going up the cut (y from 0 to 1/2): rot from the left
+     * copy to the right one, for a texel left of the crack pointing right */
+    const double t1x = 0.8 * W * (-slit_shift(0.5, 0.0, -1)), t1y = -0.8 * H * 0.5;
+    const double t2x = 0.8 * W * (-slit_shift(0.5, 0.0, 1)), t2y = t1y;
+    const double rot_lr = atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
+    for (uint32_t ty = 0; ty < v.H; ++ty) {
+        const double y = ((1.0 - (ty + 0.5) / H) - 0.1) / 0.8; /* the texel row's 3D y */
+        const double xl = (0.1 + 0.8 * (0.5 + slit_shift(0.5, y, -1))) * W,
+                     xr = (0.1 + 0.8 * (0.5 + slit_shift(0.5, y, 1))) * W;
+        for (uint32_t tx = 0; tx < v.W; ++tx) {
+            const size_t i = (size_t)ty * v.W + tx;
+            const double cx = tx + 0.5;
+            const int in_crack = y > 0.0 && y < 0.5 && cx > xl && cx < xr;
+            const double width = xr - xl;
+            if (in_crack && v.kind[i] == (float)PGT_TEXEL_INNER) {
+                filled++;
+                bad_p += fabs(v.P[0][i] - 0.5) > SLIT_P_TOL || fabs(v.P[1][i] - y) > SLIT_P_TOL ||
+                         v.P[2][i] != 0.0f;
+            }
+            if (in_crack && width < PGT_ATLAS_CRACK_TEXELS - SLIT_WIDTH_TOL)
+                missed += v.kind[i] != (float)PGT_TEXEL_INNER;
+            if (in_crack && width > PGT_ATLAS_CRACK_TEXELS + SLIT_WIDTH_TOL)
+                overfilled += v.kind[i] == (float)PGT_TEXEL_INNER;
+            /* the slit's texels, away from the mesh border (whose texels are dead ends within
+             * the dead-end threshold of it) */
+            if (fabs(cx - 0.5 * (xl + xr)) <= 4.0 && y > 0.0 &&
+                (double)ty < 0.9 * H - PGT_ATLAS_DEFAULT_DEAD_END - 1.0 &&
+                y < 0.5 + 4.0 / (0.8 * H))
+                slit_dead += v.kind[i] == (float)PGT_TEXEL_DEAD_END;
+            if (v.kind[i] != (float)PGT_TEXEL_INDIRECTION) continue;
+            int next_to_fill = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int32_t nx = (int32_t)tx + dx, ny = (int32_t)ty + dy;
+                    if (nx < 0 || ny < 0 || nx >= (int32_t)v.W || ny >= (int32_t)v.H) continue;
+                    const size_t j = (size_t)ny * v.W + (size_t)nx;
+                    /* a fill texel: inner, on the cut */
+                    next_to_fill |= v.kind[j] == (float)PGT_TEXEL_INNER && v.P[0][j] == 0.5f &&
+                                    nx + 0.5 > xl && nx + 0.5 < xr;
+                }
+            if (!next_to_fill) continue;
+            junction++;
+            const int right = v.pu[i] + 0.5 > 0.5 * (xl + xr); /* points to the right copy */
+            bad_rot += fabs(v.rot[i] - (right ? rot_lr : -rot_lr)) > SLIT_ROT_TOL;
+        }
+    }
+    printf("  slit sheet %u^2: %u crack texels filled (stats %u), %u missed, %u filled beyond "
+           "%.0f texels, %u off the cut; %u dead ends in the slit; %u texels where the fill "
+           "stops, %u with rot off +-%.4f\n",
+           SLIT_RES, filled, st.crack_texels, missed, overfilled, (double)PGT_ATLAS_CRACK_TEXELS,
+           bad_p, slit_dead, junction, bad_rot, rot_lr);
+    CHECK(filled > 0 && filled == st.crack_texels);
+    CHECK(missed == 0 && overfilled == 0 && bad_p == 0);
+    CHECK(slit_dead == 0);
+    CHECK(junction > 0 && bad_rot == 0 && fabs(rot_lr) > 0.01);
     pgt_image_destroy(&img);
     pgt_mesh_destroy(&m);
 }
@@ -1316,6 +1413,7 @@ static const pgt_test_case cases[] = {
     {"open_sheets", test_open_sheets},
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
+    {"slit_crack", test_slit_crack},
     {"mirrored_charts", test_mirrored_charts},
     {"voronoi_atlases", test_voronoi_atlases},
     {"self_seams_and_borders", test_self_seams_and_borders},

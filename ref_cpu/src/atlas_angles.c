@@ -46,6 +46,7 @@
 #include <stdlib.h>
 
 #include "atlas_internal.h"
+#include "pgt/adjacency.h"
 
 static const int32_t ring[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                    {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -289,4 +290,48 @@ pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint
     }
     free(c.outer_hits);
     return r;
+}
+
+/* Squared distance from point (px, py) to the segment a b. */
+static double segment_dist2(const float *a, const float *b, double px, double py) {
+    const double dx = (double)b[0] - a[0], dy = (double)b[1] - a[1], dd = dx * dx + dy * dy;
+    double s = dd > 0.0 ? ((px - a[0]) * dx + (py - a[1]) * dy) / dd : 0.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+    const double ex = a[0] + s * dx - px, ey = a[1] + s * dy - py;
+    return ex * ex + ey * ey;
+}
+
+void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const float *tex,
+                        const uint32_t *crack, const int32_t *dest_chart) {
+    const int32_t W = (int32_t)atlas->width, H = (int32_t)atlas->height;
+    const float *kind = pgt_image_plane(atlas, 7), *chart = pgt_image_plane(atlas, 6);
+    const float *pu = pgt_image_plane(atlas, 8), *pv = pgt_image_plane(atlas, 9);
+    float *rot = pgt_image_plane(atlas, 10);
+    for (int32_t y = 0; y < H; ++y)
+        for (int32_t x = 0; x < W; ++x) {
+            const size_t t = (size_t)y * (size_t)W + (size_t)x;
+            if (kind[t] != (float)PGT_TEXEL_INDIRECTION || dest_chart[t] != (int32_t)chart[t])
+                continue;
+            /* the seam whose crack the texel lies in, else the one whose fill it touches */
+            uint32_t seam = crack[t] & ~ATLAS_CRACK_UNFILLED;
+            for (uint32_t i = 0; i < 8 && !seam; ++i) {
+                const int32_t nx = x + ring[i][0], ny = y + ring[i][1];
+                if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                const uint32_t v = crack[(size_t)ny * (size_t)W + (size_t)nx];
+                if (ATLAS_CRACK_FILLED(v)) seam = v;
+            }
+            if (!seam) continue;
+            const uint32_t h = charts->seam_half_edges[2u * (seam - 1u)],
+                           o = charts->seam_half_edges[2u * (seam - 1u) + 1u];
+            /* copy 0 (a0 b0, h's side) and copy 1 (a1 b1, o's side) of the same 3D edge A B */
+            const float *a0 = &tex[2u * h], *b0 = &tex[2u * pgt_half_edge_next(h)];
+            const float *a1 = &tex[2u * pgt_half_edge_next(o)], *b1 = &tex[2u * o];
+            const double qx = pu[t] + 0.5, qy = pv[t] + 0.5;
+            const int to1 = segment_dist2(a1, b1, qx, qy) < segment_dist2(a0, b0, qx, qy);
+            const float *s0 = to1 ? a0 : a1, *s1 = to1 ? b0 : b1; /* the side left */
+            const float *d0 = to1 ? a1 : a0, *d1 = to1 ? b1 : b0; /* the side entered */
+            const double t1x = (double)s1[0] - s0[0], t1y = (double)s1[1] - s0[1];
+            const double t2x = (double)d1[0] - d0[0], t2y = (double)d1[1] - d0[1];
+            rot[t] = (float)atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
+        }
 }

@@ -103,6 +103,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     uint8_t *kind = NULL;
     int32_t *dest_chart = NULL; /* per outer-boundary texel: its pointer's chart */
     float *normals = NULL;
+    uint32_t *crack = NULL; /* texels filled in seam cracks (atlas_fill_cracks) */
     double t = pgt_now_ms();
     pgt_result r = atlas_charts_build(&charts, mesh, threads, what, err);
     if (r != PGT_OK) return r;
@@ -150,6 +151,17 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     atlas_raster_counts rc;
     r = atlas_raster(mesh, &charts, layout.tex, W, H, normals, out, texel_chart, threads, &rc, err);
     if (r != PGT_OK) goto done;
+    if (charts.seam_count) {
+        crack = calloc((size_t)W * H, sizeof(uint32_t));
+        if (!crack) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%ux%u atlas)", what,
+                              W, H);
+            goto done;
+        }
+        st.crack_texels =
+            atlas_fill_cracks(mesh, &charts, layout.tex, W, H, normals, out, texel_chart, crack);
+    }
+    rc.inner += st.crack_texels;
     st.repacked = layout.repacked;
     st.uv_scale = layout.repacked ? layout.scale : 0.0;
     if (rc.inner == 0) {
@@ -185,7 +197,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     t = pgt_now_ms();
     atlas_pointer_counts pc;
     const atlas_border border = {layout.tex, charts.border_half_edges, charts.border_count};
-    r = atlas_pointers(out, texel_chart, kind, dest_chart, dead_end, &border, threads, &pc, err);
+    r = atlas_pointers(out, texel_chart, st.crack_texels ? crack : NULL, kind, dest_chart, dead_end,
+                       &border, threads, &pc, err);
     if (r != PGT_OK) goto done;
     st.inner_boundary_texels = pc.inner_boundary;
     st.indirection_texels = pc.indirection;
@@ -197,12 +210,14 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     t = pgt_now_ms();
     r = atlas_angles(out, texel_chart, kind, dest_chart, k, threads, err);
     if (r != PGT_OK) goto done;
+    if (st.crack_texels) atlas_crack_angles(out, &charts, layout.tex, crack, dest_chart);
     st.ms_angles = pgt_now_ms() - t;
 done:
     free(texel_chart);
     free(kind);
     free(dest_chart);
     free(normals);
+    free(crack);
     atlas_layout_destroy(&layout);
     atlas_charts_destroy(&charts);
     if (r != PGT_OK) {

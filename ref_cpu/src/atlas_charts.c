@@ -25,12 +25,30 @@ void atlas_charts_destroy(atlas_charts *c) {
     free(c->chart_area_uv);
     free(c->chart_area_3d);
     free(c->border_half_edges);
+    free(c->seam_half_edges);
     memset(c, 0, sizeof(*c));
 }
 
 /* Half-edge h lies on the mesh border (no opposite half-edge) and its face is rasterized. */
 static int on_border(const pgt_adjacency *adj, const uint32_t *face_chart, uint32_t h) {
     return adj->opposite[h] == PGT_NONE && face_chart[h / 3u] != PGT_NONE;
+}
+
+/* The corners of half-edge h and of its opposite o carry the same UVs on both sides: h runs
+ * corner c -> c+1 of its face, o the other way, so corner c of h's face meets corner next(o)
+ * of o's face, and next(h) meets o. */
+static int same_uvs(const float *uvs, uint32_t h, uint32_t o) {
+    const float *a0 = &uvs[2u * h], *a1 = &uvs[2u * pgt_half_edge_next(h)];
+    const float *b0 = &uvs[2u * pgt_half_edge_next(o)], *b1 = &uvs[2u * o];
+    return a0[0] == b0[0] && a0[1] == b0[1] && a1[0] == b1[0] && a1[1] == b1[1];
+}
+
+/* Half-edge h (the smaller of the pair) is a seam inside one rasterized chart. */
+static int inside_seam(const pgt_adjacency *adj, const uint32_t *face_chart, const float *uvs,
+                       uint32_t h) {
+    const uint32_t o = adj->opposite[h];
+    return o != PGT_NONE && o > h && face_chart[h / 3u] != PGT_NONE &&
+           face_chart[h / 3u] == face_chart[o / 3u] && !same_uvs(uvs, h, o);
 }
 
 /* Union-find root with path halving (iterative). */
@@ -98,12 +116,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     for (uint32_t f = 0; f < F; ++f) parent[f] = f;
     for (uint32_t h = 0; h < 3u * F; ++h) {
         const uint32_t o = adj.opposite[h];
-        if (o == PGT_NONE || o < h) continue;
-        /* h runs corner c -> c+1 of its face, o the other way: corner c of h's face meets
-         * corner next(o) of o's face, and next(h) meets o. */
-        const float *a0 = &m->uvs[2u * h], *a1 = &m->uvs[2u * pgt_half_edge_next(h)];
-        const float *b0 = &m->uvs[2u * pgt_half_edge_next(o)], *b1 = &m->uvs[2u * o];
-        if (a0[0] != b0[0] || a0[1] != b0[1] || a1[0] != b1[0] || a1[1] != b1[1]) continue;
+        if (o == PGT_NONE || o < h || !same_uvs(m->uvs, h, o)) continue;
         const uint32_t ra = find_root(parent, h / 3u), rb = find_root(parent, o / 3u);
         if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* root = smallest face */
     }
@@ -169,18 +182,28 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     for (uint32_t c = 0; c < charts; ++c)
         if (signed_area[c] < 0.0) out->chart_mirrored[c] = 1, out->mirrored++;
     {
-        uint32_t n = 0;
-        for (uint32_t h = 0; h < 3u * F; ++h) n += on_border(&adj, out->face_chart, h);
-        out->border_half_edges = malloc(sizeof(uint32_t) * (n ? n : 1u));
-        if (!out->border_half_edges) {
+        /* the mesh border and the seams inside a chart: counted, then listed */
+        uint32_t nb = 0, ns = 0;
+        for (uint32_t h = 0; h < 3u * F; ++h) {
+            nb += on_border(&adj, out->face_chart, h);
+            ns += inside_seam(&adj, out->face_chart, m->uvs, h);
+        }
+        out->border_half_edges = malloc(sizeof(uint32_t) * (nb ? nb : 1u));
+        out->seam_half_edges = malloc(sizeof(uint32_t) * 2u * (ns ? ns : 1u));
+        if (!out->border_half_edges || !out->seam_half_edges) {
             free(signed_area);
             free(box);
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (charts)", what);
             goto done;
         }
-        for (uint32_t h = 0; h < 3u * F; ++h)
+        for (uint32_t h = 0; h < 3u * F; ++h) {
             if (on_border(&adj, out->face_chart, h))
                 out->border_half_edges[out->border_count++] = h;
+            if (inside_seam(&adj, out->face_chart, m->uvs, h)) {
+                out->seam_half_edges[2u * out->seam_count] = h;
+                out->seam_half_edges[2u * out->seam_count++ + 1u] = adj.opposite[h];
+            }
+        }
     }
     /* Flip mirrored charts in u, degenerate faces of the chart included (they may be
      * rasterized by nobody, but keep the chart's UVs consistent). */

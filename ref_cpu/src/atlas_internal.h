@@ -25,6 +25,10 @@ typedef struct atlas_charts {
     /* the mesh border: half-edges h = 3 f + c of rasterized faces (face_chart != PGT_NONE)
      * without an opposite half-edge (pgt_adjacency; non-manifold edges count too) */
     uint32_t *border_half_edges, border_count;
+    /* seams inside one chart: pairs of opposite half-edges (h, o), both faces rasterized and in
+     * the same chart, whose corners carry other UVs on the two sides (a slit or a cylinder cut
+     * inside the chart); 2 * seam_count entries */
+    uint32_t *seam_half_edges, seam_count;
 } atlas_charts;
 
 pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *mesh, uint32_t threads,
@@ -45,6 +49,20 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
                         uint32_t width, uint32_t height, const float *vertex_normals,
                         pgt_image *atlas, int32_t *texel_chart, uint32_t threads,
                         atlas_raster_counts *out_counts, pgt_error *err);
+
+/* Step 3b (atlas_raster.c): fills the cracks of the seams inside a chart (atlas_build.h,
+ * PGT_ATLAS_CRACK_TEXELS): every texel no triangle covers (texel_chart -1) whose centre lies in
+ * the quad between the two texel-space copies of such a seam edge, where the copies lie at most
+ * PGT_ATLAS_CRACK_TEXELS apart, becomes an inner texel of the chart with P on the 3D edge and N
+ * between its ends' vertex normals. Serial, in seam order (the first quad wins a texel). Returns
+ * the number of texels filled; crack (width * height, zeroed by the caller) gets 1 + the index
+ * of the filling seam (in seam_half_edges) at each, and ATLAS_CRACK_UNFILLED | (1 + index) at
+ * the uncovered texels of the same quads where the copies lie farther apart (not filled). */
+#define ATLAS_CRACK_UNFILLED 0x80000000u
+#define ATLAS_CRACK_FILLED(v) ((v) != 0u && !((v)&ATLAS_CRACK_UNFILLED))
+uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
+                           uint32_t width, uint32_t height, const float *vertex_normals,
+                           pgt_image *atlas, int32_t *texel_chart, uint32_t *crack);
 
 /* Area-weighted vertex normals (3 * vertex_count floats, unit or 0). */
 pgt_result atlas_vertex_normals(const pgt_mesh *mesh, float **out, pgt_error *err);
@@ -75,7 +93,8 @@ void atlas_layout_destroy(atlas_layout *l);
 uint32_t atlas_band_violations(const int32_t *texel_chart, uint32_t width, uint32_t height,
                                uint32_t band, uint32_t threads);
 
-/* Step 4 (atlas_pointers.c): classifies texels into `kind` (width * height bytes: INNER,
+/* Step 4 (atlas_pointers.c), crack as atlas_fill_cracks marks it (NULL: no texel filled):
+ * classifies texels into `kind` (width * height bytes: INNER,
  * INDIRECTION for every outer-boundary texel, BACKGROUND; bit 0x80 marks an inner-boundary
  * texel), fills the planes of the outer-boundary texels (P, chart, kind: indirection or dead
  * end, ptr) and ptr/rot of all others, and measures the texel size. dest_chart (width * height)
@@ -96,14 +115,25 @@ typedef struct atlas_border {
     uint32_t count;
 } atlas_border;
 
-pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          int32_t *dest_chart, float dead_end, const atlas_border *border,
-                          uint32_t threads, atlas_pointer_counts *out, pgt_error *err);
+pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const uint32_t *crack,
+                          uint8_t *kind, int32_t *dest_chart, float dead_end,
+                          const atlas_border *border, uint32_t threads, atlas_pointer_counts *out,
+                          pgt_error *err);
 
 /* Step 6 (atlas_angles.c): the rot plane of every indirection texel (5.2), from atlas_pointers'
  * kind and dest_chart. */
 pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
                         const int32_t *dest_chart, uint32_t k, uint32_t threads, pgt_error *err);
+
+/* Step 6b (atlas_angles.c): rot of the indirection texels in the crack of a seam that
+ * atlas_fill_cracks filled in part, or next to a crack's fill, whose pointer leads into their
+ * own chart (across the crack where it is not filled): the angle from
+ * one texel-space copy of the filling seam edge to the other, towards the copy nearer to the
+ * pointer's texel. The two copies are the same 3D edge, so this is 5.2's t1 -> t2 exactly,
+ * where the boundary walks go round the end of the fill and give no tangent of the seam.
+ * crack as atlas_fill_cracks fills it. */
+void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const float *tex,
+                        const uint32_t *crack, const int32_t *dest_chart);
 
 /* Runs fn over the rows [0, rows) of a width-wide grid in parallel (pgt_parallel_for_items
  * with a row weighing `width` texels); callers pass other items with their weight too (raster

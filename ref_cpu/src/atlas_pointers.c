@@ -29,6 +29,7 @@ static const int32_t nb8[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
 typedef struct ptr_ctx {
     pgt_image *atlas;
     const int32_t *chart;
+    const uint32_t *crack; /* per texel: atlas_fill_cracks's record, or NULL */
     uint8_t *kind;
     int32_t *dest_chart;
     uint32_t W, H;
@@ -158,6 +159,8 @@ typedef struct accept_ctx {
     int32_t sx[8], sy[8]; /* its adjacent inner-boundary texels */
     double local[8];      /* per start: the largest 3D step to its 4-neighbours in the chart */
     uint32_t starts;
+    int crack_only; /* every start is a texel filled in a seam's crack */
+    int in_crack;   /* the texel lies in a seam's crack (filled in part) or touches its fill */
 } accept_ctx;
 
 /* Squared 3D distance between texels i and j (double). */
@@ -242,17 +245,23 @@ static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
      * neighbours along the boundary (a line inside the chart, near the source): both are
      * refused below without a 3D step, so they are refused here first */
     if (n == 0) return 0;
+    /* an outer texel touching only a crack's fill (where a crack stops being filled, between
+     * its two sides): any texel of the chart but its starts is across */
+    if (a->crack_only) return 1;
     const double dx = (double)qx - a->x, dy = (double)qy - a->y;
     const int far = dx * dx + dy * dy >
                     (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS * (double)PGT_ATLAS_SELF_SEAM_MIN_TEXELS;
-    if (!far) { /* only a line that leaves the chart can be accepted */
+    if (!far || a->in_crack) {
         int32_t i = 1;
         for (; i <= n; ++i) {
             const int32_t x = x0 + (int32_t)floor(ex * (double)i / n + 0.5);
             const int32_t y = y0 + (int32_t)floor(ey * (double)i / n + 0.5);
             if (c->chart[(size_t)y * c->W + (size_t)x] != a->chart) break;
         }
-        if (i > n) return 0;
+        /* across a crack (its sides the same 3D place, its texels none: the path below has
+         * nothing to measure) a line leaving the chart is enough */
+        if (i <= n && a->in_crack) return 1;
+        if (i > n && !far) return 0; /* only a line that leaves the chart can be accepted */
     }
     const double local = a->local[best];
     const double limit = ATLAS_SELF_SEAM_PATH_RATIO * dist3(c, s0, t);
@@ -355,16 +364,27 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             uint32_t n = 0;
             accept_ctx a;
             a.c = c, a.x = x, a.y = y;
-            for (uint32_t i = 0; i < 8; ++i) {
-                const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
-                if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-                const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
-                if (!(c->kind[j] & ATLAS_KIND_BOUNDARY_BIT)) continue;
-                chart = c->chart[j];
-                for (uint32_t k = 0; k < 3; ++k) p[k] += P[k][j];
-                a.sx[n] = nx, a.sy[n] = ny;
-                n++;
-            }
+            /* texels filled in a seam's crack (atlas_fill_cracks) lie on the seam itself, at
+             * the same 3D place as both its sides: they are starts only where nothing else
+             * is (then the own chart's other texels are candidates, crack_only) */
+            int pass = 0, touches_fill = 0;
+            for (; pass < 2 && n == 0; ++pass)
+                for (uint32_t i = 0; i < 8; ++i) {
+                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                    const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
+                    if (!(c->kind[j] & ATLAS_KIND_BOUNDARY_BIT)) continue;
+                    if (pass == 0 && c->crack && ATLAS_CRACK_FILLED(c->crack[j])) {
+                        touches_fill = 1;
+                        continue;
+                    }
+                    chart = c->chart[j];
+                    for (uint32_t k = 0; k < 3; ++k) p[k] += P[k][j];
+                    a.sx[n] = nx, a.sy[n] = ny;
+                    n++;
+                }
+            a.crack_only = pass == 2;
+            a.in_crack = touches_fill || (c->crack && c->crack[idx]);
             /* n >= 1: an inner texel 8-adjacent to a non-inner texel has a non-inner
              * 4-neighbour (the texel itself, or one of the two texels between them) */
             const float q[3] = {(float)(p[0] / n), (float)(p[1] / n), (float)(p[2] / n)};
@@ -549,13 +569,14 @@ double pgt_atlas_texel_size(const pgt_image *atlas, const pgt_atlas_channels *ch
     return texel_size(atlas, ch, 1, NULL);
 }
 
-pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, uint8_t *kind,
-                          int32_t *dest_chart, float dead_end, const atlas_border *border,
-                          uint32_t threads, atlas_pointer_counts *out, pgt_error *err) {
+pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const uint32_t *crack,
+                          uint8_t *kind, int32_t *dest_chart, float dead_end,
+                          const atlas_border *border, uint32_t threads, atlas_pointer_counts *out,
+                          pgt_error *err) {
     const uint32_t W = atlas->width, H = atlas->height;
     ptr_ctx c = {0};
-    c.atlas = atlas, c.chart = texel_chart, c.kind = kind, c.dest_chart = dest_chart, c.W = W,
-    c.H = H;
+    c.atlas = atlas, c.chart = texel_chart, c.crack = crack, c.kind = kind,
+    c.dest_chart = dest_chart, c.W = W, c.H = H;
     for (uint32_t k = 0; k < 3; ++k) c.P[k] = pgt_image_plane(atlas, k);
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
     c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));

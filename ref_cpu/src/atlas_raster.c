@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "atlas_internal.h"
+#include "pgt/adjacency.h"
 #include "pgt/parallel.h"
 
 /* Rows per raster tile: small enough for two threads to balance on a 1024-row atlas (128
@@ -183,6 +184,91 @@ static void raster_tiles(void *vctx, uint32_t t_begin, uint32_t t_end, uint32_t 
                 }
         c->tile_counts[t] = cnt;
     }
+}
+
+/* Barycentrics (l0, l1, l2) of the texel centre (px, py) in triangle (v0, v1, v2), inside or
+ * on it; 0 when outside or when the triangle has no area. */
+static int triangle_bary(const float *v0, const float *v1, const float *v2, double px, double py,
+                         double l[3]) {
+    const edge_fn e12 = edge_make(v1, v2), e20 = edge_make(v2, v0), e01 = edge_make(v0, v1);
+    const double orient = edge_eval(&e01, v2[0], v2[1]) >= 0.0 ? 1.0 : -1.0;
+    const double w0 = orient * edge_eval(&e12, px, py), w1 = orient * edge_eval(&e20, px, py),
+                 w2 = orient * edge_eval(&e01, px, py);
+    const double sum = w0 + w1 + w2;
+    if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0 || !(sum > 0.0)) return 0;
+    l[0] = w0 / sum, l[1] = w1 / sum, l[2] = w2 / sum;
+    return 1;
+}
+
+/* Length of (1 - s) a + s b, the 2D vectors a and b, at its smallest over s in [0, 1]. */
+static double segment_min_length(double ax, double ay, double bx, double by) {
+    const double dx = bx - ax, dy = by - ay, dd = dx * dx + dy * dy;
+    double s = dd > 0.0 ? -(ax * dx + ay * dy) / dd : 0.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+    return hypot(ax + s * dx, ay + s * dy);
+}
+
+uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
+                           uint32_t W, uint32_t H, const float *normals, pgt_image *atlas,
+                           int32_t *texel_chart, uint32_t *crack) {
+    uint32_t filled = 0;
+    for (uint32_t i = 0; i < charts->seam_count; ++i) {
+        const uint32_t h = charts->seam_half_edges[2u * i],
+                       o = charts->seam_half_edges[2u * i + 1u];
+        const uint32_t chart = charts->face_chart[h / 3u];
+        /* the two copies of the edge: a0 b0 on h's side, a1 b1 on o's (same 3D ends A, B) */
+        const float *a0 = &tex[2u * h], *b0 = &tex[2u * pgt_half_edge_next(h)];
+        const float *a1 = &tex[2u * pgt_half_edge_next(o)], *b1 = &tex[2u * o];
+        const double dax = (double)a0[0] - a1[0], day = (double)a0[1] - a1[1];
+        const double dbx = (double)b0[0] - b1[0], dby = (double)b0[1] - b1[1];
+        if (segment_min_length(dax, day, dbx, dby) > PGT_ATLAS_CRACK_TEXELS) continue;
+        double xmin = a0[0], xmax = a0[0], ymin = a0[1], ymax = a0[1];
+        const float *q[4] = {a0, b0, b1, a1};
+        for (int k = 1; k < 4; ++k) {
+            xmin = fmin(xmin, q[k][0]), xmax = fmax(xmax, q[k][0]);
+            ymin = fmin(ymin, q[k][1]), ymax = fmax(ymax, q[k][1]);
+        }
+        const double c0 = fmax(0.0, ceil(xmin - 0.5)), c1 = fmin(W - 1.0, floor(xmax - 0.5));
+        const double r0 = fmax(0.0, ceil(ymin - 0.5)), r1 = fmin(H - 1.0, floor(ymax - 0.5));
+        if (!(c0 <= c1) || !(r0 <= r1)) continue;
+        const uint32_t ia = mesh->indices[h], ib = mesh->indices[pgt_half_edge_next(h)];
+        for (uint32_t y = (uint32_t)r0; y <= (uint32_t)r1; ++y)
+            for (uint32_t x = (uint32_t)c0; x <= (uint32_t)c1; ++x) {
+                const size_t idx = (size_t)y * W + x;
+                if (texel_chart[idx] >= 0) continue;
+                if (crack[idx] & ATLAS_CRACK_UNFILLED) crack[idx] = 0; /* may be filled below */
+                /* the quad a0 b0 b1 a1 as (a0, b0, b1) and (a0, b1, a1); s: 0 at A, 1 at B */
+                double l[3], s;
+                if (triangle_bary(a0, b0, b1, x + 0.5, y + 0.5, l))
+                    s = l[1] + l[2];
+                else if (triangle_bary(a0, b1, a1, x + 0.5, y + 0.5, l))
+                    s = l[1];
+                else
+                    continue;
+                if (hypot((1.0 - s) * dax + s * dbx, (1.0 - s) * day + s * dby) >
+                    PGT_ATLAS_CRACK_TEXELS) {
+                    if (!crack[idx]) crack[idx] = ATLAS_CRACK_UNFILLED | (i + 1u);
+                    continue;
+                }
+                texel_chart[idx] = (int32_t)chart;
+                crack[idx] = i + 1u;
+                filled++;
+                double n[3], len = 0.0;
+                for (uint32_t k = 0; k < 3; ++k) {
+                    const double pa = mesh->positions[3u * ia + k],
+                                 pb = mesh->positions[3u * ib + k];
+                    pgt_image_plane(atlas, k)[idx] = (float)((1.0 - s) * pa + s * pb);
+                    n[k] = (1.0 - s) * normals[3u * ia + k] + s * normals[3u * ib + k];
+                    len += n[k] * n[k];
+                }
+                len = sqrt(len);
+                for (uint32_t k = 0; k < 3; ++k)
+                    pgt_image_plane(atlas, 3u + k)[idx] = len > 0.0 ? (float)(n[k] / len) : 0.0f;
+                pgt_image_plane(atlas, 6)[idx] = (float)chart;
+                pgt_image_plane(atlas, 7)[idx] = (float)PGT_TEXEL_INNER;
+            }
+    }
+    return filled;
 }
 
 pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,

@@ -9,7 +9,9 @@
  *                               other at this resolution, else repack (one global scale so the
  *                               3D size of a texel is the same in every chart, minimum-area
  *                               rotation, skyline packing)
- *   raster   (atlas_raster.c)   P, N, chart per texel centre covered by a chart triangle
+ *   raster   (atlas_raster.c)   P, N, chart per texel centre covered by a chart triangle,
+ *                               and in the narrow cracks of seams inside a chart
+ *                               (PGT_ATLAS_CRACK_TEXELS)
  *   pointers (atlas_pointers.c) outer-boundary texels -> nearest inner-boundary texel of another
  *                               chart in 3D (kd-tree, kdtree.h), or dead end
  *   angles   (atlas_angles.c)   the rotation `rot` of each indirection texel from boundary walks
@@ -95,6 +97,18 @@ extern "C" {
  * along it) fails the path test: it stays a dead end. */
 #define PGT_ATLAS_SELF_SEAM_MIN_TEXELS 4.0f
 
+/* A seam inside one chart (an edge whose two faces are in the chart with other UVs on the two
+ * sides: a slit cut into the chart, the tip of a cut) leaves a crack between the two texel-space
+ * copies of the edge, with no 3D width: both copies are the same 3D edge. Where the copies lie
+ * at most this many texels apart, the texels of the crack that no triangle covers are filled
+ * (inner texels of the chart, P on the 3D edge, atlas_raster.c): an outer texel there would
+ * touch both sides, and one pointer cannot lead a walker from either side to the other (every
+ * candidate is its own side's, refused; bob_tri's slits made 52 dead ends on a closed mesh).
+ * Two copies 2 texels apart across a diagonal leave texels touching both sides (8-adjacency
+ * reaches sqrt(2) across), 3 covers that; farther apart the crack's outer texels each touch one
+ * side and point across it (PGT_ATLAS_SELF_SEAM_MIN_TEXELS). */
+#define PGT_ATLAS_CRACK_TEXELS 3.0f
+
 /* A UV triangle whose area (in UV units squared, as a double) is at most this is degenerate:
  * it covers no texel centre at any supported resolution (16384^2 texels: a texel is 3.7e-9 in
  * UV area; 1e-14 is a sliver far thinner than any texel) and its barycentrics are unstable. */
@@ -120,6 +134,7 @@ typedef struct pgt_atlas_stats {
     uint32_t degenerate_charts; /* charts of degenerate triangles only (dropped) */
     uint32_t empty_charts;      /* charts that cover no texel centre at this resolution */
     uint32_t fold_over_texels;  /* texels covered by two triangles of one chart */
+    uint32_t crack_texels;      /* texels filled in the cracks of seams inside a chart */
     uint32_t overlap_texels;    /* input layout only: texels covered by two charts */
     int repacked;               /* 0: input UVs kept; 1: charts repacked */
     double packing_efficiency;  /* inner texels / (width * height) */
