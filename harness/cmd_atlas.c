@@ -49,8 +49,10 @@ static const char *atlas_usage =
     "\n"
     "Prints charts, mirrored charts, degenerate UV triangles, inner / inner-boundary /\n"
     "indirection / dead-end texels, whether the layout was kept or repacked, the packing\n"
-    "efficiency (inner texels / N^2) and ms per stage. Exit 0 on success, 2 on a bad flag or\n"
-    "input (a mesh without UVs, a resolution too small for the charts, ...).\n";
+    "efficiency (inner texels / N^2), the texels filled in the cracks of seams inside a chart\n"
+    "(a slit cut into a chart: where its two sides lie within 3 texels its texels become inner\n"
+    "texels on the seam in 3D) and ms per stage. Exit 0 on success, 2 on a bad flag or input\n"
+    "(a mesh without UVs, a resolution too small for the charts, ...).\n";
 
 /* A bright colour per chart id (counter-based hash, so the picture is stable). */
 static void chart_colour(uint32_t chart, float rgb[3]) {
