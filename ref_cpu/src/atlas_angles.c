@@ -46,7 +46,6 @@
 #include <stdlib.h>
 
 #include "atlas_internal.h"
-#include "pgt/adjacency.h"
 
 static const int32_t ring[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                    {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
@@ -292,13 +291,9 @@ pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint
     return r;
 }
 
-/* Squared distance from point (px, py) to the segment a b. */
+/* Squared distance from (px, py) to the segment a b of two texel-space points. */
 static double segment_dist2(const float *a, const float *b, double px, double py) {
-    const double dx = (double)b[0] - a[0], dy = (double)b[1] - a[1], dd = dx * dx + dy * dy;
-    double s = dd > 0.0 ? ((px - a[0]) * dx + (py - a[1]) * dy) / dd : 0.0;
-    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
-    const double ex = a[0] + s * dx - px, ey = a[1] + s * dy - py;
-    return ex * ex + ey * ey;
+    return atlas_segment_dist2(a[0], a[1], b[0], b[1], px, py);
 }
 
 void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const float *tex,
@@ -321,11 +316,10 @@ void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const floa
                 if (ATLAS_CRACK_FILLED(v)) seam = v;
             }
             if (!seam) continue;
-            const uint32_t h = charts->seam_half_edges[2u * (seam - 1u)],
-                           o = charts->seam_half_edges[2u * (seam - 1u) + 1u];
             /* copy 0 (a0 b0, h's side) and copy 1 (a1 b1, o's side) of the same 3D edge A B */
-            const float *a0 = &tex[2u * h], *b0 = &tex[2u * pgt_half_edge_next(h)];
-            const float *a1 = &tex[2u * pgt_half_edge_next(o)], *b1 = &tex[2u * o];
+            const float *q[4];
+            atlas_seam_copies(charts, tex, seam - 1u, q);
+            const float *a0 = q[0], *b0 = q[1], *a1 = q[2], *b1 = q[3];
             const double qx = pu[t] + 0.5, qy = pv[t] + 0.5;
             const int to1 = segment_dist2(a1, b1, qx, qy) < segment_dist2(a0, b0, qx, qy);
             const float *s0 = to1 ? a0 : a1, *s1 = to1 ? b0 : b1; /* the side left */

@@ -5,6 +5,7 @@
 
 #include <stdint.h>
 
+#include "pgt/adjacency.h"
 #include "pgt/atlas_build.h"
 #include "pgt/image.h"
 #include "pgt/mesh.h"
@@ -30,6 +31,27 @@ typedef struct atlas_charts {
      * inside the chart); 2 * seam_count entries */
     uint32_t *seam_half_edges, seam_count;
 } atlas_charts;
+
+/* The two texel-space copies of seam s (seam_half_edges[2 s], [2 s + 1] = h, o) in tex (6
+ * floats per face): out = {a0, b0, a1, b1}, a0 b0 on h's side, a1 b1 on o's; the a's are one 3D
+ * vertex (h's corner c), the b's another (c + 1): h runs c -> c+1, o the other way, so corner c
+ * meets next(o) and next(h) meets o. */
+static inline void atlas_seam_copies(const atlas_charts *ch, const float *tex, uint32_t s,
+                                     const float *out[4]) {
+    const uint32_t h = ch->seam_half_edges[2u * s], o = ch->seam_half_edges[2u * s + 1u];
+    out[0] = &tex[2u * h], out[1] = &tex[2u * pgt_half_edge_next(h)];
+    out[2] = &tex[2u * pgt_half_edge_next(o)], out[3] = &tex[2u * o];
+}
+
+/* Squared distance from (px, py) to the segment from (ax, ay) to (bx, by). */
+static inline double atlas_segment_dist2(double ax, double ay, double bx, double by, double px,
+                                         double py) {
+    const double dx = bx - ax, dy = by - ay, dd = dx * dx + dy * dy;
+    double s = dd > 0.0 ? ((px - ax) * dx + (py - ay) * dy) / dd : 0.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+    const double ex = ax + s * dx - px, ey = ay + s * dy - py;
+    return ex * ex + ey * ey;
+}
 
 pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *mesh, uint32_t threads,
                               const char *what, pgt_error *err);

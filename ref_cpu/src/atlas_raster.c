@@ -18,7 +18,6 @@
 #include <string.h>
 
 #include "atlas_internal.h"
-#include "pgt/adjacency.h"
 #include "pgt/parallel.h"
 
 /* Rows per raster tile: small enough for two threads to balance on a 1024-row atlas (128
@@ -186,6 +185,22 @@ static void raster_tiles(void *vctx, uint32_t t_begin, uint32_t t_end, uint32_t 
     }
 }
 
+/* The texel rows and columns whose centres (x + 0.5, y + 0.5) can lie in the convex hull of
+ * the n points p, clamped to the image: box = {row0, row1, col0, col1}; 0 when none. */
+static int texel_box(const float *const *p, uint32_t n, uint32_t W, uint32_t H, int32_t box[4]) {
+    double xmin = p[0][0], xmax = p[0][0], ymin = p[0][1], ymax = p[0][1];
+    for (uint32_t k = 1; k < n; ++k) {
+        xmin = fmin(xmin, p[k][0]), xmax = fmax(xmax, p[k][0]);
+        ymin = fmin(ymin, p[k][1]), ymax = fmax(ymax, p[k][1]);
+    }
+    /* texel x is covered only if xmin <= x + 0.5 <= xmax */
+    const double c0 = fmax(0.0, ceil(xmin - 0.5)), c1 = fmin(W - 1.0, floor(xmax - 0.5));
+    const double r0 = fmax(0.0, ceil(ymin - 0.5)), r1 = fmin(H - 1.0, floor(ymax - 0.5));
+    if (!(c0 <= c1) || !(r0 <= r1)) return 0;
+    box[0] = (int32_t)r0, box[1] = (int32_t)r1, box[2] = (int32_t)c0, box[3] = (int32_t)c1;
+    return 1;
+}
+
 /* Barycentrics (l0, l1, l2) of the texel centre (px, py) in triangle (v0, v1, v2), inside or
  * on it; 0 when outside or when the triangle has no area. */
 static int triangle_bary(const float *v0, const float *v1, const float *v2, double px, double py,
@@ -200,43 +215,29 @@ static int triangle_bary(const float *v0, const float *v1, const float *v2, doub
     return 1;
 }
 
-/* Length of (1 - s) a + s b, the 2D vectors a and b, at its smallest over s in [0, 1]. */
-static double segment_min_length(double ax, double ay, double bx, double by) {
-    const double dx = bx - ax, dy = by - ay, dd = dx * dx + dy * dy;
-    double s = dd > 0.0 ? -(ax * dx + ay * dy) / dd : 0.0;
-    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
-    return hypot(ax + s * dx, ay + s * dy);
-}
-
 uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
                            uint32_t W, uint32_t H, const float *normals, pgt_image *atlas,
                            int32_t *texel_chart, uint32_t *crack) {
     uint32_t filled = 0;
     for (uint32_t i = 0; i < charts->seam_count; ++i) {
-        const uint32_t h = charts->seam_half_edges[2u * i],
-                       o = charts->seam_half_edges[2u * i + 1u];
+        const uint32_t h = charts->seam_half_edges[2u * i];
         const uint32_t chart = charts->face_chart[h / 3u];
         /* the two copies of the edge: a0 b0 on h's side, a1 b1 on o's (same 3D ends A, B) */
-        const float *a0 = &tex[2u * h], *b0 = &tex[2u * pgt_half_edge_next(h)];
-        const float *a1 = &tex[2u * pgt_half_edge_next(o)], *b1 = &tex[2u * o];
+        const float *q[4];
+        atlas_seam_copies(charts, tex, i, q);
+        const float *a0 = q[0], *b0 = q[1], *a1 = q[2], *b1 = q[3];
         const double dax = (double)a0[0] - a1[0], day = (double)a0[1] - a1[1];
         const double dbx = (double)b0[0] - b1[0], dby = (double)b0[1] - b1[1];
-        if (segment_min_length(dax, day, dbx, dby) > PGT_ATLAS_CRACK_TEXELS) continue;
-        double xmin = a0[0], xmax = a0[0], ymin = a0[1], ymax = a0[1];
-        const float *q[4] = {a0, b0, b1, a1};
-        for (int k = 1; k < 4; ++k) {
-            xmin = fmin(xmin, q[k][0]), xmax = fmax(xmax, q[k][0]);
-            ymin = fmin(ymin, q[k][1]), ymax = fmax(ymax, q[k][1]);
-        }
-        const double c0 = fmax(0.0, ceil(xmin - 0.5)), c1 = fmin(W - 1.0, floor(xmax - 0.5));
-        const double r0 = fmax(0.0, ceil(ymin - 0.5)), r1 = fmin(H - 1.0, floor(ymax - 0.5));
-        if (!(c0 <= c1) || !(r0 <= r1)) continue;
+        /* the copies' distance (1 - s) (a0 - a1) + s (b0 - b1) at its smallest */
+        if (sqrt(atlas_segment_dist2(dax, day, dbx, dby, 0.0, 0.0)) > PGT_ATLAS_CRACK_TEXELS)
+            continue;
+        int32_t box[4];
+        if (!texel_box(q, 4, W, H, box)) continue;
         const uint32_t ia = mesh->indices[h], ib = mesh->indices[pgt_half_edge_next(h)];
-        for (uint32_t y = (uint32_t)r0; y <= (uint32_t)r1; ++y)
-            for (uint32_t x = (uint32_t)c0; x <= (uint32_t)c1; ++x) {
+        for (uint32_t y = (uint32_t)box[0]; y <= (uint32_t)box[1]; ++y)
+            for (uint32_t x = (uint32_t)box[2]; x <= (uint32_t)box[3]; ++x) {
                 const size_t idx = (size_t)y * W + x;
                 if (texel_chart[idx] >= 0) continue;
-                if (crack[idx] & ATLAS_CRACK_UNFILLED) crack[idx] = 0; /* may be filled below */
                 /* the quad a0 b0 b1 a1 as (a0, b0, b1) and (a0, b1, a1); s: 0 at A, 1 at B */
                 double l[3], s;
                 if (triangle_bary(a0, b0, b1, x + 0.5, y + 0.5, l))
@@ -246,8 +247,8 @@ uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, con
                 else
                     continue;
                 if (hypot((1.0 - s) * dax + s * dbx, (1.0 - s) * day + s * dby) >
-                    PGT_ATLAS_CRACK_TEXELS) {
-                    if (!crack[idx]) crack[idx] = ATLAS_CRACK_UNFILLED | (i + 1u);
+                    PGT_ATLAS_CRACK_TEXELS) { /* the last such quad names the texel */
+                    crack[idx] = ATLAS_CRACK_UNFILLED | (i + 1u);
                     continue;
                 }
                 texel_chart[idx] = (int32_t)chart;
@@ -293,17 +294,8 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
         int32_t *rc = &rows[4u * f];
         rc[0] = 1, rc[1] = 0;
         if (charts->face_chart[f] == PGT_NONE) continue;
-        const float *v = &tex[6u * f];
-        double xmin = v[0], xmax = v[0], ymin = v[1], ymax = v[1];
-        for (uint32_t k = 1; k < 3; ++k) {
-            xmin = fmin(xmin, v[2u * k]), xmax = fmax(xmax, v[2u * k]);
-            ymin = fmin(ymin, v[2u * k + 1u]), ymax = fmax(ymax, v[2u * k + 1u]);
-        }
-        /* texel x is covered only if xmin <= x + 0.5 <= xmax */
-        const double c0 = fmax(0.0, ceil(xmin - 0.5)), c1 = fmin(W - 1.0, floor(xmax - 0.5));
-        const double r0 = fmax(0.0, ceil(ymin - 0.5)), r1 = fmin(H - 1.0, floor(ymax - 0.5));
-        if (!(c0 <= c1) || !(r0 <= r1)) continue;
-        rc[0] = (int32_t)r0, rc[1] = (int32_t)r1, rc[2] = (int32_t)c0, rc[3] = (int32_t)c1;
+        const float *v[3] = {&tex[6u * f], &tex[6u * f + 2u], &tex[6u * f + 4u]};
+        if (!texel_box(v, 3, W, H, rc)) continue; /* rc stays {1, 0}: no row */
         const uint32_t t0 = (uint32_t)rc[0] / ATLAS_RASTER_TILE_ROWS,
                        t1 = (uint32_t)rc[1] / ATLAS_RASTER_TILE_ROWS;
         pairs += t1 - t0 + 1u;
