@@ -523,6 +523,14 @@ int pgt_cmd_ivy(int argc, char **argv) {
                                   verb, &in_path, 1, PGT_CLI_SHARED_MESH_DIR, flags[k], outputs[k]))
                 return PGT_EXIT_USAGE;
     }
+    /* the writers write PLY and PNG whatever the name says */
+    if (!pgt_cli_ends_with_ci(out_path, ".ply"))
+        return pgt_cli_fail(verb, "-o %s: the output is a PLY file (name it *.ply)", out_path);
+    if (mask_mesh && !pgt_cli_ends_with_ci(mask_mesh, ".ply"))
+        return pgt_cli_fail(verb, "--mask-mesh %s: the output is a PLY file (name it *.ply)",
+                            mask_mesh);
+    if (mask_out && !pgt_cli_ends_with_ci(mask_out, ".png"))
+        return pgt_cli_fail(verb, "--mask-out %s: the picture is a .png file", mask_out);
 
     /* the outputs appear together once all are written, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;

@@ -213,6 +213,23 @@ one_line ivy_no_seeds_one_line "\-\-seeds"
 expect ivy_no_output 2 "$pgt" ivy cs.exr --seeds 2
 expect ivy_overwrite_input 2 "$pgt" ivy cs.exr --seeds 2 -o cs.exr
 one_line ivy_overwrite_input_one_line "never overwrites"
+# the input named as a shared mesh (no spot.obj here: the shared folder's) is refused as an output
+# too, also through a link to it; were it not, the rename would replace the link, not the mesh
+rm -f spot.obj && ln -sfn "$src/../shared/datasets/meshes/spot.obj" spot_link.ply
+expect ivy_named_input_output 2 "$pgt" ivy spot.obj --seeds 1 -o spot_link.ply
+one_line ivy_named_input_output_one_line "^pgt ivy: -o spot_link.ply is the input mesh spot.obj; pgt never overwrites an input$"
+[ -L spot_link.ply ] && ok ivy_named_input_link_kept || bad ivy_named_input_link_kept "spot_link.ply is no longer a link"
+expect ivy_named_input_curves 2 "$pgt" ivy spot.obj --seeds 1 -o ivn.ply --curves spot_link.ply
+one_line ivy_named_input_curves_one_line "\-\-curves spot_link.ply is the input mesh spot.obj"
+rm -f spot_link.ply
+# binary outputs are named for their format (the PLY and PNG writers do not follow the name)
+expect ivy_out_not_ply 2 "$pgt" ivy cs.exr --seeds 1 -o ive.obj
+one_line ivy_out_not_ply_one_line "^pgt ivy: -o ive.obj: the output is a PLY file (name it \*.ply)$"
+expect ivy_mask_mesh_not_ply 2 "$pgt" ivy cs.exr --seeds 1 -o ive.ply --mask-mesh ive.off
+one_line ivy_mask_mesh_not_ply_one_line "\-\-mask-mesh ive.off: the output is a PLY file"
+expect ivy_mask_out_not_png 2 "$pgt" ivy cs.exr --seeds 1 -o ive.PLY --mask-out ive.jpg
+one_line ivy_mask_out_not_png_one_line "\-\-mask-out ive.jpg: the picture is a .png file"
+[ -z "$(ls ive.* 2>/dev/null)" ] && ok ivy_wrong_names_write_nothing || bad ivy_wrong_names_write_nothing "$(ls ive.*)"
 # a failed run leaves none of its outputs: --mask-out was written before the expansion failed,
 # -o before --curves was tried
 rm -f ivf.ply ivf.png; mkdir -p ivdir.csv
