@@ -35,6 +35,12 @@ double pgt_cli_now_ms(void);
 /* Number of online CPUs (at least 1). */
 uint32_t pgt_cli_cpu_count(void);
 
+/* Bytes of memory a new allocation can take now: MemAvailable of /proc/meminfo, less when the
+ * process's cgroup (v2 memory.max, v1 memory.limit_in_bytes) leaves less below its limit; 0 when
+ * none of them can be read. The environment variable PGT_MEMORY_AVAILABLE (a whole number of
+ * bytes) replaces the reading: a smaller budget on a shared machine, and the tests' fixed one. */
+uint64_t pgt_cli_memory_available(void);
+
 /* Writes s as a JSON string (quoted, escaped). */
 void pgt_cli_json_string(FILE *f, const char *s);
 

@@ -170,6 +170,10 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
             PAPER_FACADES, PAPER_MS, 1280.0 * 720.0 / (PAPER_MS * 1e3), PAPER_PROCEDURAL_BYTES,
             PAPER_EXPLICIT_BYTES, PAPER_EXPLICIT_BYTES / PAPER_PROCEDURAL_BYTES);
     int failures = 0;
+    /* the twin and Embree's scene of it within the memory available (a city too large for this
+     * machine fails with this error, not by exhausting the memory) */
+    uint64_t avail = 0;
+    const uint32_t max_t = pgt_facade_twin_max_triangles(1, &avail);
     for (uint32_t c = 0; c < nb; ++c) {
         pgt_error err = {0};
         pgt_facade_file file;
@@ -181,9 +185,12 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
         memset(&eb, 0, sizeof eb);
         if (pgt_facade_file_city(&file, grammar, buildings[c], seed, &err) != PGT_OK ||
             pgt_facade_prepare(&file.scene, &facades, &fc, &err) != PGT_OK ||
-            pgt_facade_explicit(&file.scene, facades, fc, &mesh, &err) != PGT_OK ||
+            pgt_facade_explicit_limit(&file.scene, facades, fc, max_t, &mesh, &err) != PGT_OK ||
             pgt_facade_embree_create(&eb, &mesh, threads, &err) != PGT_OK) {
-            pgt_cli_fail(verb, "facade: city of %u buildings: %s", buildings[c], err.message);
+            char why[200] = "";
+            if (err.code == PGT_ERROR_LIMIT) pgt_facade_twin_limit_why(why, sizeof why, avail, 1);
+            pgt_cli_fail(verb, "facade: city of %u buildings: %s%s", buildings[c], err.message,
+                         why);
             failures++;
             goto next_city;
         }

@@ -28,7 +28,7 @@ static const char *facade_usage =
     "                  [--threads N] [--explicit OUT.ply] [--embree-check] [--grammar FILE]\n"
     "                  [--seed S] [--light X,Y,Z] [--save-scene FILE] [--frames F]\n"
     "                  [--embree-mode packets|streams] [--shadows] [--single-rays]\n"
-    "                  [--detail geometry|flat|normal|relief|lod]\n"
+    "                  [--detail geometry|flat|normal|relief|lod] [--max-triangles N]\n"
     "\n"
     "Renders building facades without generating geometry (paper 003): every facade's coverage\n"
     "polygon (sec. 5.3) selects the pixels whose rays develop its split grammar along the ray\n"
@@ -64,7 +64,15 @@ static const char *facade_usage =
     "                  not depend on it)\n"
     "  --explicit F    the explicit twin (every terminal of every facade as triangles) as\n"
     "                  binary little-endian PLY: vertex x y z, face vertex_indices facade node\n"
-    "                  kind surface (uint)\n"
+    "                  kind surface (uint)\n";
+static const char *facade_usage_twin =
+    "  --max-triangles N  the explicit twin's limit, 1 to 536870912: more fails (exit 2)\n"
+    "                  before its arrays outgrow it. Default: what fits in 3/4 of the memory\n"
+    "                  available at start at 52 bytes a triangle, 252 with --embree-check\n"
+    "                  (Embree's scene of it): a grammar that instantiates billions of\n"
+    "                  terminals fails with this error instead of exhausting the memory\n"
+    "                  (the environment variable PGT_MEMORY_AVAILABLE, in bytes, replaces\n"
+    "                  the memory read from /proc/meminfo and the cgroup's limit)\n"
     "  --embree-check  traces the same rays with Embree on the explicit twin (same threads)\n"
     "                  and compares per pixel: both miss, or the same (facade, node, kind,\n"
     "                  surface) within a relative distance of 1e-4 = agree; both hitting\n"
@@ -107,6 +115,7 @@ typedef struct facade_args {
     const char *mesh_path;
     const char *camera_text;
     uint32_t city, width, height, threads, seed, frames;
+    uint32_t max_triangles; /* 0: from the memory available (pgt_facade_twin_max_triangles) */
     int embree_check, have_light, shadows, single_rays;
     uint32_t detail;
     pgt_facade_embree_mode mode;
@@ -132,6 +141,7 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         const char *s = argv[i];
         if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
             fputs(facade_usage, stdout);
+            fputs(facade_usage_twin, stdout);
             fputs(facade_usage2, stdout);
             return -1;
         } else if (!strcmp(s, "--city")) {
@@ -149,6 +159,10 @@ static int parse_args(int argc, char **argv, facade_args *a) {
             if (!(a->png_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(s, "--explicit")) {
             if (!(a->explicit_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(s, "--max-triangles")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, s, v, 1, PGT_FACADE_MAX_TRIANGLES, &a->max_triangles))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(s, "--grammar")) {
             if (!(a->grammar_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(s, "--save-scene")) {
@@ -221,6 +235,9 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         return pgt_cli_fail(verb, "--embree-check compares the procedural geometry: only with "
                                   "--detail geometry or normal (flat and lod thin it, relief "
                                   "moves the depth into the relief)");
+    if (a->max_triangles && !a->explicit_path && !a->embree_check)
+        return pgt_cli_fail(verb, "--max-triangles limits the explicit twin: only with --explicit "
+                                  "or --embree-check");
     if (!pgt_cli_ends_with_ci(a->out_path, ".exr"))
         return pgt_cli_fail(verb, "-o %s: the frame is an .exr file", a->out_path);
     if (a->png_path && !pgt_cli_ends_with_ci(a->png_path, ".png"))
@@ -526,9 +543,20 @@ int pgt_cmd_facade(int argc, char **argv) {
     /* the explicit twin */
     if (a.explicit_path || a.embree_check) {
         const double e0 = pgt_cli_now_ms();
-        if (pgt_facade_explicit(s, facades, facade_count, &mesh, &err) != PGT_OK) {
-            pgt_cli_fail(verb, "%s: %s: %s", a.explicit_path ? "--explicit" : "--embree-check",
-                         what, err.message);
+        uint64_t avail = 0;
+        const uint32_t max_t = a.max_triangles
+                                   ? a.max_triangles
+                                   : pgt_facade_twin_max_triangles(a.embree_check, &avail);
+        const pgt_result xr =
+            pgt_facade_explicit_limit(s, facades, facade_count, max_t, &mesh, &err);
+        if (xr != PGT_OK) {
+            char why[200] = "";
+            if (xr == PGT_ERROR_LIMIT && a.max_triangles)
+                snprintf(why, sizeof why, " (--max-triangles %u)", max_t);
+            else if (xr == PGT_ERROR_LIMIT)
+                pgt_facade_twin_limit_why(why, sizeof why, avail, a.embree_check);
+            pgt_cli_fail(verb, "%s: %s: %s%s", a.explicit_path ? "--explicit" : "--embree-check",
+                         what, err.message, why);
             goto done;
         }
         const double e1 = pgt_cli_now_ms();

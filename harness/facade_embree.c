@@ -531,6 +531,30 @@ size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m) {
            7u * (size_t)m->triangle_count * sizeof(uint32_t);
 }
 
+uint32_t pgt_facade_twin_max_triangles(int with_embree, uint64_t *available) {
+    const uint64_t avail = pgt_cli_memory_available();
+    if (available) *available = avail;
+    if (avail == 0) return PGT_FACADE_MAX_TRIANGLES;
+    const double per = PGT_FACADE_MESH_BYTES_PER_TRIANGLE +
+                       (with_embree ? PGT_FACADE_EMBREE_BYTES_PER_TRIANGLE : 0u);
+    const double n = floor((double)avail * PGT_FACADE_TWIN_MEMORY_SHARE / per);
+    return n >= (double)PGT_FACADE_MAX_TRIANGLES ? PGT_FACADE_MAX_TRIANGLES
+                                                 : (n < 1.0 ? 1u : (uint32_t)n);
+}
+
+const char *pgt_facade_twin_limit_why(char *buf, size_t size, uint64_t available, int with_embree) {
+    buf[0] = 0;
+    const double mib = (double)available / (1024.0 * 1024.0);
+    if (available)
+        snprintf(buf, size,
+                 " (what fits in %.0f %% of the %.*f %s of memory available%s; pgt facade "
+                 "--max-triangles sets another limit)",
+                 100.0 * PGT_FACADE_TWIN_MEMORY_SHARE, mib < 1024.0 ? 0 : 1,
+                 mib < 1024.0 ? mib : mib / 1024.0, mib < 1024.0 ? "MiB" : "GiB",
+                 with_embree ? " with Embree's scene of it" : "");
+    return buf;
+}
+
 pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path, pgt_error *err) {
     const uint32_t one = 1;
     uint8_t little;

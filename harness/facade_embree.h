@@ -137,4 +137,23 @@ pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path,
 /* Bytes of the mesh's arrays (positions, indices, per-triangle ids). */
 size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m);
 
+/* Share of the memory available at start (pgt_cli_memory_available) that the explicit twin may
+ * fill, with Embree's scene of it when it is built: the rest is for the frame, the scene, the
+ * PLY writer and the system. The twin's arrays stay within their limit's capacity
+ * (pgt_facade_explicit_limit), realloc's copy of one array apart. */
+#define PGT_FACADE_TWIN_MEMORY_SHARE 0.75
+/* Embree's bytes per triangle of the twin (its reported peak, the padded vertex copy and the index
+ * buffer): 152-173 on the three cities of results/facade.csv; 200 leaves a margin. */
+#define PGT_FACADE_EMBREE_BYTES_PER_TRIANGLE 200u
+
+/* The most triangles the explicit twin may have so that it (and Embree's scene of it, when
+ * with_embree) fits in PGT_FACADE_TWIN_MEMORY_SHARE of the memory available now, at most
+ * PGT_FACADE_MAX_TRIANGLES (also when the memory cannot be read); *available gets the bytes
+ * read (0: unknown). A grammar whose twin would be larger fails with a clear error instead of
+ * exhausting the machine's memory. */
+uint32_t pgt_facade_twin_max_triangles(int with_embree, uint64_t *available);
+/* " (what fits in 3/4 of the X GiB of memory available...)": why that limit, for the message of
+ * the error it gives (empty when available is 0). */
+const char *pgt_facade_twin_limit_why(char *buf, size_t size, uint64_t available, int with_embree);
+
 #endif

@@ -528,7 +528,7 @@ fields_match bench_woven_fields res/woven.csv
 
 # pgt facade, pgt bench facade (the algorithms are test_facade, the Embree check test_facade_embree)
 expect facade_help 0 "$pgt" facade --help
-for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene --single-rays; do
+for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene --single-rays --max-triangles PGT_MEMORY_AVAILABLE; do
   grep -q -- "$flag" out.txt && ok "facade_help_documents_$flag" || bad "facade_help_documents_$flag" "missing"
 done
 grep -q "facade" <("$pgt" --help) && ok help_lists_facade || bad help_lists_facade "no facade in pgt --help"
@@ -637,6 +637,7 @@ f = int([l for l in h if l.startswith("element face ")][0].split()[2])
 for p in ("facade", "node", "kind", "surface"): assert "property uint " + p in h, h
 assert "format binary_little_endian 1.0" in h and f > 0
 assert len(b) - end == 12 * v + 29 * f, (len(b) - end, v, f)' && ok facade_ply_layout || bad facade_ply_layout "$(head -c 400 f.ply)"
+ntri=$(sed -n 's/^explicit: \([0-9]*\) triangles.*/\1/p' out.txt)
 cam=$(sed -n 's/^camera: --camera //p' out.txt)
 expect facade_scene_file 0 "$pgt" facade --scene f.scene -o f2.exr --width 96 --height 64 --threads 1 --camera "$cam"
 cmp -s f.exr f2.exr && ok facade_scene_file_same_frame || bad facade_scene_file_same_frame "f.exr and f2.exr differ"
@@ -651,6 +652,26 @@ expect facade_packets 0 "$pgt" facade --scene f.scene -o f5.exr --width 96 --hei
 cmp -s f4.exr f5.exr && ok facade_single_rays_same_frame || bad facade_single_rays_same_frame "f4.exr and f5.exr differ"
 expect facade_overwrite_scene 2 "$pgt" facade --scene f.scene -o f.exr --save-scene f.scene
 one_line facade_overwrite_scene_one_line "never overwrites an input"
+# the explicit twin's limit: exactly its triangles give the same twin, one fewer fails naming the
+# flag and writes nothing; without a flag the limit is what fits in the memory available
+# (PGT_MEMORY_AVAILABLE in place of the machine's), so a grammar that instantiates billions of
+# terminals (a repeat of 1e-30 m: about 30 million triangles a facade) fails at once, naming it
+expect facade_max_triangles_exact 0 "$pgt" facade --city 4 -o fm.exr --width 96 --height 64 --explicit fm.ply --max-triangles "$ntri"
+cmp -s f.ply fm.ply && ok facade_max_triangles_same_twin || bad facade_max_triangles_same_twin "f.ply and fm.ply differ ($ntri triangles)"
+rm -f fm.exr fm.ply
+expect facade_max_triangles_one_fewer 2 "$pgt" facade --city 4 -o fm.exr --width 96 --height 64 --explicit fm.ply --max-triangles $((ntri - 1))
+one_line facade_max_triangles_one_fewer_one_line "^pgt facade: --explicit: --city: explicit facades: more than $((ntri - 1)) triangles (--max-triangles $((ntri - 1)))$"
+[ -z "$(ls -d fm.* .pgt-stage.* 2>/dev/null)" ] && ok facade_max_triangles_writes_nothing || bad facade_max_triangles_writes_nothing "$(ls -d fm.* .pgt-stage.*)"
+expect facade_max_triangles_needs_twin 2 "$pgt" facade --city 4 -o fm.exr --max-triangles 10
+one_line facade_max_triangles_needs_twin_one_line "only with --explicit or --embree-check"
+expect facade_max_triangles_zero 2 "$pgt" facade --city 4 -o fm.exr --explicit fm.ply --max-triangles 0
+expect facade_max_triangles_over 2 "$pgt" facade --city 4 -o fm.exr --explicit fm.ply --max-triangles 536870913
+printf 'param floorHeight = 3.2\nparam doorWidth = 1.6\nparam windowWidth = 2.2\nparam protrusion = 0.3\nparam recess = 0.3\nF --> split(x) { { ~1e-30 : Wall() }* }\n' >tiny.grammar
+PGT_MEMORY_AVAILABLE=100000000 expect facade_twin_memory 2 "$pgt" facade --city 1 --grammar tiny.grammar --width 16 --height 16 -o fm.exr --explicit fm.ply --camera 0,0,-1000,0,0,-2000,0,1,0,45
+one_line facade_twin_memory_one_line "^pgt facade: --explicit: --city: explicit facades: more than 1442307 triangles (what fits in 75 % of the 95 MiB of memory available; pgt facade --max-triangles sets another limit)$"
+PGT_MEMORY_AVAILABLE=100000000 expect facade_twin_memory_embree 2 "$pgt" facade --city 1 --grammar tiny.grammar --width 16 --height 16 -o fm.exr --embree-check --camera 0,0,-1000,0,0,-2000,0,1,0,45
+one_line facade_twin_memory_embree_one_line "more than 297619 triangles (what fits in 75 % of the 95 MiB of memory available with Embree's scene of it;"
+[ -z "$(ls -d fm.* .pgt-stage.* 2>/dev/null)" ] && ok facade_twin_memory_writes_nothing || bad facade_twin_memory_writes_nothing "$(ls -d fm.* .pgt-stage.*)"
 # malformed scene files: each names FILE:LINE, exit 2
 g="$src/grammars/facade.grammar"
 scene_case() { # NAME PATTERN LINES...: the scene of LINES fails with FILE:PATTERN

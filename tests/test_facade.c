@@ -742,6 +742,65 @@ static void test_roof_concave(void) {
     pgt_grammar_destroy(&g);
 }
 
+/* pgt_facade_explicit_limit: a limit of exactly the twin's triangles gives the same twin; one
+ * fewer, or fewer than the facades' triangles before the roofs, or 1, or the triangles before
+ * the first of a geometry image, fails with
+ * PGT_ERROR_LIMIT naming the limit and leaves the mesh empty (the rectangles', the geometry
+ * images' and the roofs' checks each met). */
+static void test_explicit_limit(void) {
+    static const char *const grammars[2] = {"facade.grammar", "facade_gimage.grammar"};
+    for (int gi = 0; gi < 2; ++gi) {
+        pgt_grammar g;
+        REQUIRE(load(&g, grammars[gi]));
+        pgt_facade_scene s;
+        pgt_error err = {0};
+        REQUIRE(pgt_gen_city(&s, &g, 4, 7, &err) == PGT_OK);
+        pgt_facade *fa = NULL;
+        uint32_t fc = 0;
+        REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+        pgt_facade_mesh full, m;
+        REQUIRE(pgt_facade_explicit(&s, fa, fc, &full, &err) == PGT_OK);
+        const uint32_t n = full.triangle_count;
+        uint32_t first_roof = n, first_gimage = n, gimage = 0;
+        for (uint32_t t = 0; t < n; ++t) {
+            if (full.kind[t] == PGT_FACADE_ROOF && first_roof == n) first_roof = t;
+            if (full.kind[t] == PGT_FACADE_MESH && first_gimage == n) first_gimage = t;
+            gimage += full.kind[t] == PGT_FACADE_MESH;
+        }
+        CHECK_MSG(first_roof > 1 && first_roof < n, "%s: roofs from %u of %u", grammars[gi],
+                  first_roof, n);
+        CHECK_MSG((gi == 1) == (gimage > 0), "%s: %u geometry-image triangles", grammars[gi],
+                  gimage);
+        REQUIRE(pgt_facade_explicit_limit(&s, fa, fc, n, &m, &err) == PGT_OK);
+        CHECK(m.triangle_count == n && m.vertex_count == full.vertex_count);
+        if (m.triangle_count == n && m.vertex_count == full.vertex_count) {
+            CHECK(!memcmp(m.positions, full.positions, 12u * (size_t)m.vertex_count));
+            CHECK(!memcmp(m.indices, full.indices, 12u * (size_t)n));
+            CHECK(!memcmp(m.facade, full.facade, 4u * (size_t)n));
+            CHECK(!memcmp(m.node, full.node, 4u * (size_t)n));
+            CHECK(!memcmp(m.kind, full.kind, 4u * (size_t)n));
+            CHECK(!memcmp(m.surface, full.surface, 4u * (size_t)n));
+        }
+        pgt_facade_mesh_destroy(&m);
+        /* the last: the first geometry-image triangle one too many */
+        const uint32_t limits[4] = {n - 1u, first_roof - 1u, 1u, first_gimage};
+        for (int k = 0; k < (gimage ? 4 : 3); ++k) {
+            char want[64];
+            snprintf(want, sizeof want, "more than %u triangles", limits[k]);
+            pgt_error_clear(&err);
+            CHECK(pgt_facade_explicit_limit(&s, fa, fc, limits[k], &m, &err) == PGT_ERROR_LIMIT);
+            CHECK_MSG(strstr(err.message, want) != NULL, "%s, limit %u: %s", grammars[gi],
+                      limits[k], err.message);
+            CHECK(m.triangle_count == 0 && m.vertex_count == 0 && !m.positions && !m.indices);
+            pgt_facade_mesh_destroy(&m);
+        }
+        pgt_facade_mesh_destroy(&full);
+        free(fa);
+        pgt_facade_scene_destroy(&s);
+        pgt_grammar_destroy(&g);
+    }
+}
+
 static const pgt_test_case cases[] = {
     {"terminals_in_scope", test_terminals_in_scope},
     {"miss_develops_nothing", test_miss_develops_nothing},
@@ -755,6 +814,7 @@ static const pgt_test_case cases[] = {
     {"relief_depth", test_relief_depth},
     {"lod_levels", test_lod_levels},
     {"roof_concave", test_roof_concave},
+    {"explicit_limit", test_explicit_limit},
 };
 
 PGT_TEST_MAIN(cases)

@@ -11,9 +11,6 @@
 
 #include "facade_internal.h"
 
-/* Triangles at most: every per-triangle index stays far inside 32 bits (4 vertices a quad). */
-#define FACADE_MAX_TRIANGLES (1u << 29)
-
 typedef struct xframe {
     uint32_t type; /* 0: sequence, 1: split */
     uint32_t key;
@@ -29,6 +26,7 @@ typedef struct xframe {
 typedef struct xmesh {
     pgt_facade_mesh *m;
     uint32_t vcap, tcap;
+    uint32_t max_t;      /* triangles at most (pgt_facade_explicit_limit) */
     int dry;             /* pgt_facade_explain: every check, no triangle stored */
     uint64_t nodes_left; /* steps of the development left (pgt_facade_explain's bound) */
 } xmesh;
@@ -40,17 +38,26 @@ static int grow(void **p, uint32_t cap, size_t elem) {
     return 1;
 }
 
+static pgt_result too_many(const xmesh *x, pgt_error *err) {
+    return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
+                         x->max_t);
+}
+
 static int reserve(xmesh *x, uint32_t add_v, uint32_t add_t) {
     pgt_facade_mesh *m = x->m;
     if (m->vertex_count + add_v > x->vcap) {
         uint32_t cap = x->vcap ? x->vcap : 4096u;
         while (cap < m->vertex_count + add_v) cap *= 2u;
+        /* at most 3 vertices a triangle (a roof's; 2 for a rectangle's): the arrays never
+         * outgrow the limit's share of memory */
+        if (cap > 3u * x->max_t) cap = 3u * x->max_t;
         if (!grow((void **)&m->positions, cap, 3 * sizeof(float))) return 0;
         x->vcap = cap;
     }
     if (m->triangle_count + add_t > x->tcap) {
         uint32_t cap = x->tcap ? x->tcap : 2048u;
         while (cap < m->triangle_count + add_t) cap *= 2u;
+        if (cap > x->max_t) cap = x->max_t;
         if (!grow((void **)&m->indices, cap, 3 * sizeof(uint32_t)) ||
             !grow((void **)&m->facade, cap, sizeof(uint32_t)) ||
             !grow((void **)&m->node, cap, sizeof(uint32_t)) ||
@@ -115,9 +122,7 @@ static pgt_result emit(xmesh *x, const pgt_facade *f, uint32_t fi, const pgt_gra
         pgt_facade_quad r = q[k];
         if (!whole && !clip_to_window(&r, win)) continue;
         if (x->dry) continue;
-        if (x->m->triangle_count + 2u > FACADE_MAX_TRIANGLES)
-            return pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
-                                 FACADE_MAX_TRIANGLES);
+        if (x->m->triangle_count + 2u > x->max_t) return too_many(x, err);
         if (!reserve(x, 4, 2))
             return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit facades: out of memory");
         pgt_facade_mesh *m = x->m;
@@ -212,10 +217,7 @@ static pgt_result emit_gimage(xmesh *x, const pgt_facade *f, uint32_t fi, const 
         }
         for (uint32_t p = 1; p + 1u < m; ++p) {
             if (!whole && !piece_has_area(poly[0], poly[p], poly[p + 1u])) continue;
-            if (x->m->triangle_count + 1u > FACADE_MAX_TRIANGLES)
-                return pgt_error_set(err, PGT_ERROR_LIMIT,
-                                     "explicit facades: more than %u triangles",
-                                     FACADE_MAX_TRIANGLES);
+            if (x->m->triangle_count + 1u > x->max_t) return too_many(x, err);
             if (!reserve(x, 3, 1))
                 return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
                                      "explicit facades: out of memory");
@@ -405,8 +407,16 @@ static pgt_result expand_facade(xmesh *x, const pgt_facade_scene *s, const pgt_f
 
 pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
                                uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err) {
+    return pgt_facade_explicit_limit(s, facades, facade_count, PGT_FACADE_MAX_TRIANGLES, out, err);
+}
+
+pgt_result pgt_facade_explicit_limit(const pgt_facade_scene *s, const pgt_facade *facades,
+                                     uint32_t facade_count, uint32_t max_triangles,
+                                     pgt_facade_mesh *out, pgt_error *err) {
     memset(out, 0, sizeof *out);
-    xmesh x = {out, 0, 0, 0, UINT64_MAX};
+    if (max_triangles == 0 || max_triangles > PGT_FACADE_MAX_TRIANGLES)
+        max_triangles = PGT_FACADE_MAX_TRIANGLES;
+    xmesh x = {out, 0, 0, max_triangles, 0, UINT64_MAX};
     xframe *stack = malloc(PGT_FACADE_MAX_DEPTH * sizeof *stack);
     if (!stack) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explicit: out of memory");
     pgt_result r = PGT_OK;
@@ -425,9 +435,8 @@ pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *faca
         const pgt_facade_building *B = &s->buildings[b];
         const float *c = s->corners + 2u * B->first_corner, y = B->base + B->height;
         const uint32_t nt = facade_triangulate(c, B->corner_count, tris, scratch);
-        if (x.m->triangle_count + nt > FACADE_MAX_TRIANGLES) {
-            r = pgt_error_set(err, PGT_ERROR_LIMIT, "explicit facades: more than %u triangles",
-                              FACADE_MAX_TRIANGLES);
+        if (x.m->triangle_count + nt > x.max_t) {
+            r = too_many(&x, err);
             break;
         }
         if (!reserve(&x, 3u * nt, nt)) {
@@ -458,7 +467,7 @@ pgt_result pgt_facade_explain(const pgt_facade_scene *s, const pgt_facade *f, ui
                               pgt_error *err) {
     pgt_facade_mesh none;
     memset(&none, 0, sizeof none);
-    xmesh x = {&none, 0, 0, 1, PGT_FACADE_EXPLAIN_STEPS};
+    xmesh x = {&none, 0, 0, PGT_FACADE_MAX_TRIANGLES, 1, PGT_FACADE_EXPLAIN_STEPS};
     xframe *stack = malloc(PGT_FACADE_MAX_DEPTH * sizeof *stack);
     if (!stack) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "explain: out of memory");
     const pgt_result r = expand_facade(&x, s, f, fi, stack, err);

@@ -485,12 +485,27 @@ typedef struct pgt_facade_mesh {
     uint32_t *surface; /* per triangle: rectangle within the terminal */
 } pgt_facade_mesh;
 
+/* Triangles an explicit twin may have at most: every per-triangle index stays far inside 32
+ * bits (2 vertices a triangle, 3 on a roof). */
+#define PGT_FACADE_MAX_TRIANGLES (1u << 29)
+/* Bytes of the twin's arrays per triangle: 2 vertices (a rectangle's 4 for its 2 triangles) of
+ * 12 bytes, 3 indices and 4 ids of 4 bytes (a roof's triangle has 3 vertices; roofs are few). */
+#define PGT_FACADE_MESH_BYTES_PER_TRIANGLE 52u
+
 /* Expands every facade completely. Errors: a terminal outside [-recess, protrusion] or outside
  * its scope (the grammar is not a BVH, sec. 8), the errors of pgt_facade_ray_stats (as messages
  * naming the grammar FILE:LINE:COL; the node budget bounds a path from the axiom, which every
- * ray that reaches its end develops), more than 2^29 triangles. */
+ * ray that reaches its end develops), more than PGT_FACADE_MAX_TRIANGLES triangles. */
 pgt_result pgt_facade_explicit(const pgt_facade_scene *s, const pgt_facade *facades,
                                uint32_t facade_count, pgt_facade_mesh *out, pgt_error *err);
+/* The same with at most max_triangles triangles (0 or more than PGT_FACADE_MAX_TRIANGLES:
+ * PGT_FACADE_MAX_TRIANGLES): a twin that would have more fails with PGT_ERROR_LIMIT ("more than
+ * N triangles") and out empty; its arrays never grow past the limit's capacity (about
+ * max_triangles * PGT_FACADE_MESH_BYTES_PER_TRIANGLE bytes, realloc's copies apart), so a caller
+ * bounds the memory a grammar that instantiates billions of terminals can take. */
+pgt_result pgt_facade_explicit_limit(const pgt_facade_scene *s, const pgt_facade *facades,
+                                     uint32_t facade_count, uint32_t max_triangles,
+                                     pgt_facade_mesh *out, pgt_error *err);
 
 /* Steps of the development pgt_facade_explain takes at most: every facade of the shipped
  * grammars' test cities develops within a tenth of it (test_facade passes at 20,000); the bound
