@@ -43,12 +43,12 @@ static int same_uvs(const float *uvs, uint32_t h, uint32_t o) {
     return a0[0] == b0[0] && a0[1] == b0[1] && a1[0] == b1[0] && a1[1] == b1[1];
 }
 
-/* Half-edge h (the smaller of the pair) is a seam inside one rasterized chart. */
-static int inside_seam(const pgt_adjacency *adj, const uint32_t *face_chart, const float *uvs,
+/* Half-edge h is a seam inside one rasterized chart: the smaller of a pair whose UVs differ
+ * (uv_cut, set by the union of the charts) with both faces in one chart. */
+static int inside_seam(const pgt_adjacency *adj, const uint32_t *face_chart, const uint8_t *uv_cut,
                        uint32_t h) {
-    const uint32_t o = adj->opposite[h];
-    return o != PGT_NONE && o > h && face_chart[h / 3u] != PGT_NONE &&
-           face_chart[h / 3u] == face_chart[o / 3u] && !same_uvs(uvs, h, o);
+    return uv_cut[h] && face_chart[h / 3u] != PGT_NONE &&
+           face_chart[h / 3u] == face_chart[adj->opposite[h] / 3u];
 }
 
 /* Union-find root with path halving (iterative). */
@@ -108,7 +108,8 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     double *area = malloc(sizeof(double) * F), *area3 = malloc(sizeof(double) * F);
     out->face_chart = malloc(sizeof(uint32_t) * F);
     out->uvs = malloc(sizeof(float) * 6u * F);
-    if (!parent || !root_chart || !area || !area3 || !out->face_chart || !out->uvs) {
+    uint8_t *uv_cut = calloc(3u * (size_t)F, 1); /* per half-edge: see inside_seam */
+    if (!parent || !root_chart || !area || !area3 || !out->face_chart || !out->uvs || !uv_cut) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (charts)", what);
         goto done;
     }
@@ -116,7 +117,11 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     for (uint32_t f = 0; f < F; ++f) parent[f] = f;
     for (uint32_t h = 0; h < 3u * F; ++h) {
         const uint32_t o = adj.opposite[h];
-        if (o == PGT_NONE || o < h || !same_uvs(m->uvs, h, o)) continue;
+        if (o == PGT_NONE || o < h) continue;
+        if (!same_uvs(m->uvs, h, o)) {
+            uv_cut[h] = 1;
+            continue;
+        }
         const uint32_t ra = find_root(parent, h / 3u), rb = find_root(parent, o / 3u);
         if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb; /* root = smallest face */
     }
@@ -186,7 +191,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
         uint32_t nb = 0, ns = 0;
         for (uint32_t h = 0; h < 3u * F; ++h) {
             nb += on_border(&adj, out->face_chart, h);
-            ns += inside_seam(&adj, out->face_chart, m->uvs, h);
+            ns += inside_seam(&adj, out->face_chart, uv_cut, h);
         }
         out->border_half_edges = malloc(sizeof(uint32_t) * (nb ? nb : 1u));
         out->seam_half_edges = malloc(sizeof(uint32_t) * 2u * (ns ? ns : 1u));
@@ -199,7 +204,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
         for (uint32_t h = 0; h < 3u * F; ++h) {
             if (on_border(&adj, out->face_chart, h))
                 out->border_half_edges[out->border_count++] = h;
-            if (inside_seam(&adj, out->face_chart, m->uvs, h)) {
+            if (inside_seam(&adj, out->face_chart, uv_cut, h)) {
                 out->seam_half_edges[2u * out->seam_count] = h;
                 out->seam_half_edges[2u * out->seam_count++ + 1u] = adj.opposite[h];
             }
@@ -218,6 +223,7 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
     free(signed_area);
     free(box);
 done:
+    free(uv_cut);
     free(parent);
     free(root_chart);
     free(area);

@@ -340,9 +340,34 @@ static void mark_border(ptr_ctx *c, const atlas_border *b) {
  * full search. */
 #define ATLAS_POINTER_NEAR_REACH 0.4
 
+/* The starts of outer texel (x, y): its 8-adjacent inner-boundary texels into a->sx, sy, the
+ * sum of their P into p and their chart into *chart; skip_fill: not the texels filled in a
+ * seam's crack (*touches = 1 when there was one). */
+static inline uint32_t gather_starts(const ptr_ctx *c, float *const P[3], int32_t x, int32_t y,
+                                     int skip_fill, accept_ctx *a, double p[3], int32_t *chart,
+                                     int *touches) {
+    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < 8; ++i) {
+        const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
+        if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+        const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
+        if (!(c->kind[j] & ATLAS_KIND_BOUNDARY_BIT)) continue;
+        if (skip_fill && ATLAS_CRACK_FILLED(c->crack[j])) {
+            *touches = 1;
+            continue;
+        }
+        *chart = c->chart[j];
+        for (uint32_t k = 0; k < 3; ++k) p[k] += P[k][j];
+        a->sx[n] = nx, a->sy[n] = ny;
+        n++;
+    }
+    return n;
+}
+
 static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     ptr_ctx *c = vctx;
-    const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
+    const int32_t W = (int32_t)c->W;
     (void)worker;
     float *P[3], *N[3];
     for (uint32_t k = 0; k < 3; ++k)
@@ -366,24 +391,13 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             a.c = c, a.x = x, a.y = y;
             /* texels filled in a seam's crack (atlas_fill_cracks) lie on the seam itself, at
              * the same 3D place as both its sides: they are starts only where nothing else
-             * is (then the own chart's other texels are candidates, crack_only) */
-            int pass = 0, touches_fill = 0;
-            for (; pass < 2 && n == 0; ++pass)
-                for (uint32_t i = 0; i < 8; ++i) {
-                    const int32_t nx = x + nb8[i][0], ny = y + nb8[i][1];
-                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-                    const size_t j = (size_t)ny * (size_t)W + (size_t)nx;
-                    if (!(c->kind[j] & ATLAS_KIND_BOUNDARY_BIT)) continue;
-                    if (pass == 0 && c->crack && ATLAS_CRACK_FILLED(c->crack[j])) {
-                        touches_fill = 1;
-                        continue;
-                    }
-                    chart = c->chart[j];
-                    for (uint32_t k = 0; k < 3; ++k) p[k] += P[k][j];
-                    a.sx[n] = nx, a.sy[n] = ny;
-                    n++;
-                }
-            a.crack_only = pass == 2;
+             * is (then the own chart's other texels are candidates, crack_only); without
+             * cracks the loop has no test for them (the atlases of most meshes) */
+            int touches_fill = 0;
+            n = c->crack ? gather_starts(c, P, x, y, 1, &a, p, &chart, &touches_fill)
+                         : gather_starts(c, P, x, y, 0, &a, p, &chart, &touches_fill);
+            a.crack_only = n == 0;
+            if (n == 0) n = gather_starts(c, P, x, y, 0, &a, p, &chart, &touches_fill);
             a.in_crack = touches_fill || (c->crack && c->crack[idx]);
             /* n >= 1: an inner texel 8-adjacent to a non-inner texel has a non-inner
              * 4-neighbour (the texel itself, or one of the two texels between them) */
