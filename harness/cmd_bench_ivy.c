@@ -30,7 +30,9 @@
 #define BENCH_IVY_PROGRESS_EVERY 16u
 
 /* A scene of Table 2. Lengths (maxMainSteps, the guide strokes' steps) were chosen so that the
- * polygon counts land near the paper's; the CSV reports how near. */
+ * polygon counts land near the paper's; the CSV reports how near. They follow the atlases: when
+ * the crack fill (session 24) changed human_neutral's, fig1b's strokes and ivy changed with it
+ * and 270 steps gave 8.21M polygons instead of 8.90M; 290 gives 8.79M. */
 typedef struct ivy_bench_scene {
     const char *name, *figure, *mesh;
     uint32_t seeds;
@@ -42,7 +44,7 @@ typedef struct ivy_bench_scene {
 
 static const ivy_bench_scene scenes[] = {
     {"fig1b", "Fig. 1b (shack; painted guidance)", "human_neutral.obj", 18, 1, 600,
-     "maxMainSteps=270", 8.84e6, 336.0},
+     "maxMainSteps=290", 8.84e6, 336.0},
     {"fig10c", "Fig. 10c (painted guidance)", "spot.obj", 10, 1, 280, "maxMainSteps=130", 2.5e6,
      257.0},
     {"fig1a", "Fig. 1a (ruins; recursive branching)", "bob_tri.obj", 25, 0, 0, "maxMainSteps=92",
