@@ -88,46 +88,6 @@ uint32_t pgt_cli_cpu_count(void) {
     return n > 0 ? (uint32_t)n : 1u;
 }
 
-/* The first number of a file, after its line starting with key (NULL: the first line); 0 when
- * the file, the key or a number is missing. */
-static uint64_t file_number(const char *path, const char *key) {
-    FILE *f = fopen(path, "r");
-    if (!f) return 0;
-    char line[256];
-    uint64_t v = 0;
-    while (fgets(line, sizeof line, f)) {
-        if (key && strncmp(line, key, strlen(key))) continue;
-        const char *p = line + (key ? strlen(key) : 0);
-        while (*p == ' ' || *p == '\t') ++p;
-        if (*p >= '0' && *p <= '9') v = strtoull(p, NULL, 10);
-        break;
-    }
-    fclose(f);
-    return v;
-}
-
-uint64_t pgt_cli_memory_available(void) {
-    const char *env = getenv("PGT_MEMORY_AVAILABLE");
-    if (env && *env) { /* a whole number of bytes; anything else: read the machine's */
-        char *end = NULL;
-        errno = 0;
-        const unsigned long long v = strtoull(env, &end, 10);
-        if (!errno && *end == 0 && v > 0 && env[0] != '-') return (uint64_t)v;
-    }
-    uint64_t avail = file_number("/proc/meminfo", "MemAvailable:") * 1024u;
-    static const char *const limit[2][2] = {
-        {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"},
-        {"/sys/fs/cgroup/memory/memory.limit_in_bytes",
-         "/sys/fs/cgroup/memory/memory.usage_in_bytes"}};
-    for (int k = 0; k < 2; ++k) {
-        const uint64_t max = file_number(limit[k][0], NULL), used = file_number(limit[k][1], NULL);
-        if (max == 0 || used == 0) continue; /* "max" (no limit) or not this cgroup version */
-        const uint64_t left = max > used ? max - used : 0;
-        if (avail == 0 || left < avail) avail = left ? left : 1u; /* 0 says "unknown" */
-    }
-    return avail;
-}
-
 void pgt_cli_json_string(FILE *f, const char *s) {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; ++p) {
@@ -169,17 +129,59 @@ uint64_t pgt_cli_memory_bytes(void) {
     return pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page : 0u;
 }
 
-uint64_t pgt_cli_available_bytes(void) {
-    FILE *f = fopen("/proc/meminfo", "r");
-    unsigned long long kib = 0;
-    int found = 0;
-    if (f) {
-        char line[256];
-        while (!found && fgets(line, sizeof line, f))
-            found = sscanf(line, "MemAvailable: %llu kB", &kib) == 1;
-        fclose(f);
+/* The first number of a file, after its line starting with key (NULL: the first line); 0 when
+ * the file, the key or a number is missing. */
+static uint64_t file_number(const char *path, const char *key) {
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    char line[256];
+    uint64_t v = 0;
+    while (fgets(line, sizeof line, f)) {
+        if (key && strncmp(line, key, strlen(key))) continue;
+        const char *p = line + (key ? strlen(key) : 0);
+        while (*p == ' ' || *p == '\t') ++p;
+        if (*p >= '0' && *p <= '9') v = strtoull(p, NULL, 10);
+        break;
     }
-    return found ? (uint64_t)kib * 1024u : pgt_cli_memory_bytes();
+    fclose(f);
+    return v;
+}
+
+uint64_t pgt_cli_available_bytes(void) {
+    const char *env = getenv("PGT_MEMORY_AVAILABLE");
+    if (env && *env) { /* a whole number of bytes; anything else: read the machine's */
+        char *end = NULL;
+        errno = 0;
+        const unsigned long long v = strtoull(env, &end, 10);
+        if (!errno && *end == 0 && v > 0 && env[0] != '-') return (uint64_t)v;
+    }
+    uint64_t avail = file_number("/proc/meminfo", "MemAvailable:") * 1024u;
+    if (avail == 0) avail = pgt_cli_memory_bytes();
+    /* the cgroup's limit, usage and its page cache the kernel can drop (as docker stats counts) */
+    static const char *const limit[2][4] = {
+        {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current", "/sys/fs/cgroup/memory.stat",
+         "inactive_file "},
+        {"/sys/fs/cgroup/memory/memory.limit_in_bytes",
+         "/sys/fs/cgroup/memory/memory.usage_in_bytes", "/sys/fs/cgroup/memory/memory.stat",
+         "total_inactive_file "}};
+    for (int k = 0; k < 2; ++k) {
+        const uint64_t max = file_number(limit[k][0], NULL), usage = file_number(limit[k][1], NULL);
+        if (max == 0 || usage == 0) continue; /* "max" (no limit) or not this cgroup version */
+        const uint64_t cache = file_number(limit[k][2], limit[k][3]);
+        const uint64_t used = usage > cache ? usage - cache : 0;
+        const uint64_t left = max > used ? max - used : 0;
+        if (avail == 0 || left < avail) avail = left ? left : 1u; /* 0 says "unknown" */
+    }
+    return avail;
+}
+
+const char *pgt_cli_bytes_text(char *buf, size_t size, uint64_t bytes) {
+    const double mib = (double)bytes / (1024.0 * 1024.0);
+    if (mib < 1024.0)
+        snprintf(buf, size, "%.0f MiB", mib);
+    else
+        snprintf(buf, size, "%.1f GiB", mib / 1024.0);
+    return buf;
 }
 
 void pgt_cli_commit(char *buf, size_t size) {

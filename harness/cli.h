@@ -35,12 +35,6 @@ double pgt_cli_now_ms(void);
 /* Number of online CPUs (at least 1). */
 uint32_t pgt_cli_cpu_count(void);
 
-/* Bytes of memory a new allocation can take now: MemAvailable of /proc/meminfo, less when the
- * process's cgroup (v2 memory.max, v1 memory.limit_in_bytes) leaves less below its limit; 0 when
- * none of them can be read. The environment variable PGT_MEMORY_AVAILABLE (a whole number of
- * bytes) replaces the reading: a smaller budget on a shared machine, and the tests' fixed one. */
-uint64_t pgt_cli_memory_available(void);
-
 /* Writes s as a JSON string (quoted, escaped). */
 void pgt_cli_json_string(FILE *f, const char *s);
 
@@ -53,9 +47,14 @@ uint64_t pgt_cli_memory_bytes(void);
 
 /* The memory a new allocation can have without swapping (MemAvailable of /proc/meminfo: free
  * memory plus the page cache the kernel can drop), or pgt_cli_memory_bytes where that file
- * does not tell. What a guard against overcommit compares with: RAM that other programs hold
- * is not there for the taking. */
+ * does not tell; less when the process's cgroup (v2 memory.max, v1 memory.limit_in_bytes)
+ * leaves less below its limit. What a guard against overcommit compares with: RAM that other
+ * programs hold is not there for the taking. The environment variable PGT_MEMORY_AVAILABLE (a
+ * whole number of bytes) replaces the reading: a smaller budget on a shared machine, and the
+ * tests' fixed one. */
 uint64_t pgt_cli_available_bytes(void);
+/* "95 MiB" below 1 GiB, else "22.4 GiB": a size for messages (buf of 32 bytes). */
+const char *pgt_cli_bytes_text(char *buf, size_t size, uint64_t bytes);
 void pgt_cli_commit(char *buf, size_t size);
 void pgt_cli_date(char *buf, size_t size);
 

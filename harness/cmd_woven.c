@@ -108,12 +108,13 @@ int pgt_cmd_woven(int argc, char **argv) {
         /* within 32-bit indices the arrays reach ~150 GB: with the kernel's overcommit the
          * allocation succeeds and the first frame gets the process killed */
         const uint64_t mem = pgt_cli_available_bytes();
+        char need[32], have[32];
         if (mem && c.bytes > mem)
             return pgt_cli_fail(verb,
-                                "--params %s: the model's arrays take %.1f GiB, more than the "
-                                "%.1f GiB of memory available now",
-                                params_text, (double)c.bytes / 1073741824.0,
-                                (double)mem / 1073741824.0);
+                                "--params %s: the model's arrays take %s, more than the %s of "
+                                "memory available now",
+                                params_text, pgt_cli_bytes_text(need, sizeof need, c.bytes),
+                                pgt_cli_bytes_text(have, sizeof have, mem));
     }
 
     pgt_woven w;

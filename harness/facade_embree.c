@@ -532,7 +532,7 @@ size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m) {
 }
 
 uint32_t pgt_facade_twin_max_triangles(int with_embree, uint64_t *available) {
-    const uint64_t avail = pgt_cli_memory_available();
+    const uint64_t avail = pgt_cli_available_bytes();
     if (available) *available = avail;
     if (avail == 0) return PGT_FACADE_MAX_TRIANGLES;
     const double per = PGT_FACADE_MESH_BYTES_PER_TRIANGLE +
@@ -544,13 +544,13 @@ uint32_t pgt_facade_twin_max_triangles(int with_embree, uint64_t *available) {
 
 const char *pgt_facade_twin_limit_why(char *buf, size_t size, uint64_t available, int with_embree) {
     buf[0] = 0;
-    const double mib = (double)available / (1024.0 * 1024.0);
+    char mem[32];
     if (available)
         snprintf(buf, size,
-                 " (what fits in %.0f %% of the %.*f %s of memory available%s; pgt facade "
+                 " (what fits in %.0f %% of the %s of memory available%s; pgt facade "
                  "--max-triangles sets another limit)",
-                 100.0 * PGT_FACADE_TWIN_MEMORY_SHARE, mib < 1024.0 ? 0 : 1,
-                 mib < 1024.0 ? mib : mib / 1024.0, mib < 1024.0 ? "MiB" : "GiB",
+                 100.0 * PGT_FACADE_TWIN_MEMORY_SHARE,
+                 pgt_cli_bytes_text(mem, sizeof mem, available),
                  with_embree ? " with Embree's scene of it" : "");
     return buf;
 }

@@ -137,7 +137,7 @@ pgt_result pgt_facade_mesh_write_ply(const pgt_facade_mesh *m, const char *path,
 /* Bytes of the mesh's arrays (positions, indices, per-triangle ids). */
 size_t pgt_facade_mesh_bytes(const pgt_facade_mesh *m);
 
-/* Share of the memory available at start (pgt_cli_memory_available) that the explicit twin may
+/* Share of the memory available at start (pgt_cli_available_bytes) that the explicit twin may
  * fill, with Embree's scene of it when it is built: the rest is for the frame, the scene, the
  * PLY writer and the system. The twin's arrays stay within their limit's capacity
  * (pgt_facade_explicit_limit), realloc's copy of one array apart. */

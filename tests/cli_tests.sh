@@ -222,6 +222,11 @@ one_line ivy_named_input_output_one_line "^pgt ivy: -o spot_link.ply is the inpu
 expect ivy_named_input_curves 2 "$pgt" ivy spot.obj --seeds 1 -o ivn.ply --curves spot_link.ply
 one_line ivy_named_input_curves_one_line "\-\-curves spot_link.ply is the input mesh spot.obj"
 rm -f spot_link.ply
+# bark and leaves beyond the memory available (PGT_MEMORY_AVAILABLE: 2 * 10^7 bytes) are refused
+# before they are allocated
+PGT_MEMORY_AVAILABLE=20000000 expect ivy_memory 2 "$pgt" ivy cs.exr --seeds 2 -o ivm.ply
+one_line ivy_memory_one_line "^pgt ivy: terminals: [0-9]* vertices and [0-9]* triangles (.*) would take 0.[0-9]* GiB, more than the 0.02 GiB allowed now (--seeds 2;"
+[ ! -e ivm.ply ] && ok ivy_memory_writes_nothing || bad ivy_memory_writes_nothing "ivm.ply written"
 # binary outputs are named for their format (the PLY and PNG writers do not follow the name)
 expect ivy_out_not_ply 2 "$pgt" ivy cs.exr --seeds 1 -o ive.obj
 one_line ivy_out_not_ply_one_line "^pgt ivy: -o ive.obj: the output is a PLY file (name it \*.ply)$"
@@ -451,14 +456,13 @@ expect woven_bad_res 2 "$pgt" woven --res 7k
 one_line woven_bad_res_one_line "\-\-res: unknown resolution '7k'"
 expect woven_params_k3 2 "$pgt" woven --params 10,3,5,8,25
 one_line woven_params_k3_one_line "\-\-params 10,3,5,8,25: K = 3"
-# arrays beyond the machine's memory (96 GiB within the 32-bit limits) are refused before any
-# allocation; on a machine with more memory than that the test would run the model: skipped
-if [ "$(awk '/^MemTotal:/ {print int($2 / 1048576)}' /proc/meminfo)" -lt 90 ]; then
-  expect woven_params_memory 2 "$pgt" woven --params 1000,4,33000,256,256 -o x.ply
-  one_line woven_params_memory_one_line "arrays take 96.4 GiB, more than the .* GiB of memory available now"
-else
-  echo "skip woven_params_memory (90 GiB of memory or more)"
-fi
+# arrays beyond the memory available (PGT_MEMORY_AVAILABLE in place of the machine's: 10^10
+# bytes) are refused before any allocation, 96 GiB within the 32-bit limits and 1.3 GiB alike
+PGT_MEMORY_AVAILABLE=10000000000 expect woven_params_memory 2 "$pgt" woven --params 1000,4,33000,256,256 -o wm.ply
+one_line woven_params_memory_one_line "^pgt woven: --params 1000,4,33000,256,256: the model's arrays take 96.4 GiB, more than the 9.3 GiB of memory available now$"
+PGT_MEMORY_AVAILABLE=1000000000 expect woven_params_memory_small 2 "$pgt" woven --params 1000,4,450,256,256 -o wm.ply
+one_line woven_params_memory_small_one_line "take 1.3 GiB, more than the 954 MiB of memory available now"
+[ ! -e wm.ply ] && ok woven_params_memory_writes_nothing || bad woven_params_memory_writes_nothing "wm.ply written"
 expect woven_params_zero 2 "$pgt" woven --params 10,4,0,8,25
 one_line woven_params_zero_one_line "\-\-params 10,4,0,8,25: C = 0"
 expect woven_params_negative 2 "$pgt" woven --params 10,4,5,8,-1

@@ -541,8 +541,8 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
         return fail(&c, out,
                     pgt_error_set(err, PGT_ERROR_LIMIT,
                                   "terminals: %llu vertices and %llu triangles (%llu bark "
-                                  "segments, %llu leaves) would take %.1f GiB, more than the "
-                                  "%.1f GiB allowed",
+                                  "segments, %llu leaves) would take %.2f GiB, more than the "
+                                  "%.2f GiB allowed",
                                   (unsigned long long)vtotal, (unsigned long long)ttotal,
                                   (unsigned long long)out->bark_segments,
                                   (unsigned long long)out->leaf_count, (double)bytes / 1073741824.0,
