@@ -656,6 +656,15 @@ expect facade_packets 0 "$pgt" facade --scene f.scene -o f5.exr --width 96 --hei
 cmp -s f4.exr f5.exr && ok facade_single_rays_same_frame || bad facade_single_rays_same_frame "f4.exr and f5.exr differ"
 expect facade_overwrite_scene 2 "$pgt" facade --scene f.scene -o f.exr --save-scene f.scene
 one_line facade_overwrite_scene_one_line "never overwrites an input"
+# a geometry image (Mesh) that leaves the facade volume fails the render as a rectangle does,
+# naming the grammar's place (the oculus's glass lies 0.15 m deep; recess 0.05): the coverage
+# polygon and the ray's slab would cut it (paper 003 sec. 8); with recess 0.15 it renders
+printf 'param protrusion = 0.3\nparam recess = 0.05\nF --> split(x) { ~3 : M }*\nM --> Mesh(0)\n' >gvol.grammar
+printf 'grammar g gvol.grammar\nbuilding g 0 10 1 FFFFFF : 0 0 0 10 10 10 10 0\n' >gvol.scene
+expect facade_gimage_volume 2 "$pgt" facade --scene gvol.scene -o gv.exr --width 64 --height 64 --camera -6,5,-2,0,5,3,0,1,0,60
+one_line facade_gimage_volume_one_line "a terminal reaches outside the facade volume .*gvol.grammar:4:7: building 0 facade 0: Mesh triangle [0-9]* reaches z -0.15 outside"
+sed -i 's/recess = 0.05/recess = 0.15/' gvol.grammar
+expect facade_gimage_volume_fits 0 "$pgt" facade --scene gvol.scene -o gv.exr --width 64 --height 64 --camera -6,5,-2,0,5,3,0,1,0,60 --embree-check
 # the explicit twin's limit: exactly its triangles give the same twin, one fewer fails naming the
 # flag and writes nothing; without a flag the limit is what fits in the memory available
 # (PGT_MEMORY_AVAILABLE in place of the machine's), so a grammar that instantiates billions of

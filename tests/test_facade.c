@@ -794,6 +794,15 @@ static void test_explicit_limit(void) {
             CHECK(m.triangle_count == 0 && m.vertex_count == 0 && !m.positions && !m.indices);
             pgt_facade_mesh_destroy(&m);
         }
+        if (gimage) { /* the scene check verifies each image's recorded z range */
+            pgt_error_clear(&err);
+            CHECK(pgt_facade_scene_check(&s, "city", &err) == PGT_OK);
+            const float zlo = s.gimages[0].zlo;
+            s.gimages[0].zlo = zlo - 0.01f;
+            CHECK(pgt_facade_scene_check(&s, "city", &err) == PGT_ERROR_INVALID_ARGUMENT);
+            CHECK_MSG(strstr(err.message, "z range") != NULL, "%s", err.message);
+            s.gimages[0].zlo = zlo;
+        }
         pgt_facade_mesh_destroy(&full);
         free(fa);
         pgt_facade_scene_destroy(&s);

@@ -147,6 +147,21 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  what, k, gi->first, gi->first, gi->count, s->gimage_triangle_count,
                                  PGT_FACADE_MAX_GIMAGE_TRIANGLES);
     }
+    for (uint32_t k = 0; k < s->gimage_count; ++k) { /* the z range recorded */
+        if (!s->gimage_data) break;
+        const pgt_facade_gimage *gi = &s->gimages[k];
+        int finite = 1;
+        for (uint32_t i = 0; i < 9u * gi->count; ++i)
+            finite &= isfinite(s->gimage_data[9u * (size_t)gi->first + i]) != 0;
+        if (!finite) continue; /* named by the check of the data */
+        float lo, hi;
+        facade_gimage_z_range(s->gimage_data + 9u * (size_t)gi->first, gi->count, &lo, &hi);
+        if (gi->count && (lo != gi->zlo || hi != gi->zhi))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: geometry image %u: z range [%g, %g] recorded, its triangles "
+                                 "span [%g, %g]",
+                                 what, k, (double)gi->zlo, (double)gi->zhi, (double)lo, (double)hi);
+    }
     for (uint32_t i = 0; i < s->gimage_triangle_count; ++i)
         if (s->gimage_roles[i] >= PGT_FACADE_ROLE_COUNT)
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
@@ -875,7 +890,7 @@ static uint32_t terminal_quads(const facade_ctx *c, facade_cache *cache, const p
 /* The geometry image of Mesh terminal item `it` (its id evaluated for node `key` with the
  * frame's arguments): returns its triangle count, *d its triangles and *first the scene index of
  * its first; 0 on an error, or-ed into c->stats (the evaluation's, or an id naming no image). */
-static uint32_t terminal_gimage(const facade_ctx *c, const pgt_facade_scene *s,
+static uint32_t terminal_gimage(const facade_ctx *c, const pgt_facade_scene *s, const pgt_facade *f,
                                 const pgt_grammar_item *it, const float *args, uint32_t argc,
                                 uint32_t key, const float **d, uint32_t *first) {
     float id;
@@ -883,7 +898,17 @@ static uint32_t terminal_gimage(const facade_ctx *c, const pgt_facade_scene *s,
     *d = NULL, *first = 0;
     if (!facade_eval(c, c->g->args[it->first_arg], args, argc, key, &counter, &id)) return 0;
     const uint32_t n = facade_gimage_triangles(s, id, d, first);
-    if (n == 0) c->stats->errors |= PGT_FACADE_ERR_GIMAGE;
+    if (n == 0) {
+        c->stats->errors |= PGT_FACADE_ERR_GIMAGE;
+        return 0;
+    }
+    /* the explicit twin's test (emit_gimage), on the image's z range: it must stay in the
+     * facade volume, which the coverage polygon and the slab of the ray test bound (sec. 8) */
+    const pgt_facade_gimage *g = &s->gimages[(uint32_t)id];
+    if (g->zlo < -f->recess || g->zhi > f->protrusion) {
+        c->stats->errors |= PGT_FACADE_ERR_VOLUME;
+        return 0;
+    }
     return n;
 }
 
@@ -1062,7 +1087,8 @@ int facade_intersect(const pgt_facade_scene *s, const pgt_facade *f, uint32_t fi
                 float nrm[3];
                 const float *td;
                 uint32_t first;
-                const uint32_t n = terminal_gimage(&c, s, it, fr->args, fr->argc, key, &td, &first);
+                const uint32_t n =
+                    terminal_gimage(&c, s, f, it, fr->args, fr->argc, key, &td, &first);
                 if (n == 0) break;
                 stats->quads += n;
                 const uint32_t k =
@@ -1308,7 +1334,7 @@ static int packet_develop(const pgt_facade_scene *s, const pgt_facade *f, const 
                 const float *td;
                 uint32_t firsttri;
                 const uint32_t n =
-                    terminal_gimage(cx, s, it, fr->args, fr->argc, key, &td, &firsttri);
+                    terminal_gimage(cx, s, f, it, fr->args, fr->argc, key, &td, &firsttri);
                 if (n == 0) {
                     ok = 0;
                     break;

@@ -109,9 +109,20 @@ pgt_result pgt_facade_add_builtin_gimages(pgt_facade_scene *s, pgt_error *err) {
     s->gimage_roles = ro;
     const uint32_t n =
         oculus(d + 9u * (size_t)s->gimage_triangle_count, ro + s->gimage_triangle_count);
-    g[s->gimage_count].first = s->gimage_triangle_count, g[s->gimage_count].count = n;
+    pgt_facade_gimage *gi = &g[s->gimage_count];
+    gi->first = s->gimage_triangle_count, gi->count = n;
+    facade_gimage_z_range(d + 9u * (size_t)gi->first, n, &gi->zlo, &gi->zhi);
     s->gimage_count++, s->gimage_triangle_count += n;
     return PGT_OK;
+}
+
+void facade_gimage_z_range(const float *d, uint32_t n, float *zlo, float *zhi) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = 0; i < 3u * n; ++i) {
+        const float z = d[3u * i + 2u];
+        lo = z < lo ? z : lo, hi = z > hi ? z : hi;
+    }
+    *zlo = lo, *zhi = hi;
 }
 
 /* The triangles of geometry image id (a whole number below gimage_count) and the index of its

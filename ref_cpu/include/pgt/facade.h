@@ -142,9 +142,12 @@ typedef struct pgt_facade_building {
     uint32_t colour;                     /* 0xRRGGBB, the wall's base colour */
 } pgt_facade_building;
 
-/* A geometry image (6.2.2): triangles[first .. + count) of the scene's 1D geometry image. */
+/* A geometry image (6.2.2): triangles[first .. + count) of the scene's 1D geometry image, and
+ * the least and greatest z of their corners (pgt_facade_scene_check verifies them): the rays
+ * flag an image that leaves the facade volume as they do a rectangle (sec. 8). */
 typedef struct pgt_facade_gimage {
     uint32_t first, count;
+    float zlo, zhi;
 } pgt_facade_gimage;
 
 /* Triangles of one geometry image at most (the paper's door block has 732). */
