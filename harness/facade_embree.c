@@ -315,34 +315,55 @@ static double seg_dist(const double p[3], const float *a, const float *b) {
     return sqrt(d2);
 }
 
-static int same_point(const float *a, const float *b) {
-    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+/* An edge of the explicit mesh by its corners' positions, the lexicographically smaller first
+ * (the triangles of one rectangle or roof have vertices of their own or shared: positions, not
+ * indices, tell a shared edge). */
+typedef struct pos_edge {
+    const float *a, *b;
+} pos_edge;
+
+static int pos_cmp(const float *a, const float *b) {
+    for (int k = 0; k < 3; ++k)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
 }
 
-/* Distance from p to the boundary of the rectangle made of triangles tris[0 .. n): every
- * triangle edge but those two triangles share (the diagonal). */
-static double rect_edge_dist(const pgt_facade_mesh *m, const uint32_t *tris, uint32_t n,
-                             const double p[3]) {
-    double best = INFINITY;
+static int edge_cmp(const void *x, const void *y) {
+    const pos_edge *e = x, *f = y;
+    const int c = pos_cmp(e->a, f->a);
+    return c ? c : pos_cmp(e->b, f->b);
+}
+
+/* The boundary of the surface made of triangles tris[0 .. n) into out (at most 3n edges): the
+ * edges no two of them share (a rectangle's 4 sides without its diagonal, a roof's outline
+ * without its fan's inner edges). Returns the count. */
+static uint32_t boundary_edges(const pgt_facade_mesh *m, const uint32_t *tris, uint32_t n,
+                               pos_edge *out) {
+    uint32_t e = 0;
     for (uint32_t a = 0; a < n; ++a)
         for (uint32_t k = 0; k < 3; ++k) {
-            const float *e0 = m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[a] + k];
-            const float *e1 =
+            const float *p0 = m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[a] + k];
+            const float *p1 =
                 m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[a] + (k + 1u) % 3u];
-            int shared = 0;
-            for (uint32_t b = 0; b < n && !shared; ++b) {
-                if (b == a) continue;
-                for (uint32_t j = 0; j < 3 && !shared; ++j) {
-                    const float *f0 =
-                        m->positions + 3u * (size_t)m->indices[3u * (size_t)tris[b] + j];
-                    const float *f1 = m->positions +
-                                      3u * (size_t)m->indices[3u * (size_t)tris[b] + (j + 1u) % 3u];
-                    shared = (same_point(e0, f0) && same_point(e1, f1)) ||
-                             (same_point(e0, f1) && same_point(e1, f0));
-                }
-            }
-            if (!shared) best = fmin(best, seg_dist(p, e0, e1));
+            const int swap = pos_cmp(p0, p1) > 0;
+            out[e].a = swap ? p1 : p0, out[e].b = swap ? p0 : p1;
+            e++;
         }
+    qsort(out, e, sizeof *out, edge_cmp);
+    uint32_t u = 0;
+    for (uint32_t k = 0; k < e;) {
+        uint32_t r = k + 1;
+        while (r < e && !edge_cmp(&out[k], &out[r])) r++;
+        if (r == k + 1) out[u++] = out[k];
+        k = r;
+    }
+    return u;
+}
+
+/* Distance from p to the nearest of n edges. */
+static double edges_dist(const pos_edge *edges, uint32_t n, const double p[3]) {
+    double best = INFINITY;
+    for (uint32_t k = 0; k < n; ++k) best = fmin(best, seg_dist(p, edges[k].a, edges[k].b));
     return best;
 }
 
@@ -370,10 +391,12 @@ static double tri_dist(const double p[3], const float *fa, const float *fb, cons
     return fmin(seg_dist(p, fa, fb), fmin(seg_dist(p, fb, fc), seg_dist(p, fc, fa)));
 }
 
-/* A disagreement being explained: its keys and where their triangles are. */
+/* A disagreement being explained: its keys, their triangles (tris[first .. + n) of the
+ * comparison's list, every one: a roof has as many as its footprint's corners less 2) and
+ * their boundary (edges[efirst .. + en)). */
 typedef struct wanted {
     rect_key key;
-    uint32_t tris[4], n;
+    uint32_t first, n, efirst, en;
 } wanted;
 
 static int wanted_cmp(const void *a, const void *b) {
@@ -443,12 +466,38 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
         for (size_t k = 0; k < wn; ++k)
             if (u == 0 || key_cmp(&w[u - 1].key, &w[k].key)) w[u++] = w[k];
         wn = u;
-        for (uint32_t tri = 0; tri < mesh->triangle_count; ++tri) {
-            wanted probe;
-            probe.key =
-                (rect_key){mesh->facade[tri], mesh->node[tri], mesh->kind[tri], mesh->surface[tri]};
-            wanted *hit = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
-            if (hit && hit->n < 4u) hit->tris[hit->n++] = tri;
+        /* their triangles, counted, then listed (CSR), and each key's boundary once */
+        uint32_t *tris = NULL;
+        pos_edge *edges = NULL;
+        size_t total = 0;
+        for (int pass = 0; pass < 2; ++pass) {
+            for (uint32_t tri = 0; tri < mesh->triangle_count; ++tri) {
+                wanted probe;
+                probe.key = (rect_key){mesh->facade[tri], mesh->node[tri], mesh->kind[tri],
+                                       mesh->surface[tri]};
+                wanted *hit = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
+                if (!hit) continue;
+                if (pass == 1) tris[hit->first + hit->n] = tri;
+                hit->n++;
+            }
+            if (pass == 1) break;
+            total = 0;
+            for (size_t k = 0; k < wn; ++k)
+                w[k].first = (uint32_t)total, total += w[k].n, w[k].n = 0;
+            tris = malloc((total ? total : 1u) * sizeof *tris);
+            edges = malloc((total ? 3u * total : 1u) * sizeof *edges);
+            if (!tris || !edges) { /* cannot explain them: every one counts as far from an edge */
+                free(tris);
+                free(edges);
+                free(w);
+                free(bad);
+                goto finish;
+            }
+        }
+        for (size_t k = 0, e = 0; k < wn; ++k) {
+            w[k].efirst = (uint32_t)e;
+            w[k].en = boundary_edges(mesh, tris + w[k].first, w[k].n, edges + e);
+            e += w[k].en;
         }
         for (size_t b = 0; b < bad_n; ++b) {
             const size_t i = bad[b];
@@ -479,7 +528,7 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 const double t = frame->depth[i];
                 double p[3];
                 for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
-                if (r && r->n) px.edge[0] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / t);
+                if (r && r->n) px.edge[0] = (float)(edges_dist(edges + r->efirst, r->en, p) / t);
                 ours = r;
             }
             const uint32_t et = hits->tri[i];
@@ -498,9 +547,9 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                            bu * mesh->positions[3u * (size_t)tv[1] + k] +
                            bv * mesh->positions[3u * (size_t)tv[2] + k];
                 if (r && r->n)
-                    px.edge[1] = (float)(rect_edge_dist(mesh, r->tris, r->n, p) / hits->t[i]);
+                    px.edge[1] = (float)(edges_dist(edges + r->efirst, r->en, p) / hits->t[i]);
                 for (uint32_t k = 0; tie_depth && ours && k < ours->n; ++k) {
-                    const uint32_t *ov = mesh->indices + 3u * (size_t)ours->tris[k];
+                    const uint32_t *ov = mesh->indices + 3u * (size_t)tris[ours->first + k];
                     on = fmin(on, tri_dist(p, mesh->positions + 3u * (size_t)ov[0],
                                            mesh->positions + 3u * (size_t)ov[1],
                                            mesh->positions + 3u * (size_t)ov[2]));
@@ -516,6 +565,8 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 out->far[out->reported++] = px;
         }
         free(w);
+        free(tris);
+        free(edges);
     }
     free(bad);
 finish:

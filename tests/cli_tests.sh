@@ -665,6 +665,15 @@ expect facade_gimage_volume 2 "$pgt" facade --scene gvol.scene -o gv.exr --width
 one_line facade_gimage_volume_one_line "a terminal reaches outside the facade volume .*gvol.grammar:4:7: building 0 facade 0: Mesh triangle [0-9]* reaches z -0.15 outside"
 sed -i 's/recess = 0.05/recess = 0.15/' gvol.grammar
 expect facade_gimage_volume_fits 0 "$pgt" facade --scene gvol.scene -o gv.exr --width 64 --height 64 --camera -6,5,-2,0,5,3,0,1,0,60 --embree-check
+# a balcony's underside lying on a 40-cornered roof: coincident faces, ties; the check finds the
+# roof's every triangle (38, one key) and its outline (it kept 4 triangles a key: "neither", FAIL)
+printf 'param protrusion = 0.6\nparam recess = 0.3\nF --> split(y) { 3 : GF | ~3 : W }\nGF --> Wall() Balcony(0.6, 0.2, 1.0)\nW --> Wall()\n' >balc.grammar
+/usr/bin/python3 -c '
+import math
+c = " ".join("%.6f %.6f" % (15 * math.cos(-2 * math.pi * k / 40), 15 * math.sin(-2 * math.pi * k / 40)) for k in range(40))
+print("grammar a '"$src"'/grammars/facade.grammar\ngrammar b balc.grammar\nbuilding a 0 10 1 DDDDDD : " + c + "\nbuilding b 10 6 2 AAAAFF : -5 -5 -5 5 5 5 5 -5")' >roof.scene
+expect facade_roof_ties 0 "$pgt" facade --scene roof.scene -o rf.exr --width 64 --height 64 --threads 1 --camera 0,2,0,5.3,10,0,0,1,0,30 --embree-check
+grep -q "([1-9][0-9]* ties: .*, 0 neither).* -> PASS$" out.txt && ok facade_roof_ties_counted || bad facade_roof_ties_counted "$(grep check: out.txt)"
 # the explicit twin's limit: exactly its triangles give the same twin, one fewer fails naming the
 # flag and writes nothing; without a flag the limit is what fits in the memory available
 # (PGT_MEMORY_AVAILABLE in place of the machine's), so a grammar that instantiates billions of
