@@ -454,21 +454,33 @@ static void relative_path(const char *dir, const char *target, char *out, size_t
     snprintf(out + n, size - n, "%s", rest);
 }
 
-static void write_grammar_path(FILE *fp, const char *scene_path, const char *gpath) {
+/* The grammar path as the scene file at scene_path names it (relative to its folder when both
+ * resolve) into out; 0 when it cannot be one token of the format (a space, a tab, '#' or a
+ * control byte: the reader splits there). */
+static int grammar_path_text(const char *scene_path, const char *gpath, char *out, size_t size) {
     char *dir = dir_of(scene_path);
-    char rdir[PATH_MAX], rg[PATH_MAX], rel[2 * PATH_MAX];
-    if (dir && realpath(dir, rdir) && realpath(gpath, rg)) {
-        relative_path(rdir, rg, rel, sizeof rel);
-        fputs(rel, fp);
-    } else {
-        fputs(gpath, fp);
-    }
+    char rdir[PATH_MAX], rg[PATH_MAX];
+    if (dir && realpath(dir, rdir) && realpath(gpath, rg))
+        relative_path(rdir, rg, out, size);
+    else
+        snprintf(out, size, "%s", gpath);
     free(dir);
+    for (const char *c = out; *c; ++c)
+        if ((unsigned char)*c <= ' ' || *c == '#' || *c == 0x7f) return 0;
+    return *out != 0;
 }
 
 pgt_result pgt_facade_file_write(const char *path, const char *read_path, const pgt_facade_scene *s,
                                  const char *const *names, const char *const *paths,
                                  const char *comment, pgt_error *err) {
+    for (uint32_t k = 0; k < s->grammar_count; ++k) { /* what the reader could not read back */
+        char rel[2 * PATH_MAX];
+        if (!grammar_path_text(read_path ? read_path : path, paths[k], rel, sizeof rel))
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: grammar %s's path '%s' has a space, tab, '#' or control "
+                                 "byte, which a scene file cannot hold (its tokens end there)",
+                                 path, names[k], rel);
+    }
     const size_t tn = strlen(path) + 32u;
     char *tmp = malloc(tn);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
@@ -500,9 +512,9 @@ pgt_result pgt_facade_file_write(const char *path, const char *read_path, const 
         }
     }
     for (uint32_t k = 0; k < s->grammar_count; ++k) {
-        fprintf(fp, "grammar %s ", names[k]);
-        write_grammar_path(fp, read_path ? read_path : path, paths[k]);
-        fputc('\n', fp);
+        char rel[2 * PATH_MAX];
+        grammar_path_text(read_path ? read_path : path, paths[k], rel, sizeof rel);
+        fprintf(fp, "grammar %s %s\n", names[k], rel);
     }
     for (uint32_t i = 0; i < s->building_count; ++i) {
         const pgt_facade_building *b = &s->buildings[i];

@@ -665,6 +665,12 @@ expect facade_gimage_volume 2 "$pgt" facade --scene gvol.scene -o gv.exr --width
 one_line facade_gimage_volume_one_line "a terminal reaches outside the facade volume .*gvol.grammar:4:7: building 0 facade 0: Mesh triangle [0-9]* reaches z -0.15 outside"
 sed -i 's/recess = 0.05/recess = 0.15/' gvol.grammar
 expect facade_gimage_volume_fits 0 "$pgt" facade --scene gvol.scene -o gv.exr --width 64 --height 64 --camera -6,5,-2,0,5,3,0,1,0,60 --embree-check
+# a scene file cannot name a grammar whose path has a space or '#' (its tokens end there): the
+# save refuses it rather than write a file its reader refuses, and writes nothing
+mkdir -p "sp dir" && cp "$src/grammars/facade.grammar" "sp dir/"
+expect facade_save_space 2 "$pgt" facade --city 2 --grammar "sp dir/facade.grammar" -o sps.exr --width 16 --height 16 --save-scene sps.scene
+one_line facade_save_space_one_line "^pgt facade: --save-scene sps.scene: grammar facade's path 'sp dir/facade.grammar' has a space"
+[ -z "$(ls -d sps.* 2>/dev/null)" ] && ok facade_save_space_writes_nothing || bad facade_save_space_writes_nothing "$(ls -d sps.*)"
 # a balcony's underside lying on a 40-cornered roof: coincident faces, ties; the check finds the
 # roof's every triangle (38, one key) and its outline (it kept 4 triangles a key: "neither", FAIL)
 printf 'param protrusion = 0.6\nparam recess = 0.3\nF --> split(y) { 3 : GF | ~3 : W }\nGF --> Wall() Balcony(0.6, 0.2, 1.0)\nW --> Wall()\n' >balc.grammar
