@@ -983,6 +983,51 @@ static double slit_shift(double x, double y, int side) {
     return side * d * (1.0 - 2.0 * fabs(x - 0.5));
 }
 
+/* A strip of n triangles in one chart (each shares an edge and its UVs with the next) whose
+ * corners' UVs cycle through three far corners of the square: every triangle covers half the
+ * image, folded over the one before. */
+static pgt_result make_folded_strip(pgt_mesh *m, uint32_t n, pgt_error *err) {
+    pgt_result r = pgt_mesh_create(m, n + 2u, n, 1, 0, err);
+    if (r != PGT_OK) return r;
+    static const float corner[3][2] = {{0.05f, 0.05f}, {0.95f, 0.05f}, {0.5f, 0.95f}};
+    for (uint32_t v = 0; v < n + 2u; ++v) {
+        float *p = &m->positions[3u * v];
+        p[0] = 0.5f * (float)v, p[1] = (float)(v % 2u), p[2] = 0.0f;
+    }
+    for (uint32_t f = 0; f < n; ++f) {
+        /* counter-clockwise in 3D, the strip's alternate triangles turned around */
+        const uint32_t c[3] = {f, f % 2u ? f + 2u : f + 1u, f % 2u ? f + 1u : f + 2u};
+        for (int k = 0; k < 3; ++k) {
+            m->indices[3u * f + (uint32_t)k] = c[k];
+            m->uvs[6u * f + 2u * (uint32_t)k] = corner[c[k] % 3u][0];
+            m->uvs[6u * f + 2u * (uint32_t)k + 1u] = corner[c[k] % 3u][1];
+        }
+    }
+    return PGT_OK;
+}
+
+/* UVs folded over inside a chart are counted while the raster's work stays bounded; past
+ * ATLAS_RASTER_MAX_BOX_IMAGES (32) images of triangle boxes the build fails with one message
+ * (a 9000-face strip took 25 s at 1024^2, hours at the largest --res). */
+static void test_folded_uvs(void) {
+    pgt_mesh m = {0};
+    pgt_image img = {0};
+    pgt_atlas_stats st;
+    pgt_error err = {0};
+    REQUIRE(make_folded_strip(&m, 20, &err) == PGT_OK);
+    CHECK_MSG(build(&m, 128, 2, 0, &img, &st, &err) == PGT_OK, "%s", err.message);
+    CHECK_MSG(st.charts == 1 && st.fold_over_texels > 0, "%u charts, %u fold-over texels",
+              st.charts, st.fold_over_texels);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+    REQUIRE(make_folded_strip(&m, 200, &err) == PGT_OK);
+    CHECK(build(&m, 128, 2, 0, &img, &st, &err) == PGT_ERROR_LIMIT);
+    CHECK_MSG(strstr(err.message, "times over (at most 32): UVs folded over") != NULL, "%s",
+              err.message);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
 static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
     const uint32_t n = SLIT_QUADS, nv = n + 1u;
     pgt_result r = pgt_mesh_create(m, nv * nv, 2u * n * n, 1, 0, err);
@@ -1414,6 +1459,7 @@ static const pgt_test_case cases[] = {
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
     {"slit_crack", test_slit_crack},
+    {"folded_uvs", test_folded_uvs},
     {"mirrored_charts", test_mirrored_charts},
     {"voronoi_atlases", test_voronoi_atlases},
     {"self_seams_and_borders", test_self_seams_and_borders},

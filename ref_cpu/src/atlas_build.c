@@ -133,7 +133,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
                          err);
         if (r != PGT_OK) goto done;
         st.overlap_texels = cover.overlap;
-        if (cover.overlap || atlas_band_violations(texel_chart, W, H, band, threads)) {
+        if (cover.over_box || cover.overlap ||
+            atlas_band_violations(texel_chart, W, H, band, threads)) {
             r = atlas_layout_repack(&layout, mesh, &charts, W, H, band, threads, what, err);
             if (r != PGT_OK) goto done;
         }

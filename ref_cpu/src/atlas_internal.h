@@ -65,6 +65,9 @@ typedef struct atlas_raster_counts {
     uint32_t inner;     /* covered texels */
     uint32_t fold_over; /* texel centres strictly inside two triangles of one chart */
     uint32_t overlap;   /* texel centres covered by triangles of two charts */
+    uint32_t over_box;  /* coverage raster only: the triangles' boxes exceed
+                           ATLAS_RASTER_MAX_BOX_IMAGES, nothing rastered (repack); the raster
+                           with attributes fails there (PGT_ERROR_LIMIT) */
 } atlas_raster_counts;
 
 pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
@@ -80,6 +83,9 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
  * the number of texels filled; crack (width * height, zeroed by the caller) gets 1 + the index
  * of the filling seam (in seam_half_edges) at each, and ATLAS_CRACK_UNFILLED | (1 + index) at
  * the uncovered texels of the same quads where the copies lie farther apart (not filled). */
+/* The fill's work bound: its quads' boxes together at most this many times the image (a slit's
+ * quad is a few texels wide; bob_tri's 1024^2 atlas scans a fraction of one percent). */
+#define ATLAS_CRACK_SCAN_IMAGES 1.0
 #define ATLAS_CRACK_UNFILLED 0x80000000u
 #define ATLAS_CRACK_FILLED(v) ((v) != 0u && !((v)&ATLAS_CRACK_UNFILLED))
 uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,

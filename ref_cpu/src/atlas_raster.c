@@ -24,6 +24,13 @@
  * tiles), large enough that a triangle of a dense mesh (a few texels tall) mostly sits in one. */
 #define ATLAS_RASTER_TILE_ROWS 8u
 
+/* The raster tests every texel of every triangle's box: their sum, in images, at most this.
+ * The shared meshes' layouts sum to 0.8-3.0 images (ogre's one chart the most; slivers' boxes
+ * exceed their area); UVs folded over inside a chart (a chart keeps its input UVs, fold-overs
+ * are counted, not refused) reached 190-300 images with a few hundred faces, and the time grows
+ * with the sum (25 s for 9000 faces at 1024^2, hours at the largest --res). */
+#define ATLAS_RASTER_MAX_BOX_IMAGES 32.0
+
 /* Most (triangle, tile) pairs: 2^28 entries (1 GiB) is beyond any layout the packer makes; only
  * an input whose triangles each span the whole atlas can reach it. */
 #define ATLAS_RASTER_MAX_PAIRS (1ull << 28)
@@ -105,7 +112,7 @@ static void raster_tiles(void *vctx, uint32_t t_begin, uint32_t t_end, uint32_t 
     for (uint32_t t = t_begin; t < t_end; ++t) {
         const uint32_t y0 = t * ATLAS_RASTER_TILE_ROWS;
         const uint32_t y1 = y0 + ATLAS_RASTER_TILE_ROWS < H ? y0 + ATLAS_RASTER_TILE_ROWS : H;
-        atlas_raster_counts cnt = {0, 0, 0};
+        atlas_raster_counts cnt = {0, 0, 0, 0};
         for (uint32_t i = 0; i < (y1 - y0) * W; ++i) owner[i] = PGT_NONE;
         for (uint32_t y = y0; y < y1; ++y) {
             int32_t *tc = &c->texel_chart[(size_t)y * W];
@@ -215,10 +222,20 @@ static int triangle_bary(const float *v0, const float *v1, const float *v2, doub
     return 1;
 }
 
+/* Do segments p0 p1 and q0 q1 cross (each one's ends strictly on both sides of the other)? */
+static int segments_cross(const float *p0, const float *p1, const float *q0, const float *q1) {
+    const edge_fn p = edge_make(p0, p1), q = edge_make(q0, q1);
+    const double o1 = edge_eval(&p, q0[0], q0[1]), o2 = edge_eval(&p, q1[0], q1[1]),
+                 o3 = edge_eval(&q, p0[0], p0[1]), o4 = edge_eval(&q, p1[0], p1[1]);
+    return ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
+           ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0));
+}
+
 uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,
                            uint32_t W, uint32_t H, const float *normals, pgt_image *atlas,
                            int32_t *texel_chart, uint32_t *crack) {
     uint32_t filled = 0;
+    uint64_t scanned = 0; /* texels of the quads' boxes so far */
     for (uint32_t i = 0; i < charts->seam_count; ++i) {
         const uint32_t h = charts->seam_half_edges[2u * i];
         const uint32_t chart = charts->face_chart[h / 3u];
@@ -231,8 +248,20 @@ uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, con
         /* the copies' distance (1 - s) (a0 - a1) + s (b0 - b1) at its smallest */
         if (sqrt(atlas_segment_dist2(dax, day, dbx, dby, 0.0, 0.0)) > PGT_ATLAS_CRACK_TEXELS)
             continue;
+        /* a slit's two sides run side by side from its tip: copies that cross, or whose ends
+         * cross over (a0 b0 b1 a1 a bow-tie), are UVs folded inside the chart, not a crack;
+         * their quad's s would name texels far from both copies */
+        if (segments_cross(a0, b0, a1, b1) || segments_cross(a0, a1, b0, b1)) continue;
         int32_t box[4];
         if (!texel_box(q, 4, W, H, box)) continue;
+        /* the work is the quads' boxes: a slit's are a few texels wide, and all of them stay far
+         * below the image's area on every mesh tried; copies that spread across the image from
+         * one end (folded UVs again) would make it the image per seam (minutes for a few
+         * hundred seams): past ATLAS_CRACK_SCAN_IMAGES images the remaining seams are not
+         * filled */
+        const uint64_t area = (uint64_t)(box[1] - box[0] + 1) * (uint64_t)(box[3] - box[2] + 1);
+        if (scanned + area > (uint64_t)(ATLAS_CRACK_SCAN_IMAGES * (double)W * (double)H)) continue;
+        scanned += area;
         const uint32_t ia = mesh->indices[h], ib = mesh->indices[pgt_half_edge_next(h)];
         for (uint32_t y = (uint32_t)box[0]; y <= (uint32_t)box[1]; ++y)
             for (uint32_t x = (uint32_t)box[2]; x <= (uint32_t)box[3]; ++x) {
@@ -289,7 +318,7 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (raster)");
         goto done;
     }
-    uint64_t pairs = 0;
+    uint64_t pairs = 0, box_texels = 0;
     for (uint32_t f = 0; f < F; ++f) {
         int32_t *rc = &rows[4u * f];
         rc[0] = 1, rc[1] = 0;
@@ -299,6 +328,7 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
         const uint32_t t0 = (uint32_t)rc[0] / ATLAS_RASTER_TILE_ROWS,
                        t1 = (uint32_t)rc[1] / ATLAS_RASTER_TILE_ROWS;
         pairs += t1 - t0 + 1u;
+        box_texels += (uint64_t)(rc[1] - rc[0] + 1) * (uint64_t)(rc[3] - rc[2] + 1);
         if (pairs > ATLAS_RASTER_MAX_PAIRS) {
             r = pgt_error_set(err, PGT_ERROR_LIMIT,
                               "atlas: the UV triangles span more than %llu (triangle, tile) "
@@ -307,6 +337,18 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
             goto done;
         }
         for (uint32_t t = t0; t <= t1; ++t) bin_begin[t + 1u]++;
+    }
+    if ((double)box_texels > ATLAS_RASTER_MAX_BOX_IMAGES * (double)W * (double)H) {
+        if (!atlas) { /* the input UVs' coverage: stacked islands are repacked, not refused */
+            if (out_counts) *out_counts = (atlas_raster_counts){0, 0, 0, 1};
+            goto done;
+        }
+        r = pgt_error_set(err, PGT_ERROR_LIMIT,
+                          "atlas: the UV triangles' boxes cover the %ux%u image %.0f times over "
+                          "(at most %.0f): UVs folded over or overlapping inside a chart",
+                          W, H, (double)box_texels / ((double)W * (double)H),
+                          ATLAS_RASTER_MAX_BOX_IMAGES);
+        goto done;
     }
     for (uint32_t t = 0; t < tiles; ++t) bin_begin[t + 1u] += bin_begin[t];
     bin_faces = malloc(sizeof(uint32_t) * (pairs ? pairs : 1u));
@@ -329,7 +371,9 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
                       bin_begin, bin_faces, rows, atlas,          texel_chart, owner, tile_counts};
     /* a tile costs about TILE_ROWS * W texels: hand tiles out as rows of that width */
     atlas_parallel_rows(tiles, ATLAS_RASTER_TILE_ROWS * W, threads, raster_tiles, &ctx);
-    atlas_raster_counts sum = {0, 0, 0};
+    atlas_raster_counts sum = {0, 0, 0, 0};
+    /* no wrap: each count is at most the texel tests, ATLAS_RASTER_MAX_BOX_IMAGES images of at
+     * most 2^24.6 texels (4939^2) */
     for (uint32_t t = 0; t < tiles; ++t) {
         sum.inner += tile_counts[t].inner;
         sum.fold_over += tile_counts[t].fold_over;

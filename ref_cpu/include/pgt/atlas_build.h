@@ -135,7 +135,9 @@ typedef struct pgt_atlas_stats {
     uint32_t empty_charts;      /* charts that cover no texel centre at this resolution */
     uint32_t fold_over_texels;  /* texels covered by two triangles of one chart */
     uint32_t crack_texels;      /* texels filled in the cracks of seams inside a chart */
-    uint32_t overlap_texels;    /* input layout only: texels covered by two charts */
+    uint32_t overlap_texels;    /* input layout only: texels covered by two charts (not
+                                   measured, 0, when the input triangles' boxes cover the image
+                                   more than 32 times: repacked without the coverage raster) */
     int repacked;               /* 0: input UVs kept; 1: charts repacked */
     double packing_efficiency;  /* inner texels / (width * height) */
     double uv_scale;            /* repacked: texels per unit of 3D length; 0 when kept */
