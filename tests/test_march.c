@@ -1703,6 +1703,43 @@ static void batch_matches_steps(const pgt_march_atlas *v, const char *name, uint
     free(mask), free(density);
 }
 
+/* The Jacobian rotation depends on the texel Jacobians' ratios only: the cube-sphere scaled by
+ * 1e-9 (texels of ~3e-11, whose Jacobians' determinant is below float's range) and by 1e9 walks
+ * the same great circle in texels as the unit one (it fell back to the atlas's rot at 1e-9). */
+static void test_jacobian_scale(void) {
+    static const double scales[3] = {1.0, 1e-9, 1e9};
+    float end[3][2];
+    for (int k = 0; k < 3; ++k) {
+        pgt_mesh m;
+        REQUIRE(pgt_gen_cube_sphere(&m, 16, NULL) == PGT_OK);
+        for (uint32_t i = 0; i < 3u * m.vertex_count; ++i)
+            m.positions[i] = (float)(m.positions[i] * scales[k]);
+        pgt_image img;
+        pgt_atlas_stats st;
+        pgt_march_atlas v;
+        REQUIRE(real_atlas(&m, "cube_sphere_16", &img, &st, &v));
+        pgt_march_options o = {0};
+        o.rotation = PGT_MARCH_ROTATION_JACOBIAN;
+        pgt_march_state s;
+        REQUIRE(pgt_march_start(&v, (float)(v.width / 6.0), (float)(0.75 * v.height), 1.0f, 0.3f,
+                                &s, NULL) == PGT_OK);
+        uint32_t stops = 0;
+        for (uint32_t i = 0; i < 600; ++i) {
+            pgt_march_info info;
+            stops += pgt_march_step(&v, &o, &s, 2.0f, 0.0f, &info) == PGT_MARCH_STOP;
+        }
+        CHECK(stops == 0);
+        end[k][0] = s.x, end[k][1] = s.y;
+        pgt_march_atlas_destroy(&v);
+        pgt_image_destroy(&img);
+        pgt_mesh_destroy(&m);
+    }
+    for (int k = 1; k < 3; ++k) /* float rounding of the scaled mesh and atlas, over 600 steps */
+        CHECK_MSG(hypot(end[k][0] - end[0][0], end[k][1] - end[0][1]) < 0.05,
+                  "scale %g: end (%.4f, %.4f), unit (%.4f, %.4f)", scales[k], end[k][0], end[k][1],
+                  end[0][0], end[0][1]);
+}
+
 static void test_real_random_marches(void) {
     char list[4096], *paths[MARCH_MESHES_MAX];
     const uint32_t listed =
@@ -2083,6 +2120,7 @@ static const pgt_test_case cases[] = {
     {"hostile_atlases", test_hostile_atlases},
     {"real_cube_sphere_great_circle", test_real_cube_sphere_great_circle},
     {"real_random_marches", test_real_random_marches},
+    {"jacobian_scale", test_jacobian_scale},
 };
 
 PGT_TEST_MAIN(cases)

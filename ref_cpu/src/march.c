@@ -44,6 +44,11 @@
  * the Jacobian rotation trusts: below ~3 degrees the texel is a sliver of a nearly degenerate
  * triangle and its inverse would amplify the finite differences' noise ~20 times. */
 #define MARCH_MIN_JACOBIAN_SINE2 0.0025f
+/* The Jacobians' largest component within which transport_direction takes them as they are:
+ * their 4th power (its determinant) stays in [1e-24, 1e24], far inside float's normal range
+ * even times MARCH_MIN_JACOBIAN_SINE2 (a mesh 1e-3 across at 1024^2 has texels of 1e-6). */
+#define MARCH_JACOBIAN_SCALE_MIN 1e-6f
+#define MARCH_JACOBIAN_SCALE_MAX 1e6f
 
 const char *pgt_march_event_name(pgt_march_event e) {
     switch (e) {
@@ -356,9 +361,21 @@ static inline float norm3(const float v[3]) {
  * texel space): d' ~ J'^+ T J d, J = (sx sy) at the source texel, J' = (rx ry) at the
  * destination. 0 when a Jacobian is degenerate or the tangent planes face away from each other
  * (the caller checks that both exist). */
-static int transport_direction(const float sx[3], const float sy[3], const float rx[3],
-                               const float ry[3], float dx, float dy, float *out_dx,
+static int transport_direction(const float sx_in[3], const float sy_in[3], const float rx_in[3],
+                               const float ry_in[3], float dx, float dy, float *out_dx,
                                float *out_dy) {
+    /* the direction depends on the Jacobians' ratios only; det below is their 4th power, which
+     * leaves float's range for texels under ~1e-9 or over ~1e9 (it fell back to rot there):
+     * outside [MARCH_JACOBIAN_SCALE_MIN, MAX] the four are scaled by their largest component
+     * first (inside it nothing changes, so the paths of usual meshes keep their bytes) */
+    float sx[3], sy[3], rx[3], ry[3], m = 0.0f;
+    for (int i = 0; i < 3; ++i) {
+        sx[i] = sx_in[i], sy[i] = sy_in[i], rx[i] = rx_in[i], ry[i] = ry_in[i];
+        m = fmaxf(m, fmaxf(fmaxf(fabsf(sx[i]), fabsf(sy[i])), fmaxf(fabsf(rx[i]), fabsf(ry[i]))));
+    }
+    if (!(m > 0.0f) || !isfinite(m)) return 0;
+    if (m < MARCH_JACOBIAN_SCALE_MIN || m > MARCH_JACOBIAN_SCALE_MAX)
+        for (int i = 0; i < 3; ++i) sx[i] /= m, sy[i] /= m, rx[i] /= m, ry[i] /= m;
     float ns[3], nr[3], v[3], k[3], kv[3], t[3];
     texel_motion(sx, sy, dx, dy, v);
     cross3(sx, sy, ns);
