@@ -20,12 +20,18 @@
 /* The compression level of written files: zlib's default, a good size for little time. */
 #define PGT_PNG_ZLIB_LEVEL 6
 
+/* The most a deflate stream expands: 258 bytes from a 2-bit code, about 1032 to 1 (zlib's
+ * technical details). */
+#define PNG_MAX_DEFLATE_RATIO 1032u
+
 typedef struct png_job {
     FILE *f;
     int eof;      /* a read met the end of the file */
     int io_errno; /* a read or write failed */
     int limit;    /* the image is larger than PGT_PNG_MAX_SIDE */
     int oom;      /* our allocation failed */
+    int too_big;  /* the header declares more pixels than the file's bytes can hold */
+    uint64_t file_bytes; /* reading a regular file: its size, else 0 */
     uint32_t w, h, channels;
     uint8_t *pixels; /* reading: the result, freed on failure */
     png_bytep *rows; /* reading: row pointers into pixels */
@@ -72,6 +78,14 @@ static int read_body(png_structp png, png_infop info, png_job *job) {
         job->limit = 1;
         return -1;
     }
+    /* deflate expands at most 1032 times: a header declaring more rows of bytes than that of
+     * the file's size is refused before the pixels are allocated (a 69-byte file declaring
+     * 16384^2 RGBA pixels reserved 1 GiB) */
+    const uint64_t raw = ((uint64_t)png_get_rowbytes(png, info) + 1u) * job->h;
+    if (job->file_bytes && raw > PNG_MAX_DEFLATE_RATIO * job->file_bytes + 4096u) {
+        job->too_big = 1;
+        return -1;
+    }
     int color = png_get_color_type(png, info), depth = png_get_bit_depth(png, info);
     if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
     if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
@@ -109,6 +123,8 @@ pgt_result pgt_png_read(const char *path, uint32_t *w, uint32_t *h, uint32_t *ch
         fclose(f);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: is a directory", path);
     }
+    const uint64_t file_bytes =
+        fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) ? (uint64_t)st.st_size : 0u;
     png_byte sig[8];
     size_t n = fread(sig, 1, sizeof(sig), f);
     pgt_result r = PGT_OK;
@@ -128,6 +144,7 @@ pgt_result pgt_png_read(const char *path, uint32_t *w, uint32_t *h, uint32_t *ch
     png_job job;
     memset(&job, 0, sizeof(job));
     job.f = f;
+    job.file_bytes = file_bytes;
     png_structp png =
         png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, on_png_error, on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
@@ -143,6 +160,12 @@ pgt_result pgt_png_read(const char *path, uint32_t *w, uint32_t *h, uint32_t *ch
         return PGT_OK;
     }
     free(job.pixels);
+    if (job.too_big)
+        return pgt_error_set(err, PGT_ERROR_TRUNCATED,
+                             "%s: declares %u x %u pixels, more than its %llu bytes can hold "
+                             "(deflate expands at most %u times)",
+                             path, job.w, job.h, (unsigned long long)file_bytes,
+                             (unsigned)PNG_MAX_DEFLATE_RATIO);
     if (job.limit)
         return pgt_error_set(err, PGT_ERROR_LIMIT,
                              "%s: %u x %u pixels exceed the limit of %u per side", path, job.w,

@@ -202,6 +202,20 @@ fields_match bench_atlas_fields res/t1.csv.failed
 expect bench_march_missing_mesh 2 "$pgt" bench march --meshes no_such_mesh.obj --threads 1 --out res/m.csv
 grep -q "no_such_mesh.obj" err.txt && ok bench_march_missing_mesh_named || bad bench_march_missing_mesh_named "$(cat err.txt)"
 
+# an input that never ends (a link to /dev/zero named like a mesh) is read up to 1 GiB, then refused
+ln -sfn /dev/zero zero.obj
+expect mesh_endless_input 2 "$pgt" subdiv zero.obj --iters 1 -o zero_out.off
+one_line mesh_endless_input_one_line "^pgt subdiv: zero.obj: more than 1073741824 bytes from a pipe or device"
+rm -f zero.obj
+# a PNG whose header declares more pixels than its bytes can hold is refused before they are
+# allocated (16384^2 RGBA 16-bit: 2 GiB for a 60-byte file)
+/usr/bin/python3 -c '
+import struct, zlib
+def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+open("huge.png", "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 16384, 16384, 16, 6, 0, 0, 0))
+    + chunk(b"IDAT", zlib.compress(b"\0" * 64)) + chunk(b"IEND", b""))'
+expect png_declared_too_big 2 "$pgt" march cs.exr --from 10.5,10.5 --dir 1,0 --step 1 --steps 1 -o hp.csv --mask huge.png
+one_line png_declared_too_big_one_line "huge.png: declares 16384 x 16384 pixels, more than its [0-9]* bytes can hold"
 # pgt ivy (the algorithms are test_expand, test_bezier, test_terminals, test_ivy)
 expect ivy_help 0 "$pgt" ivy --help
 for flag in --grammar --seeds --seed-file --mask --density --paint --no-leaves --no-secondary --threads -o --curves --brush --param; do

@@ -329,6 +329,14 @@ static pgt_result read_file(const char *path, char **out_data, size_t *out_size,
         size_t got = fread(data + len, 1, cap - len, f);
         len += got;
         if (len < cap) break;
+        if (cap >= PGT_MESH_MAX_STREAM_BYTES) { /* a pipe or device that does not end */
+            free(data);
+            fclose(f);
+            return pgt_error_set(err, PGT_ERROR_LIMIT,
+                                 "%s: more than %llu bytes from a pipe or device (a regular "
+                                 "file is read whatever its size)",
+                                 path, (unsigned long long)PGT_MESH_MAX_STREAM_BYTES);
+        }
         void *p = pgt_io_grow(data, &cap, cap + 1, 1);
         if (!p) {
             free(data);

@@ -12,6 +12,12 @@
 
 #include "mesh.h"
 
+/* Bytes read at most from an input that is not a regular file (a pipe, a device): a regular
+ * file is read in one piece of its size; a stream's size is known only at its end, and one that
+ * does not end (/dev/zero) grew the buffer until memory ran out. 1 GiB is a mesh of some 20
+ * million triangles as OBJ text. */
+#define PGT_MESH_MAX_STREAM_BYTES (1ull << 30)
+
 #ifdef __cplusplus
 extern "C" {
 #endif
