@@ -372,6 +372,16 @@ for g in "$src"/grammars/*.grammar; do
     bad "grammar_dump_same_listing_$b" "$(diff list_a.txt list_b.txt | head -3)"
   fi
 done
+# the dump of a grammar with --param overrides compiles to the same values (the overridden param
+# as its value, the params after it from their expressions, re-evaluated alike)
+printf 'param n = 2\nparam m = n * 2\nparam q = m + 1\nA --> Branch(n) {B, B}\nB --> NIL\n' >ov.grammar
+"$pgt" grammar ov.grammar --param m=7 --dump >ov_dump.grammar 2>err.txt
+expect grammar_dump_override 0 "$pgt" grammar ov_dump.grammar
+grep -q "3 params (n=2, m=7, q=8)" out.txt && ok grammar_dump_override_values || bad grammar_dump_override_values "$(cat out.txt)"
+# a param may not take the name of a rule's parameter above it (the dump lists params first)
+printf 'S --> A(1)\nA(n) --> Marching(n, 0, n < 3) {NIL, NIL}\nparam n = 2\n' >pclash.grammar
+expect grammar_param_after_rule 2 "$pgt" grammar pclash.grammar
+one_line grammar_param_after_rule_one_line "^pgt grammar: pclash.grammar:3:7: found the param 'n', the name of a rule's parameter above"
 
 # pgt render (the pictures themselves are test_render's)
 expect render_help 0 "$pgt" render --help

@@ -233,12 +233,22 @@ void pgt_grammar_dump(const pgt_grammar *g, FILE *f) {
             g->part_count, g->expr_count, g->code_count, g->const_count, g->param_count);
     for (uint32_t k = 0; k < g->param_count; ++k) {
         const pgt_grammar_param *pm = &g->params[k];
-        fprintf(f, "param %s = ", g->names + pm->name);
-        put_expr(g, pm->expr, PGT_NONE, f);
         char num[32];
         put_float(num, sizeof num, g->param_values[k]);
-        fprintf(f, ";  # param %u = %s%s, %u:%u\n", k, num, pm->overridden ? " (overridden)" : "",
-                pm->line, pm->col);
+        fprintf(f, "param %s = ", g->names + pm->name);
+        /* an overridden param is its value (the params after it were re-evaluated from it, as
+         * they will be from the dump); its expression goes into the comment */
+        if (pm->overridden)
+            fputs(num, f);
+        else
+            put_expr(g, pm->expr, PGT_NONE, f);
+        fprintf(f, ";  # param %u = %s", k, num);
+        if (pm->overridden) {
+            fputs(" (overridden; was ", f);
+            put_expr(g, pm->expr, PGT_NONE, f);
+            fputc(')', f);
+        }
+        fprintf(f, ", %u:%u\n", pm->line, pm->col);
     }
     for (uint32_t r = 0; r < g->rule_count; ++r) {
         const pgt_grammar_rule *rl = &g->rules[r];

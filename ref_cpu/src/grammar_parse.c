@@ -966,6 +966,14 @@ static pgt_result parse_param(parser *p) {
         return fail_at(p, PGT_ERROR_INVALID_ARGUMENT, name,
                        "found a second param '%.*s', expected one definition per param",
                        (int)name->length, tok_text(p, name));
+    /* a rule above may have a parameter of this name (the rule's own check saw only the params
+     * above it; a dump lists every param first, and would not compile) */
+    for (uint32_t k = 0; k < p->v[V_RULE_PARAMS].count; ++k)
+        if (name_is(p, AT(p, V_RULE_PARAMS, uint32_t, k), name))
+            return fail_at(p, PGT_ERROR_INVALID_ARGUMENT, name,
+                           "found the param '%.*s', the name of a rule's parameter above, "
+                           "expected names distinct from the rules' parameters",
+                           (int)name->length, tok_text(p, name));
     if (p->v[V_PARAMS].count >= PGT_GRAMMAR_MAX_PARAMS)
         return limit_error(p, name, "PGT_GRAMMAR_MAX_PARAMS params", PGT_GRAMMAR_MAX_PARAMS);
     advance(p);
