@@ -28,6 +28,8 @@
 #include "image_internal.h"
 
 static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
+/* Bytes a chunk may hold beyond its compression's bound (its headers, RLE's count bytes). */
+#define EXR_EXPANSION_SLACK 4096u
 
 /* One file or memory buffer being read or written, and what went wrong with it. */
 typedef struct exr_stream {
@@ -37,6 +39,8 @@ typedef struct exr_stream {
     uint64_t size;            /* reading: bytes in the file, fixed when it was opened */
     _Atomic int io_errno;     /* the first failed read or write, 0 if none */
     int chunks_checked;       /* reading: check_chunks found every chunk inside the file */
+    uint64_t packed_bytes;    /* reading: the chunks' packed sizes, summed (0: not every chunk
+                                 was examined) */
     const char *compression;  /* reading: the file's compression, once the header is read */
     char lib_msg[256];        /* the library's last error message */
     /* a decoding worker's stream, for its messages: the stream the library reads through,
@@ -359,11 +363,16 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
                              (unsigned long long)table_end, (unsigned long long)s->size);
     const uint64_t leader = (tiled ? 20u : 8u) + (multipart ? 4u : 0u);
     unsigned char entry[8], lead[24];
+    uint64_t packed_sum = 0;
+    int all = 1;
     for (int32_t i = 0; i < chunks; ++i) {
         if (stream_read(NULL, s, entry, 8, header_end + 8u * (uint64_t)i, NULL) != 8)
             return PGT_OK; /* a read error: the library will meet it too */
         uint64_t at = le_u64(entry);
-        if (at < table_end) continue; /* not a place a chunk can start: the library's to judge */
+        if (at < table_end) { /* not a place a chunk can start: the library's to judge */
+            all = 0;
+            continue;
+        }
         if (at > s->size || s->size - at < leader)
             return pgt_error_set(err, PGT_ERROR_TRUNCATED,
                                  "%s: chunk %d starts at byte %llu but the file ends before its "
@@ -372,6 +381,10 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
         if (stream_read(NULL, s, lead, (uint64_t)leader, at, NULL) != (int64_t)leader)
             return PGT_OK;
         int32_t packed = le_i32(lead + leader - 4);
+        if (packed >= 0)
+            packed_sum += (uint64_t)packed;
+        else
+            all = 0;
         if (packed >= 0 && (uint64_t)packed > s->size - at - leader)
             return pgt_error_set(err, PGT_ERROR_TRUNCATED,
                                  "%s: chunk %d needs bytes %llu-%llu but the file holds %llu",
@@ -380,7 +393,28 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
                                  (unsigned long long)s->size);
     }
     s->chunks_checked = 1;
+    s->packed_bytes = all ? packed_sum : 0u;
     return PGT_OK;
+}
+
+/* The most a chunk's bytes expand under a compression, 0 when no simple bound holds (PIZ's
+ * Huffman run codes, B44's flat blocks, DWA's lossy coding): NONE stores the pixels, RLE codes a
+ * run of up to 128 bytes in 2, ZIP and ZIPS are deflate (at most 1032:1), PXR24 deflates 3 of a
+ * float's 4 bytes. */
+static uint64_t max_expansion(exr_compression_t c) {
+    switch (c) {
+    case EXR_COMPRESSION_NONE:
+        return 1u;
+    case EXR_COMPRESSION_RLE:
+        return 64u;
+    case EXR_COMPRESSION_ZIPS:
+    case EXR_COMPRESSION_ZIP:
+        return 1032u;
+    case EXR_COMPRESSION_PXR24:
+        return 1376u;
+    default:
+        return 0u;
+    }
 }
 
 /* Everything checked before the pixels are allocated. */
@@ -711,6 +745,22 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
     if (r == PGT_OK) r = read_layout(ctxt, s, &lay, &ch, err);
     if (r == PGT_OK && header_end > 0)
         r = check_chunks(s, header_end, lay.chunks, lay.tiled, multipart, err);
+    /* pixels the chunks cannot hold are refused before they are allocated (a 17 KB ZIP file
+     * declaring 16384^2 floats reserved 1 GiB) */
+    if (r == PGT_OK && s->packed_bytes && max_expansion(lay.compression)) {
+        uint64_t pixel_bytes = 0;
+        for (uint32_t c = 0; c < lay.channels; ++c)
+            pixel_bytes += ch->entries[c].pixel_type == EXR_PIXEL_HALF ? 2u : 4u;
+        const uint64_t need = pixel_bytes * lay.width * lay.height;
+        if (need > max_expansion(lay.compression) * s->packed_bytes + EXR_EXPANSION_SLACK)
+            r = pgt_error_set(
+                err, PGT_ERROR_TRUNCATED,
+                "%s: declares %u x %u pixels of %llu bytes each, more than its chunks' "
+                "%llu bytes can hold with %s compression (at most %llu times)",
+                s->name, lay.width, lay.height, (unsigned long long)pixel_bytes,
+                (unsigned long long)s->packed_bytes, s->compression,
+                (unsigned long long)max_expansion(lay.compression));
+    }
     if (r == PGT_OK &&
         pgt_image_create(out, lay.width, lay.height, lay.channels, NULL, NULL) != PGT_OK)
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,

@@ -266,6 +266,15 @@ def corpus():
         ("png_short_idat.png", "parse", png(16, 8, idat=zlib.compress(b"\0" * 20))),
         ("png_no_idat.png", "parse", png(4, 4, chunks=b"")),
         ("png_palette_missing_plte.png", "parse", png(4, 4, color_type=3)),
+        # a header declaring more pixels than the file's bytes can hold (deflate expands at most
+        # 1032 times): refused before the 2 GiB of pixels are allocated
+        ("png_declares_too_much.png", "truncated",
+         png(16384, 16384, color_type=6, depth=16, idat=zlib.compress(b"\0" * 100))),
+        # the same for EXR: 16384^2 floats in 1024 ZIP chunks of one byte each
+        ("exr_zip_declares_too_much.exr", "truncated",
+         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
+                                             compression=3) + b"\0",
+                  [struct.pack("<ii", 16 * i, 1) + b"\0" for i in range(1024)])),
     ]
 
 
