@@ -403,6 +403,21 @@ static int wanted_cmp(const void *a, const void *b) {
     return key_cmp(&((const wanted *)a)->key, &((const wanted *)b)->key);
 }
 
+/* Counts each wanted key's triangles into w[].n (from 0); with tris, also lists them at
+ * tris[w.first ..] (w[].n reset first: the second pass of a count-then-fill). */
+static void key_triangles(const pgt_facade_mesh *mesh, wanted *w, size_t wn, uint32_t *tris) {
+    for (size_t k = 0; k < wn; ++k) w[k].n = 0;
+    for (uint32_t tri = 0; tri < mesh->triangle_count; ++tri) {
+        wanted probe;
+        probe.key =
+            (rect_key){mesh->facade[tri], mesh->node[tri], mesh->kind[tri], mesh->surface[tri]};
+        wanted *hit = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
+        if (!hit) continue;
+        if (tris) tris[hit->first + hit->n] = tri;
+        hit->n++;
+    }
+}
+
 int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam,
                               const pgt_facade_frame *frame, const pgt_facade_embree_hits *hits,
                               pgt_facade_check *out) {
@@ -467,33 +482,19 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             if (u == 0 || key_cmp(&w[u - 1].key, &w[k].key)) w[u++] = w[k];
         wn = u;
         /* their triangles, counted, then listed (CSR), and each key's boundary once */
-        uint32_t *tris = NULL;
-        pos_edge *edges = NULL;
+        key_triangles(mesh, w, wn, NULL);
         size_t total = 0;
-        for (int pass = 0; pass < 2; ++pass) {
-            for (uint32_t tri = 0; tri < mesh->triangle_count; ++tri) {
-                wanted probe;
-                probe.key = (rect_key){mesh->facade[tri], mesh->node[tri], mesh->kind[tri],
-                                       mesh->surface[tri]};
-                wanted *hit = bsearch(&probe, w, wn, sizeof *w, wanted_cmp);
-                if (!hit) continue;
-                if (pass == 1) tris[hit->first + hit->n] = tri;
-                hit->n++;
-            }
-            if (pass == 1) break;
-            total = 0;
-            for (size_t k = 0; k < wn; ++k)
-                w[k].first = (uint32_t)total, total += w[k].n, w[k].n = 0;
-            tris = malloc((total ? total : 1u) * sizeof *tris);
-            edges = malloc((total ? 3u * total : 1u) * sizeof *edges);
-            if (!tris || !edges) { /* cannot explain them: every one counts as far from an edge */
-                free(tris);
-                free(edges);
-                free(w);
-                free(bad);
-                goto finish;
-            }
+        for (size_t k = 0; k < wn; ++k) w[k].first = (uint32_t)total, total += w[k].n;
+        uint32_t *tris = malloc((total ? total : 1u) * sizeof *tris);
+        pos_edge *edges = malloc((total ? 3u * total : 1u) * sizeof *edges);
+        if (!tris || !edges) { /* cannot explain them: every one counts as far from an edge */
+            free(tris);
+            free(edges);
+            free(w);
+            free(bad);
+            goto finish;
         }
+        key_triangles(mesh, w, wn, tris);
         for (size_t k = 0, e = 0; k < wn; ++k) {
             w[k].efirst = (uint32_t)e;
             w[k].en = boundary_edges(mesh, tris + w[k].first, w[k].n, edges + e);

@@ -20,10 +20,6 @@
 /* The compression level of written files: zlib's default, a good size for little time. */
 #define PGT_PNG_ZLIB_LEVEL 6
 
-/* The most a deflate stream expands: 258 bytes from a 2-bit code, about 1032 to 1 (zlib's
- * technical details). */
-#define PNG_MAX_DEFLATE_RATIO 1032u
-
 typedef struct png_job {
     FILE *f;
     int eof;      /* a read met the end of the file */
@@ -82,7 +78,8 @@ static int read_body(png_structp png, png_infop info, png_job *job) {
      * the file's size is refused before the pixels are allocated (a 69-byte file declaring
      * 16384^2 RGBA pixels reserved 1 GiB) */
     const uint64_t raw = ((uint64_t)png_get_rowbytes(png, info) + 1u) * job->h;
-    if (job->file_bytes && raw > PNG_MAX_DEFLATE_RATIO * job->file_bytes + 4096u) {
+    if (job->file_bytes &&
+        raw > PGT_IMAGE_DEFLATE_MAX_RATIO * job->file_bytes + PGT_IMAGE_EXPANSION_SLACK) {
         job->too_big = 1;
         return -1;
     }
@@ -119,12 +116,12 @@ pgt_result pgt_png_read(const char *path, uint32_t *w, uint32_t *h, uint32_t *ch
     FILE *f = fopen(path, "rb");
     if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    const int have_st = fstat(fileno(f), &st) == 0;
+    if (have_st && S_ISDIR(st.st_mode)) {
         fclose(f);
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: is a directory", path);
     }
-    const uint64_t file_bytes =
-        fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) ? (uint64_t)st.st_size : 0u;
+    const uint64_t file_bytes = have_st && S_ISREG(st.st_mode) ? (uint64_t)st.st_size : 0u;
     png_byte sig[8];
     size_t n = fread(sig, 1, sizeof(sig), f);
     pgt_result r = PGT_OK;
@@ -165,7 +162,7 @@ pgt_result pgt_png_read(const char *path, uint32_t *w, uint32_t *h, uint32_t *ch
                              "%s: declares %u x %u pixels, more than its %llu bytes can hold "
                              "(deflate expands at most %u times)",
                              path, job.w, job.h, (unsigned long long)file_bytes,
-                             (unsigned)PNG_MAX_DEFLATE_RATIO);
+                             (unsigned)PGT_IMAGE_DEFLATE_MAX_RATIO);
     if (job.limit)
         return pgt_error_set(err, PGT_ERROR_LIMIT,
                              "%s: %u x %u pixels exceed the limit of %u per side", path, job.w,

@@ -31,16 +31,28 @@ static void city_view(float L, int k, float view[10]) {
     memcpy(view, views[k], sizeof views[k]);
 }
 
+/* A generated city of `buildings` buildings of grammar `name` (a file of grammars/), its facades
+ * prepared: 1, or 0 after printing why. */
+static int city_of(const char *name, uint32_t buildings, uint32_t seed, pgt_grammar *g,
+                   pgt_facade_scene *s, pgt_facade **fa, uint32_t *fc) {
+    pgt_error err = {0};
+    if (!load(g, name)) return 0;
+    if (pgt_gen_city(s, g, buildings, seed, &err) != PGT_OK ||
+        pgt_facade_prepare(s, fa, fc, &err) != PGT_OK) {
+        fprintf(stderr, "  %s: %s\n", name, err.message);
+        return 0;
+    }
+    return 1;
+}
+
 static void check_city(const char *grammar, uint32_t buildings, uint32_t side) {
     pgt_grammar g;
-    REQUIRE(load(&g, grammar));
     pgt_facade_scene s;
-    pgt_error err = {0};
-    REQUIRE(pgt_gen_city(&s, &g, buildings, 7, &err) == PGT_OK);
-    CHECK_MSG(pgt_facade_scene_check(&s, "city", &err) == PGT_OK, "%s", err.message);
     pgt_facade *fa = NULL;
     uint32_t fc = 0;
-    REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+    REQUIRE(city_of(grammar, buildings, 7, &g, &s, &fa, &fc));
+    pgt_error err = {0};
+    CHECK_MSG(pgt_facade_scene_check(&s, "city", &err) == PGT_OK, "%s", err.message);
     pgt_facade_mesh m;
     const pgt_result r = pgt_facade_explicit(&s, fa, fc, &m, &err);
     CHECK_MSG(r == PGT_OK, "%s", err.message);
@@ -225,13 +237,11 @@ static void test_coverage_polygon(void) {
 /* The frame is the same bytes for 1 and 2 threads. */
 static void test_threads_same_frame(void) {
     pgt_grammar g;
-    REQUIRE(load(&g, "facade_rich.grammar"));
     pgt_facade_scene s;
-    pgt_error err = {0};
-    REQUIRE(pgt_gen_city(&s, &g, 16, 3, &err) == PGT_OK);
     pgt_facade *fa = NULL;
     uint32_t fc = 0;
-    REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+    REQUIRE(city_of("facade_rich.grammar", 16, 3, &g, &s, &fa, &fc));
+    pgt_error err = {0};
     pgt_facade_camera cam;
     const float eye[3] = {-20, 30, -20}, at[3] = {60, 0, 60}, up[3] = {0, 1, 0};
     REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 55, 80, 60, &err) == PGT_OK);
@@ -321,13 +331,11 @@ static void test_packets_same_frame(void) {
     uint32_t mixed = 0, frames = 0;
     for (size_t gi = 0; gi < sizeof grammars / sizeof grammars[0]; ++gi) {
         pgt_grammar g;
-        REQUIRE(load(&g, grammars[gi]));
         pgt_facade_scene s;
-        pgt_error err = {0};
-        REQUIRE(pgt_gen_city(&s, &g, 9, 11, &err) == PGT_OK);
         pgt_facade *fa = NULL;
         uint32_t fc = 0;
-        REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+        REQUIRE(city_of(grammars[gi], 9, 11, &g, &s, &fa, &fc));
+        pgt_error err = {0};
         const float L = (float)(3 * PGT_GEN_CITY_LOT);
         /* straight at facade 0's middle from 6 m */
         const pgt_facade *f0 = &fa[0];
@@ -633,13 +641,11 @@ static void test_relief_depth(void) {
  * the scene and the detail ramps before the camera, LOD is the geometry level exactly. */
 static void test_lod_levels(void) {
     pgt_grammar g;
-    REQUIRE(load(&g, "facade_rich.grammar"));
     pgt_facade_scene s;
-    pgt_error err = {0};
-    REQUIRE(pgt_gen_city(&s, &g, 4, 5, &err) == PGT_OK);
     pgt_facade *fa = NULL;
     uint32_t fc = 0;
-    REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+    REQUIRE(city_of("facade_rich.grammar", 4, 5, &g, &s, &fa, &fc));
+    pgt_error err = {0};
     const float eye[3] = {-15, 12, -20}, at[3] = {30, 5, 30}, up[3] = {0, 1, 0};
     pgt_facade_camera cam;
     REQUIRE(pgt_facade_camera_init(&cam, eye, at, up, 50, 96, 64, &err) == PGT_OK);
@@ -751,13 +757,11 @@ static void test_explicit_limit(void) {
     static const char *const grammars[2] = {"facade.grammar", "facade_gimage.grammar"};
     for (int gi = 0; gi < 2; ++gi) {
         pgt_grammar g;
-        REQUIRE(load(&g, grammars[gi]));
         pgt_facade_scene s;
-        pgt_error err = {0};
-        REQUIRE(pgt_gen_city(&s, &g, 4, 7, &err) == PGT_OK);
         pgt_facade *fa = NULL;
         uint32_t fc = 0;
-        REQUIRE(pgt_facade_prepare(&s, &fa, &fc, &err) == PGT_OK);
+        REQUIRE(city_of(grammars[gi], 4, 7, &g, &s, &fa, &fc));
+        pgt_error err = {0};
         pgt_facade_mesh full, m;
         REQUIRE(pgt_facade_explicit(&s, fa, fc, &full, &err) == PGT_OK);
         const uint32_t n = full.triangle_count;

@@ -79,13 +79,12 @@ pgt_result atlas_raster(const pgt_mesh *mesh, const atlas_charts *charts, const 
  * PGT_ATLAS_CRACK_TEXELS): every texel no triangle covers (texel_chart -1) whose centre lies in
  * the quad between the two texel-space copies of such a seam edge, where the copies lie at most
  * PGT_ATLAS_CRACK_TEXELS apart, becomes an inner texel of the chart with P on the 3D edge and N
- * between its ends' vertex normals. Serial, in seam order (the first quad wins a texel). Returns
- * the number of texels filled; crack (width * height, zeroed by the caller) gets 1 + the index
- * of the filling seam (in seam_half_edges) at each, and ATLAS_CRACK_UNFILLED | (1 + index) at
- * the uncovered texels of the same quads where the copies lie farther apart (not filled). */
-/* The fill's work bound: its quads' boxes together at most this many times the image (a slit's
- * quad is a few texels wide; bob_tri's 1024^2 atlas scans a fraction of one percent). */
-#define ATLAS_CRACK_SCAN_IMAGES 1.0
+ * between its ends' vertex normals. Serial, in seam order (the first quad wins a texel); quads
+ * whose copies cross are skipped, and so are the seams past a work bound (atlas_raster.c).
+ * Returns the number of texels filled; crack (width * height, zeroed by the caller) gets 1 +
+ * the index of the filling seam (in seam_half_edges) at each, and ATLAS_CRACK_UNFILLED | (1 +
+ * index) at the uncovered texels of the same quads where the copies lie farther apart (not
+ * filled). */
 #define ATLAS_CRACK_UNFILLED 0x80000000u
 #define ATLAS_CRACK_FILLED(v) ((v) != 0u && !((v)&ATLAS_CRACK_UNFILLED))
 uint32_t atlas_fill_cracks(const pgt_mesh *mesh, const atlas_charts *charts, const float *tex,

@@ -31,6 +31,10 @@
  * with the sum (25 s for 9000 faces at 1024^2, hours at the largest --res). */
 #define ATLAS_RASTER_MAX_BOX_IMAGES 32.0
 
+/* The crack fill's work bound: its quads' boxes together at most this many times the image (a
+ * slit's quad is a few texels wide; bob_tri's 1024^2 atlas scans a fraction of one percent). */
+#define ATLAS_CRACK_SCAN_IMAGES 1.0
+
 /* Most (triangle, tile) pairs: 2^28 entries (1 GiB) is beyond any layout the packer makes; only
  * an input whose triangles each span the whole atlas can reach it. */
 #define ATLAS_RASTER_MAX_PAIRS (1ull << 28)

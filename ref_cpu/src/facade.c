@@ -147,21 +147,6 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  what, k, gi->first, gi->first, gi->count, s->gimage_triangle_count,
                                  PGT_FACADE_MAX_GIMAGE_TRIANGLES);
     }
-    for (uint32_t k = 0; k < s->gimage_count; ++k) { /* the z range recorded */
-        if (!s->gimage_data) break;
-        const pgt_facade_gimage *gi = &s->gimages[k];
-        int finite = 1;
-        for (uint32_t i = 0; i < 9u * gi->count; ++i)
-            finite &= isfinite(s->gimage_data[9u * (size_t)gi->first + i]) != 0;
-        if (!finite) continue; /* named by the check of the data */
-        float lo, hi;
-        facade_gimage_z_range(s->gimage_data + 9u * (size_t)gi->first, gi->count, &lo, &hi);
-        if (gi->count && (lo != gi->zlo || hi != gi->zhi))
-            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: geometry image %u: z range [%g, %g] recorded, its triangles "
-                                 "span [%g, %g]",
-                                 what, k, (double)gi->zlo, (double)gi->zhi, (double)lo, (double)hi);
-    }
     for (uint32_t i = 0; i < s->gimage_triangle_count; ++i)
         if (s->gimage_roles[i] >= PGT_FACADE_ROLE_COUNT)
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
@@ -174,6 +159,17 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
                                  "%s: geometry image triangle %u: coordinate %g (x and y in [0, 1] "
                                  "across the scope, z finite)",
                                  what, i / 9u, (double)x);
+    }
+    for (uint32_t k = 0; k < s->gimage_count; ++k) { /* the z range recorded, of finite data */
+        const pgt_facade_gimage *gi = &s->gimages[k];
+        if (gi->count == 0) continue;
+        float lo, hi;
+        facade_gimage_z_range(s->gimage_data + 9u * (size_t)gi->first, gi->count, &lo, &hi);
+        if (lo != gi->zlo || hi != gi->zhi)
+            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                                 "%s: geometry image %u: z range [%g, %g] recorded, its triangles "
+                                 "span [%g, %g]",
+                                 what, k, (double)gi->zlo, (double)gi->zhi, (double)lo, (double)hi);
     }
     for (uint32_t i = 0; i < s->corner_count * 2u; ++i)
         if (!isfinite(s->corners[i]))

@@ -147,10 +147,10 @@ uint32_t facade_triangulate(const float *corners, uint32_t n, uint32_t *tris, ui
 
 /* ---- geometry images (facade_gimage.c) ---- */
 
-/* The triangles of geometry image id (a whole number below gimage_count) and the index of its
- * first in the scene's image (a hit's surface is first + the triangle); 0 for a bad id. */
 /* The least and greatest z of n triangles' corners (+inf / -inf for none). */
 void facade_gimage_z_range(const float *d, uint32_t n, float *zlo, float *zhi);
+/* The triangles of geometry image id (a whole number below gimage_count) and the index of its
+ * first in the scene's image (a hit's surface is first + the triangle); 0 for a bad id. */
 uint32_t facade_gimage_triangles(const pgt_facade_scene *s, float id, const float **data,
                                  uint32_t *first);
 /* Nearest triangle of d[0 .. n) (x, y scaled by w, h) hit at t in [0, *best) by the block-local

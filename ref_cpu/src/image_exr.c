@@ -28,8 +28,6 @@
 #include "image_internal.h"
 
 static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
-/* Bytes a chunk may hold beyond its compression's bound (its headers, RLE's count bytes). */
-#define EXR_EXPANSION_SLACK 4096u
 
 /* One file or memory buffer being read or written, and what went wrong with it. */
 typedef struct exr_stream {
@@ -409,9 +407,9 @@ static uint64_t max_expansion(exr_compression_t c) {
         return 64u;
     case EXR_COMPRESSION_ZIPS:
     case EXR_COMPRESSION_ZIP:
-        return 1032u;
+        return PGT_IMAGE_DEFLATE_MAX_RATIO;
     case EXR_COMPRESSION_PXR24:
-        return 1376u;
+        return PGT_IMAGE_DEFLATE_MAX_RATIO * 4u / 3u;
     default:
         return 0u;
     }
@@ -752,7 +750,7 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
         for (uint32_t c = 0; c < lay.channels; ++c)
             pixel_bytes += ch->entries[c].pixel_type == EXR_PIXEL_HALF ? 2u : 4u;
         const uint64_t need = pixel_bytes * lay.width * lay.height;
-        if (need > max_expansion(lay.compression) * s->packed_bytes + EXR_EXPANSION_SLACK)
+        if (need > max_expansion(lay.compression) * s->packed_bytes + PGT_IMAGE_EXPANSION_SLACK)
             r = pgt_error_set(
                 err, PGT_ERROR_TRUNCATED,
                 "%s: declares %u x %u pixels of %llu bytes each, more than its chunks' "

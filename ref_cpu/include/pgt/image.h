@@ -36,6 +36,13 @@ extern "C" {
  * 300-byte ZIP-compressed EXR could declare 16384^2 x 64 channels and ask for 64 GiB. */
 #define PGT_IMAGE_MAX_VALUES (1u << 28)
 
+/* The most a deflate (zlib) stream expands: a 258-byte match from about 2 bits, 1032 to 1. The
+ * PNG and EXR readers refuse a header declaring more pixel bytes than this times the compressed
+ * bytes (plus PGT_IMAGE_EXPANSION_SLACK: filter bytes, chunk headers, RLE's counts) before the
+ * pixels are allocated. */
+#define PGT_IMAGE_DEFLATE_MAX_RATIO 1032u
+#define PGT_IMAGE_EXPANSION_SLACK 4096u
+
 typedef struct pgt_image {
     uint32_t width, height, channel_count;
     char (*names)[PGT_IMAGE_NAME_SIZE]; /* channel_count NUL-terminated names */
