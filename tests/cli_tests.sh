@@ -622,16 +622,16 @@ expect facade_bad_width 2 "$pgt" facade --city 4 -o f.exr --width 0
 one_line facade_bad_width_one_line "\-\-width"
 # a run that fails leaves no output at all (pgt_cli_stage), and an older output as it was; a
 # grammar whose split size is NaN fails while rendering, and its explicit expansion names the
-# grammar's line and column
-printf 'param floorHeight = 3.2\nparam doorWidth = 1.6\nparam windowWidth = 2.2\nparam protrusion = 0.3\nparam recess = 0.3\nF --> split(x) { sqrt(-1) : Wall() }\n' >nanf.grammar
+# grammar's line and column of the function that made the NaN (not the expression's start)
+printf 'param floorHeight = 3.2\nparam doorWidth = 1.6\nparam windowWidth = 2.2\nparam protrusion = 0.3\nparam recess = 0.3\nF --> split(x) { 1 + sqrt(-1) : Wall() }\n' >nanf.grammar
 rm -f nf.exr nf.png nf.ply nf.scene; echo older >nf_old.scene
 expect facade_fail_render 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --png nf.png --save-scene nf.scene
-one_line facade_fail_render_names_token "while rendering on building 0, footprint edge 0: an expression gave NaN or infinity (building 0 facade 0: nanf.grammar:6:18: the expression evaluates to NaN)"
+one_line facade_fail_render_names_token "while rendering on building 0, footprint edge 0: an expression gave NaN or infinity (building 0 facade 0: nanf.grammar:6:22: the expression evaluates to NaN (sqrt gives NaN here))"
 expect facade_fail_render_old 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --save-scene nf_old.scene
 [ "$(cat nf_old.scene)" = older ] && ok facade_fail_keeps_older || bad facade_fail_keeps_older "$(head -c 80 nf_old.scene)"
 # the camera looks away, so the frame renders and the explicit expansion meets the NaN
 expect facade_fail_explicit 2 "$pgt" facade --city 1 --grammar nanf.grammar --width 16 --height 16 -o nf.exr --explicit nf.ply --camera 0,0,-1000,0,0,-2000,0,1,0,45
-one_line facade_fail_explicit_names_token "^pgt facade: --explicit: --city: building 0 facade 0: nanf.grammar:6:18: "
+one_line facade_fail_explicit_names_token "^pgt facade: --explicit: --city: building 0 facade 0: nanf.grammar:6:22: "
 mkdir -p nfdir.png
 expect facade_fail_png_folder 2 "$pgt" facade --city 1 --width 16 --height 16 -o nf.exr --png nfdir.png
 one_line facade_fail_png_folder_one_line "cannot write nfdir.png: it is a folder, not a regular file"

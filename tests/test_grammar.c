@@ -526,18 +526,41 @@ static void test_context(void) {
     CHECK(code == PGT_ERROR_INVALID_ARGUMENT);
 }
 
-/* Runtime errors name FILE:LINE:COL of the expression. */
+/* Runtime errors name FILE:LINE:COL of the operator the value that is not finite came from
+ * (the expressions sit in "R(a, b, c) --> B(...)", line 2, from column 18). */
 static void test_runtime_errors(void) {
     const float args[3] = {0.0f, -1.0f, 1e30f};
     pgt_error err = {0};
     pgt_result code;
     eval_expr("1 / a", args, NULL, &code, &err);
-    CHECK(code == PGT_ERROR_NOT_FINITE && strstr(err.message, "t.grammar:2:18: the expression "
-                                                              "evaluates to infinity"));
-    eval_expr("sqrt(b)", args, NULL, &code, &err);
-    CHECK(code == PGT_ERROR_NOT_FINITE && strstr(err.message, "NaN"));
-    eval_expr("c * c", args, NULL, &code, &err);
-    CHECK(code == PGT_ERROR_NOT_FINITE);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  !strcmp(err.message, "t.grammar:2:20: the expression evaluates to infinity "
+                                       "('/' gives inf here)"),
+              "%s", err.message);
+    eval_expr("-sqrt(b) + 1", args, NULL, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  !strcmp(err.message, "t.grammar:2:19: the expression evaluates to NaN (sqrt "
+                                       "gives NaN here)"),
+              "%s", err.message);
+    /* an infinity passed on through later operators keeps its origin */
+    eval_expr("c * c - 1", args, NULL, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  strstr(err.message, "t.grammar:2:20: ") == err.message &&
+                  strstr(err.message, "('*' gives inf here)"),
+              "%s", err.message);
+    /* one a comparison made finite is forgotten: the second '*' overflows */
+    eval_expr("(1 / a > 0) * c * c", args, NULL, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  strstr(err.message, "t.grammar:2:34: ") == err.message,
+              "%s", err.message);
+    /* the search for the origin draws the same numbers again and leaves the counter as the
+     * failed run left it: one draw */
+    uint64_t counter = 7;
+    pgt_grammar_env env = {5, 2, &counter, 0, 0, NULL, NULL, NULL};
+    eval_expr("rand(0, 1) / a", args, &env, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE && counter == 8 &&
+                  strstr(err.message, "t.grammar:2:29: ") == err.message,
+              "%s", err.message);
     /* infinity in between is fine when the result is finite */
     CHECK(eval_expr("1 / a > 0", args, NULL, &code, &err) == 1.0f && code == PGT_OK);
     /* fewer arguments than the rule has: an error, not a read past the array */
@@ -576,7 +599,7 @@ static void test_params(void) {
     /* a dependent division by zero is refused and changes nothing */
     pgt_error_clear(&err);
     CHECK(pgt_grammar_set_param(&g, "a", 1, &err) == PGT_ERROR_INVALID_ARGUMENT);
-    CHECK(strstr(err.message, "t.grammar:4:7: with a = 1, param 'd' divides by zero") != NULL);
+    CHECK(strstr(err.message, "t.grammar:4:13: with a = 1, param 'd' divides by zero") != NULL);
     CHECK(g.param_values[a] == 5 && g.param_values[d] == 0.25f && g.params[a].overridden == 1);
     /* unknown name, non-finite value */
     pgt_error_clear(&err);

@@ -8,6 +8,7 @@
  * the evaluation order of the seeds. */
 #include <assert.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -147,18 +148,33 @@ static float binary_fn(uint32_t op, float a, float b) {
     }
 }
 
-pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *args,
-                           uint32_t arg_count, const pgt_grammar_env *env, int strict, float *out,
-                           const char **why) {
+/* The machine. With diag it also follows where a value that is not finite came from: origin[i]
+ * is the instruction that made stack[i] not finite from finite operands (an infinity passed on
+ * by later operators keeps its origin; one that a comparison turns finite is forgotten), so a
+ * failure names the operator at fault. Only the failure path runs with diag. */
+static pgt_result run(const pgt_grammar *g, uint32_t expr, const float *args, uint32_t arg_count,
+                      const pgt_grammar_env *env, int strict, int diag, float *out,
+                      pgt_grammar_fault *fault) {
     assert(expr < g->expr_count);
     const pgt_grammar_expr *e = &g->exprs[expr];
     assert(e->max_stack <= PGT_GRAMMAR_VM_STACK);
     float stack[PGT_GRAMMAR_VM_STACK];
+    uint32_t origin[PGT_GRAMMAR_VM_STACK];
+    float origin_value[PGT_GRAMMAR_VM_STACK];
     uint32_t sp = 0;
     const float *params = env && env->params ? env->params : g->param_values;
     for (uint32_t k = 0; k < e->code_count; ++k) {
-        const uint32_t ins = g->code[e->first_code + k];
+        const uint32_t at = e->first_code + k;
+        const uint32_t ins = g->code[at];
         const uint32_t op = ins & PGT_GRAMMAR_OP_MASK, arg = ins >> PGT_GRAMMAR_OP_BITS;
+        /* diag: the operands' first origin */
+        uint32_t base = 0, from = PGT_NONE;
+        float from_value = 0.0f;
+        if (diag) {
+            base = sp + (uint32_t)pgt_grammar_op_effect(op) - 1u;
+            for (uint32_t i = base; i < sp && from == PGT_NONE; ++i)
+                if (!isfinite(stack[i])) from = origin[i], from_value = origin_value[i];
+        }
         switch (op) {
         case PGT_GRAMMAR_OP_CONST:
             assert(arg < g->const_count);
@@ -170,21 +186,22 @@ pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *arg
             break;
         case PGT_GRAMMAR_OP_ARG:
             if (arg >= arg_count || !args) {
-                *why = "reads a rule argument that was not given";
+                fault->why = "reads a rule argument that was not given", fault->at = at;
                 return PGT_ERROR_INVALID_ARGUMENT;
             }
             stack[sp++] = args[arg];
             break;
         case PGT_GRAMMAR_OP_CONTEXT:
             if (!env || !env->context) {
-                *why = "reads a context but no context callback was given";
+                fault->why = "reads a context but no context callback was given", fault->at = at;
                 return PGT_ERROR_INVALID_ARGUMENT;
             }
             stack[sp++] = env->context(env->context_data, arg, env->u, env->v);
             break;
         case PGT_GRAMMAR_OP_RAND: {
             if (!env || !env->counter) {
-                *why = "draws a random number but no draw counter was given";
+                fault->why = "draws a random number but no draw counter was given";
+                fault->at = at;
                 return PGT_ERROR_INVALID_ARGUMENT;
             }
             const float a = stack[sp - 2], b = stack[sp - 1];
@@ -206,31 +223,91 @@ pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *arg
             } else {
                 const float a = stack[sp - 2], b = stack[sp - 1];
                 if (strict && (op == PGT_GRAMMAR_OP_DIV || op == PGT_GRAMMAR_OP_MOD) && b == 0.0f) {
-                    *why = "divides by zero";
+                    fault->why = "divides by zero", fault->at = at;
                     return PGT_ERROR_INVALID_ARGUMENT;
                 }
                 stack[--sp - 1] = binary_fn(op, a, b);
             }
             break;
         }
+        if (diag) {
+            assert(base == sp - 1u);
+            const float v = stack[base];
+            origin[base] = isfinite(v) ? PGT_NONE : from != PGT_NONE ? from : at;
+            origin_value[base] = from != PGT_NONE ? from_value : v;
+        }
     }
     assert(sp == 1);
     *out = stack[0];
     if (!isfinite(stack[0])) {
-        *why = isnan(stack[0]) ? "evaluates to NaN" : "evaluates to infinity";
+        fault->why = isnan(stack[0]) ? "evaluates to NaN" : "evaluates to infinity";
+        if (diag) fault->at = origin[0], fault->value = origin_value[0];
         return PGT_ERROR_NOT_FINITE;
     }
     return PGT_OK;
 }
 
+pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *args,
+                           uint32_t arg_count, const pgt_grammar_env *env, int strict, float *out,
+                           pgt_grammar_fault *fault) {
+    const uint64_t drawn = env && env->counter ? *env->counter : 0u;
+    *fault = (pgt_grammar_fault){"", PGT_NONE, 0.0f};
+    const pgt_result r = run(g, expr, args, arg_count, env, strict, 0, out, fault);
+    if (r != PGT_ERROR_NOT_FINITE) return r;
+    /* once more, drawing the same numbers (the caller's counter stays where the first run left
+     * it), to find the operator the value that is not finite came from */
+    pgt_grammar_env again;
+    uint64_t counter = drawn;
+    if (env) {
+        again = *env;
+        if (env->counter) again.counter = &counter;
+    }
+    float value = 0.0f;
+    (void)run(g, expr, args, arg_count, env ? &again : NULL, strict, 1, &value, fault);
+    return r;
+}
+
+/* How a message shows an instruction: binary and unary operators quoted, functions by name. */
+static void op_label(uint32_t op, char *buf, size_t size) {
+    if (op == PGT_GRAMMAR_OP_NEG)
+        snprintf(buf, size, "unary '-'");
+    else if (op >= PGT_GRAMMAR_OP_NOT && op <= PGT_GRAMMAR_OP_OR)
+        snprintf(buf, size, "'%s'", op_names[op]);
+    else if (op == PGT_GRAMMAR_OP_CONTEXT)
+        snprintf(buf, size, "the context lookup");
+    else if (op == PGT_GRAMMAR_OP_ARG)
+        snprintf(buf, size, "the rule argument");
+    else
+        snprintf(buf, size, "%s", pgt_grammar_op_name(op));
+}
+
+void pgt_grammar_fault_place(const pgt_grammar *g, uint32_t expr, const pgt_grammar_fault *fault,
+                             uint32_t *line, uint32_t *col, char *detail, size_t detail_size) {
+    *line = g->exprs[expr].line, *col = g->exprs[expr].col;
+    if (detail_size) detail[0] = '\0';
+    if (fault->at == PGT_NONE || !g->code_pos) return;
+    *line = g->code_pos[fault->at].line, *col = g->code_pos[fault->at].col;
+    if (isfinite(fault->value) || !detail_size) return;
+    char what[32];
+    op_label(g->code[fault->at] & PGT_GRAMMAR_OP_MASK, what, sizeof what);
+    snprintf(detail, detail_size, " (%s gives %s here)", what,
+             isnan(fault->value)   ? "NaN"
+             : fault->value > 0.0f ? "inf"
+                                   : "-inf");
+}
+
 pgt_result pgt_grammar_eval(const pgt_grammar *g, uint32_t expr, const float *args,
                             uint32_t arg_count, const pgt_grammar_env *env, float *out,
                             pgt_error *err) {
-    const char *why = "";
-    const pgt_result r = pgt_grammar_run(g, expr, args, arg_count, env, 0, out, &why);
-    if (r != PGT_OK)
-        pgt_error_set(err, r, "%s:%u:%u: the expression %s", g->names + g->file_name,
-                      g->exprs[expr].line, g->exprs[expr].col, why);
+    pgt_grammar_fault fault;
+    const pgt_result r = pgt_grammar_run(g, expr, args, arg_count, env, 0, out, &fault);
+    if (r != PGT_OK) {
+        uint32_t line, col;
+        char detail[64];
+        pgt_grammar_fault_place(g, expr, &fault, &line, &col, detail, sizeof detail);
+        pgt_error_set(err, r, "%s:%u:%u: the expression %s%s", g->names + g->file_name, line, col,
+                      fault.why, detail);
+    }
     return r;
 }
 
@@ -255,22 +332,28 @@ pgt_result pgt_grammar_set_param(pgt_grammar *g, const char *name, float value, 
     memcpy(saved, g->param_values, (size_t)g->param_count * sizeof *saved);
     g->param_values[k] = value;
     pgt_result r = PGT_OK;
-    const char *why = "";
+    pgt_grammar_fault fault;
     /* params only read earlier ones, so one pass in definition order settles every value */
     for (uint32_t j = k + 1; j < g->param_count && r == PGT_OK; ++j) {
         if (g->params[j].overridden) continue;
-        r = pgt_grammar_run(g, g->params[j].expr, NULL, 0, NULL, 1, &g->param_values[j], &why);
-        if (r != PGT_OK)
-            pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "%s:%u:%u: with %s = %g, param '%s' %s",
-                          g->names + g->file_name, g->params[j].line, g->params[j].col, name,
-                          (double)value, g->names + g->params[j].name, why);
+        r = pgt_grammar_run(g, g->params[j].expr, NULL, 0, NULL, 1, &g->param_values[j], &fault);
+        if (r != PGT_OK) {
+            uint32_t line, col;
+            char detail[64];
+            pgt_grammar_fault_place(g, g->params[j].expr, &fault, &line, &col, detail,
+                                    sizeof detail);
+            pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                          "%s:%u:%u: with %s = %g, param '%s' %s%s", g->names + g->file_name, line,
+                          col, name, (double)value, g->names + g->params[j].name, fault.why,
+                          detail);
+        }
     }
     /* a Branch count is a constant of the params and must still equal its sequences */
     for (uint32_t i = 0; i < g->item_count && r == PGT_OK; ++i) {
         const pgt_grammar_item *it = &g->items[i];
         if (it->kind != PGT_GRAMMAR_ITEM_BRANCH) continue;
         float n = 0.0f;
-        r = pgt_grammar_run(g, g->args[it->first_arg], NULL, 0, NULL, 1, &n, &why);
+        r = pgt_grammar_run(g, g->args[it->first_arg], NULL, 0, NULL, 1, &n, &fault);
         if (r != PGT_OK || n != (float)it->sub_count) {
             r = PGT_ERROR_INVALID_ARGUMENT;
             pgt_error_set(err, r, "%s:%u:%u: with %s = %g, Branch asks for %g sequences, it has %u",

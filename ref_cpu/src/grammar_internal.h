@@ -76,11 +76,26 @@ extern const uint32_t pgt_grammar_fn_count;
 /* Stack effect of an opcode (pushes minus pops). */
 int pgt_grammar_op_effect(uint32_t op);
 
+/* Why an expression failed: a static phrase ("divides by zero", "evaluates to NaN", ...), the
+ * instruction it points at (the division; for a value that is not finite, the first instruction
+ * whose result was not, so that the message names the operator, not the expression; PGT_NONE
+ * when none) and that first value. */
+typedef struct pgt_grammar_fault {
+    const char *why;
+    uint32_t at; /* index in g->code, or PGT_NONE */
+    float value;
+} pgt_grammar_fault;
+
 /* Runs expression expr of g (which may still be under construction). strict (compile-time
- * params) also rejects a division or remainder by zero. On failure returns the code and sets
- * *why to a static phrase ("divides by zero", "is not finite", ...). */
+ * params) also rejects a division or remainder by zero. On failure returns the code and fills
+ * *fault. A draw counter in env advances as in a run without failure. */
 pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *args,
                            uint32_t arg_count, const pgt_grammar_env *env, int strict, float *out,
-                           const char **why);
+                           pgt_grammar_fault *fault);
+
+/* Where a fault points (its instruction's token, else the expression's start) and what to add to
+ * its phrase: " ('/' gives inf here)" for a value that is not finite, else "". */
+void pgt_grammar_fault_place(const pgt_grammar *g, uint32_t expr, const pgt_grammar_fault *fault,
+                             uint32_t *line, uint32_t *col, char *detail, size_t detail_size);
 
 #endif

@@ -31,6 +31,7 @@ enum {
     V_SUBS,
     V_EXPRS,
     V_CODE,
+    V_CODE_POS,
     V_CONSTS,
     V_PARAMS,
     V_PARAM_VALUES,
@@ -52,6 +53,7 @@ static const size_t vec_elem[V_COUNT] = {
     sizeof(uint32_t),
     sizeof(pgt_grammar_expr),
     sizeof(uint32_t),
+    sizeof(pgt_grammar_pos),
     sizeof(float),
     sizeof(pgt_grammar_param),
     sizeof(float),
@@ -215,6 +217,7 @@ static void sync(parser *p) {
     g->subs = p->v[V_SUBS].data, g->sub_count = p->v[V_SUBS].count;
     g->exprs = p->v[V_EXPRS].data, g->expr_count = p->v[V_EXPRS].count;
     g->code = p->v[V_CODE].data, g->code_count = p->v[V_CODE].count;
+    g->code_pos = p->v[V_CODE_POS].data;
     g->consts = p->v[V_CONSTS].data, g->const_count = p->v[V_CONSTS].count;
     g->params = p->v[V_PARAMS].data, g->param_count = p->v[V_PARAMS].count;
     g->param_values = p->v[V_PARAM_VALUES].data;
@@ -319,13 +322,17 @@ static pgt_result check_new_name(parser *p, const gtoken *t, const char *what) {
 
 /* ---- expressions ---- */
 
-static pgt_result emit(parser *p, uint32_t op, uint32_t operand) {
+/* Appends one instruction; t is its token (code_pos: where its errors point). */
+static pgt_result emit(parser *p, uint32_t op, uint32_t operand, const gtoken *t) {
     if (p->v[V_CODE].count >= PGT_GRAMMAR_MAX_CODE)
         return limit_error(p, prev(p), "PGT_GRAMMAR_MAX_CODE instruction words",
                            PGT_GRAMMAR_MAX_CODE);
     uint32_t *c = push(p, V_CODE);
     if (!c) return PGT_ERROR_OUT_OF_MEMORY;
     *c = op | operand << PGT_GRAMMAR_OP_BITS;
+    pgt_grammar_pos *pos = push(p, V_CODE_POS);
+    if (!pos) return PGT_ERROR_OUT_OF_MEMORY;
+    *pos = (pgt_grammar_pos){t->line, t->col};
     p->stack = (uint32_t)((int)p->stack + pgt_grammar_op_effect(op));
     if (p->stack > p->max_stack) p->max_stack = p->stack;
     if (p->max_stack > PGT_GRAMMAR_VM_STACK)
@@ -336,13 +343,13 @@ static pgt_result emit(parser *p, uint32_t op, uint32_t operand) {
     return PGT_OK;
 }
 
-static pgt_result emit_const(parser *p, float value) {
+static pgt_result emit_const(parser *p, float value, const gtoken *t) {
     if (p->v[V_CONSTS].count >= PGT_GRAMMAR_MAX_CONSTS)
         return limit_error(p, prev(p), "PGT_GRAMMAR_MAX_CONSTS constants", PGT_GRAMMAR_MAX_CONSTS);
     float *c = push(p, V_CONSTS);
     if (!c) return PGT_ERROR_OUT_OF_MEMORY;
     *c = value;
-    return emit(p, PGT_GRAMMAR_OP_CONST, p->v[V_CONSTS].count - 1);
+    return emit(p, PGT_GRAMMAR_OP_CONST, p->v[V_CONSTS].count - 1, t);
 }
 
 static pgt_result enter_expr(parser *p) {
@@ -397,13 +404,13 @@ static pgt_result parse_context(parser *p, const gtoken *t) {
     advance(p);
     TRY(expect(p, GTOK_RPAREN, "')' after texCoord"));
     p->flags |= PGT_GRAMMAR_EXPR_CONTEXT;
-    return emit(p, PGT_GRAMMAR_OP_CONTEXT, id);
+    return emit(p, PGT_GRAMMAR_OP_CONTEXT, id, t);
 }
 
 static pgt_result parse_name_expr(parser *p) {
     const gtoken *t = peek(p);
     advance(p);
-    if (tok_is(p, t, "PI")) return emit_const(p, 3.14159265358979323846f);
+    if (tok_is(p, t, "PI")) return emit_const(p, 3.14159265358979323846f, t);
     if (tok_is(p, t, "texCoord"))
         return fail_at(p, PGT_ERROR_INVALID_ARGUMENT, t,
                        "found texCoord as a value, expected it only as the argument of "
@@ -419,15 +426,15 @@ static pgt_result parse_name_expr(parser *p) {
             p->flags |= PGT_GRAMMAR_EXPR_RAND;
         }
         TRY(parse_fn_args(p, t, pgt_grammar_fns[fn].arity));
-        return emit(p, pgt_grammar_fns[fn].op, 0);
+        return emit(p, pgt_grammar_fns[fn].op, 0, t);
     }
     const uint32_t arg = find_rule_param(p, t);
     if (arg != PGT_NONE) {
         p->flags |= PGT_GRAMMAR_EXPR_ARGS;
-        return emit(p, PGT_GRAMMAR_OP_ARG, arg);
+        return emit(p, PGT_GRAMMAR_OP_ARG, arg, t);
     }
     const uint32_t param = find_param(p, t);
-    if (param != PGT_NONE) return emit(p, PGT_GRAMMAR_OP_PARAM, param);
+    if (param != PGT_NONE) return emit(p, PGT_GRAMMAR_OP_PARAM, param, t);
     /* unknown: suggest a near name among what could stand here */
     const char *best = NULL;
     uint32_t best_d = 3;
@@ -458,11 +465,11 @@ static pgt_result parse_unary(parser *p) {
         TRY(enter_expr(p));
         TRY(parse_unary(p));
         p->expr_depth--;
-        return emit(p, t->kind == GTOK_MINUS ? PGT_GRAMMAR_OP_NEG : PGT_GRAMMAR_OP_NOT, 0);
+        return emit(p, t->kind == GTOK_MINUS ? PGT_GRAMMAR_OP_NEG : PGT_GRAMMAR_OP_NOT, 0, t);
     }
     if (t->kind == GTOK_NUMBER) {
         advance(p);
-        return emit_const(p, t->value);
+        return emit_const(p, t->value, t);
     }
     if (t->kind == GTOK_LPAREN) {
         advance(p);
@@ -508,9 +515,10 @@ static pgt_result parse_binary(parser *p, int min_prec) {
         uint32_t op = 0;
         const int prec = binary_prec(peek(p)->kind, &op);
         if (prec == 0 || prec < min_prec) break;
+        const gtoken *optok = peek(p);
         advance(p);
         TRY(parse_binary(p, prec + 1));
-        TRY(emit(p, op, 0));
+        TRY(emit(p, op, 0, optok));
     }
     p->expr_depth--;
     return PGT_OK;
@@ -542,7 +550,7 @@ static pgt_result const_expr(parser *p, float value, const gtoken *t, uint32_t *
         return limit_error(p, t, "PGT_GRAMMAR_MAX_EXPRS expressions", PGT_GRAMMAR_MAX_EXPRS);
     const uint32_t first = p->v[V_CODE].count;
     p->stack = p->max_stack = 0;
-    TRY(emit_const(p, value));
+    TRY(emit_const(p, value, t));
     pgt_grammar_expr *e = push(p, V_EXPRS);
     if (!e) return PGT_ERROR_OUT_OF_MEMORY;
     *e = (pgt_grammar_expr){first, 1, 1, PGT_GRAMMAR_EXPR_CONSTANT, t->line, t->col};
@@ -553,11 +561,13 @@ static pgt_result const_expr(parser *p, float value, const gtoken *t, uint32_t *
 /* The value of a constant expression now (params and Branch counts). */
 static pgt_result eval_now(parser *p, uint32_t expr, const char *what, float *out) {
     sync(p);
-    const char *why = "";
-    if (pgt_grammar_run(p->g, expr, NULL, 0, NULL, 1, out, &why) != PGT_OK) {
-        const pgt_grammar_expr *e = &p->g->exprs[expr];
-        return pgt_error_set(p->err, PGT_ERROR_INVALID_ARGUMENT, "%s:%u:%u: %s %s", p->file,
-                             e->line, e->col, what, why);
+    pgt_grammar_fault fault;
+    if (pgt_grammar_run(p->g, expr, NULL, 0, NULL, 1, out, &fault) != PGT_OK) {
+        uint32_t line, col;
+        char detail[64];
+        pgt_grammar_fault_place(p->g, expr, &fault, &line, &col, detail, sizeof detail);
+        return pgt_error_set(p->err, PGT_ERROR_INVALID_ARGUMENT, "%s:%u:%u: %s %s%s", p->file, line,
+                             col, what, fault.why, detail);
     }
     return PGT_OK;
 }
@@ -1140,6 +1150,7 @@ void pgt_grammar_destroy(pgt_grammar *g) {
     free(g->subs);
     free(g->exprs);
     free(g->code);
+    free(g->code_pos);
     free(g->consts);
     free(g->params);
     free(g->param_values);

@@ -37,6 +37,9 @@
  *                 PGT_GRAMMAR_VM_STACK); flags say what it reads (PGT_GRAMMAR_EXPR_*).
  *   code[k]       one instruction: opcode in the low PGT_GRAMMAR_OP_BITS bits, operand above
  *                 (const index, param index, rule parameter index or context id).
+ *   code_pos[k]   the source token of code[k] (the operator, function, number or name): where an
+ *                 error of that instruction points. For messages only; the machine never reads
+ *                 it (a GPU port need not upload it).
  *   consts[k]     float32 literal pool (PI included); param_values[k] the params' current values.
  *   params[k]     name, the expression it was defined by, whether pgt_grammar_set_param
  *                 overrode it.
@@ -232,6 +235,11 @@ typedef struct pgt_grammar_expr {
     uint32_t line, col;
 } pgt_grammar_expr;
 
+/* A source position: line and column (1-based, columns count UTF-8 code points). */
+typedef struct pgt_grammar_pos {
+    uint32_t line, col;
+} pgt_grammar_pos;
+
 typedef struct pgt_grammar_param {
     uint32_t name;       /* offset in names */
     uint32_t expr;       /* its defining expression (constants and earlier params only) */
@@ -253,6 +261,7 @@ typedef struct pgt_grammar {
     uint32_t *subs; /* sequence indices */
     pgt_grammar_expr *exprs;
     uint32_t *code; /* instructions */
+    pgt_grammar_pos *code_pos; /* code_count: each instruction's token (messages only) */
     float *consts;
     pgt_grammar_param *params;
     float *param_values;
