@@ -33,19 +33,27 @@ int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     return PGT_EXIT_USAGE;
 }
 
-int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t lo, uint32_t hi,
-                 uint32_t *out) {
+int pgt_cli_u64(const char *verb, const char *flag, const char *text, uint64_t lo, uint64_t hi,
+                uint64_t *out) {
     char *end = NULL;
     errno = 0;
     if (!text || !(*text >= '0' && *text <= '9')) goto bad; /* no spaces, no sign */
     unsigned long long v = strtoull(text, &end, 10);
     if (errno || *end || v < lo || v > hi) goto bad;
-    *out = (uint32_t)v;
+    *out = (uint64_t)v;
     return 0;
 bad:
-    pgt_cli_fail(verb, "%s: expected a whole number from %u to %u, got '%s'", flag, lo, hi,
-                 text ? text : "");
+    pgt_cli_fail(verb, "%s: expected a whole number from %llu to %llu, got '%s'", flag,
+                 (unsigned long long)lo, (unsigned long long)hi, text ? text : "");
     return -1;
+}
+
+int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t lo, uint32_t hi,
+                 uint32_t *out) {
+    uint64_t v = 0;
+    if (pgt_cli_u64(verb, flag, text, lo, hi, &v)) return -1;
+    *out = (uint32_t)v;
+    return 0;
 }
 
 int pgt_cli_int(const char *verb, const char *flag, const char *text, int32_t *out) {

@@ -24,6 +24,9 @@ int pgt_cli_fail(const char *verb, const char *fmt, ...)
 /* Parses a whole number in [lo, hi] from a flag value; on failure prints the flag and value. */
 int pgt_cli_uint(const char *verb, const char *flag, const char *text, uint32_t lo, uint32_t hi,
                  uint32_t *out);
+/* The same in 64 bits. */
+int pgt_cli_u64(const char *verb, const char *flag, const char *text, uint64_t lo, uint64_t hi,
+                uint64_t *out);
 int pgt_cli_int(const char *verb, const char *flag, const char *text, int32_t *out);
 
 /* Value of flag argv[*i] (advancing *i), or NULL after printing "FLAG needs a value". */

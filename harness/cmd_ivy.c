@@ -20,6 +20,10 @@
  * the paper's 64 and bounds a typo's memory. */
 #define IVY_MAX_SEEDS (1u << 20)
 
+/* Largest --max-total-items: every seed at the expander's max_items (a larger total changes
+ * nothing). */
+#define IVY_MAX_TOTAL_ITEMS ((uint64_t)IVY_MAX_SEEDS * PGT_EXPAND_DEFAULT_MAX_ITEMS)
+
 /* A 3D point of a seed or stroke file farther than this from the nearest inner texel (in median
  * texel sizes) is an error: it is not on the surface (a typo, or another mesh's coordinates),
  * while a point picked on the mesh lies within a texel of one. */
@@ -42,7 +46,7 @@ static const char *ivy_usage =
     "               [--seed-file FILE] [--mask FILE] [--paint FILE] [--brush R] [--no-leaves]\n"
     "               [--no-secondary] [--threads N] [--curves CURVES.csv] [--res N] [--seed S]\n"
     "               [--rotation atlas|jacobian] [--mask-out MASK.png] [--forbid FILE]\n"
-    "               [--mask-mesh PAINT.ply] [--density FILE]\n"
+    "               [--mask-mesh PAINT.ply] [--density FILE] [--max-total-items N]\n"
     "\n"
     "Grows ivy over a mesh (paper 000 sections 5-8): the grammar's rules expand per seed on the\n"
     "mesh's geometry-image atlas by marching, the marched polylines become G1 cubic Bezier\n"
@@ -100,6 +104,11 @@ static const char *ivy_usage2 =
     "  --mask-mesh F   write the painted surface as a mesh for figures (paper Fig. 10's red\n"
     "                  areas): the texels --paint and --forbid brushed, else those --mask\n"
     "                  forbids, as triangles between texel centres lifted off the surface\n"
+    "  --max-total-items N  grammar items all seeds together may run, 1 to 2^46 (default\n"
+    "                  2^31 = 2147483648, a minute or two on one core): each seed may run\n"
+    "                  N / seeds of them, at most 2^26 (67108864); a seed that needs more\n"
+    "                  fails (exit 2), naming the grammar item. The paper's scenes run about\n"
+    "                  30k a seed; the bound stops a runaway grammar over many seeds\n"
     "\n"
     "The same inputs, seeds and flags give the same bytes for any --threads.\n"
     "Exit 0 on success, 2 on a bad flag, value, input file or grammar, or a grammar exceeding\n"
@@ -434,6 +443,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     float brush = 0.0f;
     int have_seeds = 0, no_leaves = 0, no_secondary = 0;
     pgt_march_rotation rotation = PGT_MARCH_ROTATION_ATLAS;
+    uint64_t max_total_items = PGT_EXPAND_DEFAULT_MAX_TOTAL_ITEMS;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -497,6 +507,10 @@ int pgt_cmd_ivy(int argc, char **argv) {
                 return pgt_cli_fail(verb, "--rotation: expected atlas or jacobian, got '%s'", v);
         } else if (!strcmp(a, "--mask-out")) {
             if (!(mask_out = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--max-total-items")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_u64(verb, a, v, 1, IVY_MAX_TOTAL_ITEMS, &max_total_items))
+                return PGT_EXIT_USAGE;
         } else if (a[0] == '-' && a[1] != '\0') {
             return pgt_cli_fail(verb, "unknown flag '%s' (see pgt ivy --help)", a);
         } else if (!in_path) {
@@ -628,6 +642,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     memset(&o, 0, sizeof o);
     o.expand.march.rotation = rotation;
     o.expand.march.mask = s.mask;
+    o.expand.max_total_items = max_total_items;
     o.no_leaves = no_leaves;
     o.terminals.no_triangle_segment = 1;
     /* the bark and leaves within the memory available now (about 58 MB a seed on spot with the

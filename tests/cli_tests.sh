@@ -241,6 +241,15 @@ rm -f spot_link.ply
 PGT_MEMORY_AVAILABLE=20000000 expect ivy_memory 2 "$pgt" ivy cs.exr --seeds 2 -o ivm.ply
 one_line ivy_memory_one_line "^pgt ivy: terminals: [0-9]* vertices and [0-9]* triangles (.*) would take 0.[0-9]* GiB, more than the 0.02 GiB allowed now (--seeds 2;"
 [ ! -e ivm.ply ] && ok ivy_memory_writes_nothing || bad ivy_memory_writes_nothing "ivm.ply written"
+# a grammar running 2^25 items a seed over 2^20 seeds is stopped by the total bound (each seed
+# gets 2^31 / 2^20 = 2048 items) instead of running for weeks; the flag's range is checked
+printf 'Ivy --> B(0)\nB(n) --> case n < 24 : Branch(2) {B(n + 1), B(n + 1)} else : NIL\n' >tree.grammar
+expect ivy_total_items 2 "$pgt" ivy cs.exr --grammar tree.grammar --seeds 1048576 -o ivt.ply
+one_line ivy_total_items_one_line "^pgt ivy: tree.grammar:2:45: seed 0 (id 1): more than 2048 grammar items run (option max_total_items: 2147483648 over all 1048576 seeds, 2048 a seed)"
+expect ivy_total_items_flag 2 "$pgt" ivy cs.exr --grammar tree.grammar --seeds 4 -o ivt.ply --max-total-items 4000
+one_line ivy_total_items_flag_one_line "more than 1000 grammar items run (option max_total_items: 4000 over all 4 seeds, 1000 a seed)"
+expect ivy_total_items_zero 2 "$pgt" ivy cs.exr --seeds 1 -o ivt.ply --max-total-items 0
+one_line ivy_total_items_zero_one_line "^pgt ivy: \-\-max-total-items: expected a whole number from 1 to 70368744177664, got '0'$"
 # binary outputs are named for their format (the PLY and PNG writers do not follow the name)
 expect ivy_out_not_ply 2 "$pgt" ivy cs.exr --seeds 1 -o ive.obj
 one_line ivy_out_not_ply_one_line "^pgt ivy: -o ive.obj: the output is a PLY file (name it \*.ply)$"

@@ -439,6 +439,37 @@ static void test_bounds(void) {
     expect_limit(&f, "A --> B(0)\nB(n) --> case n < 20 : Branch(2) {B(n + 1), B(n + 1)} else : NIL",
                  &o, "runaway:2:", "max_items");
     o.max_items = 0;
+    /* ... and all seeds together: each seed may run max_total_items / seeds. A tree of depth 8
+     * runs 1 + 3 (2^8 - 1) = 766 items (the axiom's call, then a Branch and its two calls at
+     * every inner node; NIL runs none): three seeds pass with a total of 3 x 766 and fail with
+     * one item less (a share of 765) */
+    {
+        static const char *const tree =
+            "A --> B(0)\nB(n) --> case n < 8 : Branch(2) {B(n + 1), B(n + 1)} else : NIL";
+        pgt_grammar g;
+        REQUIRE(compile(&g, tree, "runaway"));
+        pgt_expand_seed seeds[3] = {
+            {10.5f, 10.5f, 1.0f, 0.0f}, {20.5f, 30.5f, 0.0f, 1.0f}, {40.5f, 40.5f, -1.0f, 0.0f}};
+        const pgt_expand_input in = flat_input(&f, &g, seeds, 3);
+        pgt_expand_output out;
+        pgt_error err = {0};
+        o.max_total_items = 3u * 766u;
+        CHECK_MSG(pgt_expand(&out, &in, &o, &err) == PGT_OK && out.seed_count == 3, "%s",
+                  err.message);
+        pgt_expand_destroy(&out);
+        /* a per-seed bound below the share still applies, under its own name */
+        o.max_items = 765;
+        CHECK(pgt_expand(&out, &in, &o, &err) == PGT_ERROR_LIMIT &&
+              strstr(err.message, "(option max_items)"));
+        pgt_expand_destroy(&out);
+        o.max_items = 0;
+        pgt_grammar_destroy(&g);
+        o.max_total_items = 3u * 766u - 1u;
+        expect_limit(&f, tree, &o, "runaway:2:",
+                     "more than 765 grammar items run (option max_total_items: 2297 over all 3 "
+                     "seeds, 765 a seed)");
+        o.max_total_items = 0;
+    }
     /* ... and one making 2^12 Bark records on one segment */
     o.max_terminals = 100;
     expect_limit(&f,

@@ -59,6 +59,7 @@ typedef struct xjob {
     const pgt_expand_input *in;
     pgt_march_options march;
     uint32_t max_points, max_depth, max_terminals, max_items, candidates, stream;
+    uint64_t max_total_items; /* when max_items is its share: the total, else 0 */
     float cand_angle[PGT_EXPAND_MAX_CANDIDATES];
     xseed *seeds;
     /* The lowest index of a seed that failed so far (UINT32_MAX: none). pgt_expand reports the
@@ -389,7 +390,16 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
         if (w.pos >= sq->item_count) continue;
         const pgt_grammar_item *it = &g->items[sq->first_item + w.pos];
         if (r.items++ == job->max_items) {
-            res = limit(&r, it, "grammar items run", job->max_items, "max_items");
+            if (job->max_total_items)
+                res = pgt_error_set(&out->err, PGT_ERROR_LIMIT,
+                                    "%s:%u:%u: seed %u (id %u): more than %u grammar items run "
+                                    "(option max_total_items: %llu over all %u seeds, %u a seed); "
+                                    "the grammar does not stop growing here",
+                                    file_of(g), it->line, it->col, index, r.id, job->max_items,
+                                    (unsigned long long)job->max_total_items, job->in->seed_count,
+                                    job->max_items);
+            else
+                res = limit(&r, it, "grammar items run", job->max_items, "max_items");
             break;
         }
         if (r.items % EXPAND_CHECK_ITEMS == 0 &&
@@ -542,6 +552,13 @@ pgt_result pgt_expand(pgt_expand_output *out, const pgt_expand_input *in,
     job.max_depth = o->max_depth ? o->max_depth : PGT_EXPAND_DEFAULT_MAX_DEPTH;
     job.max_terminals = o->max_terminals ? o->max_terminals : PGT_EXPAND_DEFAULT_MAX_TERMINALS;
     job.max_items = o->max_items ? o->max_items : PGT_EXPAND_DEFAULT_MAX_ITEMS;
+    const uint64_t total =
+        o->max_total_items ? o->max_total_items : PGT_EXPAND_DEFAULT_MAX_TOTAL_ITEMS;
+    const uint64_t share = in->seed_count ? total / in->seed_count : total;
+    if (share < job.max_items) {
+        job.max_items = share > 0 ? (uint32_t)share : 1u;
+        job.max_total_items = total;
+    }
     job.candidates = o->no_candidates ? 0u
                      : o->candidates  ? o->candidates
                                       : PGT_EXPAND_DEFAULT_CANDIDATES;

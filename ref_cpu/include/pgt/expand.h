@@ -64,7 +64,8 @@
  *  - Bounds per seed: max_points (the root included), max_depth (work items on the stack),
  *    max_terminals (Bark and Leaves records) and max_items (grammar items run: a branching
  *    recursion that makes no points, such as A --> Branch(2) {B, B} ten levels deep, runs
- *    exponentially long within the other bounds). Exceeding one is PGT_ERROR_LIMIT,
+ *    exponentially long within the other bounds), lowered to max_total_items / seed_count
+ *    when that is smaller (so that many seeds are bounded too). Exceeding one is PGT_ERROR_LIMIT,
  *    "FILE:LINE:COL: seed S (id I): ..." naming the item that hit it and the option. Several
  *    failing seeds: the lowest seed index's error (the same for any thread count).
  *  - Seeds run in parallel (pgt_parallel_for_items), each into its own buffers, concatenated in
@@ -106,6 +107,14 @@ extern "C" {
  * worth (6 times max_points) and stops a runaway recursion after a few seconds. */
 #define PGT_EXPAND_DEFAULT_MAX_ITEMS (1u << 26)
 
+/* Grammar items run by all seeds together: max_items bounds one seed, not a run of up to 2^20
+ * seeds (a grammar running 2^25 items a seed, 2.3 s each on this project's 2-core VM, would run
+ * for two weeks over 2^20 seeds). Each seed may run at most max_total_items / seed_count items
+ * (when that is below max_items), so that a run is bounded whatever its seed count: 2^31 items
+ * is 50-100 s of the cheapest items on one core (a branching recursion: 22 M items a second),
+ * while the paper's densest scenes run about 30k a seed (64 seeds: 2^25 each). */
+#define PGT_EXPAND_DEFAULT_MAX_TOTAL_ITEMS (1ull << 31)
+
 /* Candidate directions in the semicircle: 8 is a 22.5-degree spacing, ending at +-90 degrees. */
 #define PGT_EXPAND_DEFAULT_CANDIDATES 8u
 
@@ -140,6 +149,9 @@ typedef struct pgt_expand_options {
     uint32_t max_depth;  /* per seed; 0: PGT_EXPAND_DEFAULT_MAX_DEPTH */
     uint32_t max_terminals; /* per seed; 0: PGT_EXPAND_DEFAULT_MAX_TERMINALS */
     uint32_t max_items;     /* grammar items run per seed; 0: PGT_EXPAND_DEFAULT_MAX_ITEMS */
+    /* grammar items run by all seeds: a seed's bound is the smaller of max_items and
+     * max_total_items / seed_count (at least 1); 0: PGT_EXPAND_DEFAULT_MAX_TOTAL_ITEMS */
+    uint64_t max_total_items;
     uint32_t candidates; /* K; 0: PGT_EXPAND_DEFAULT_CANDIDATES; at most the MAX */
     int no_candidates;   /* 1: no candidate directions (a failing first try stops) */
     uint32_t stream;     /* RNG stream of the grammar's rand */
