@@ -199,6 +199,7 @@ static int read_points(const char *verb, const char *flag, const char *path, int
             pgt_cli_fail(verb, "%s", msg);
             goto done;
         }
+        pgt_text_line_drop_bom(buf, &len, line);
         char *p = buf;
         while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
         if (!*p || *p == '\n' || *p == '#') continue;

@@ -66,6 +66,7 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                               "%s", msg);
             break;
         }
+        pgt_text_line_drop_bom(line, &len, lineno);
         char *hash = strchr(line, '#'); /* a comment runs to the end of the line */
         if (hash) *hash = '\0';
         char *save = NULL, *tok = strtok_r(line, " \t\r\n", &save);

@@ -395,6 +395,7 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
                               "%s", msg);
             goto done;
         }
+        pgt_text_line_drop_bom(buf, &len, rd.line);
         char *rest = buf;
         char *word = next_token(&rest);
         if (!word) continue;

@@ -9,6 +9,7 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 typedef enum pgt_text_line {
     PGT_TEXT_LINE_OK = 0, /* a line (the last one may lack its '\n') */
@@ -44,6 +45,17 @@ static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, 
     }
     buf[n] = '\0', *out_len = n;
     return c == EOF && ferror(f) ? PGT_TEXT_LINE_END : PGT_TEXT_LINE_OK;
+}
+
+/* Drops a UTF-8 byte order mark from the start of line 1 (Windows editors such as Notepad
+ * before 2019 begin a text file with one); columns then count from the text, as editors show
+ * them. */
+static inline void pgt_text_line_drop_bom(char *buf, size_t *len, unsigned line) {
+    if (line == 1u && *len >= 3u && (unsigned char)buf[0] == 0xEFu &&
+        (unsigned char)buf[1] == 0xBBu && (unsigned char)buf[2] == 0xBFu) {
+        memmove(buf, buf + 3, *len - 3u + 1u); /* the NUL too */
+        *len -= 3u;
+    }
 }
 
 /* Room for pgt_text_line_message: a path as long as Linux allows (PATH_MAX, 4096) and the

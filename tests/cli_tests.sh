@@ -305,6 +305,10 @@ one_line ivy_seed_off_surface_one_line "seeds_far.txt:1: .*not on the surface"
 printf 'texel 20.5 20.5 1 0\npoint 1 0 0\n' >seeds.txt
 expect ivy_seed_file 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --seed-file seeds.txt "${short[@]}"
 expect ivy_seed_file_too_few 2 "$pgt" ivy cs.exr --seeds 3 -o x.ply --seed-file seeds.txt
+# a UTF-8 byte order mark (Notepad) before the first line is read past: the same ivy
+{ printf '\357\273\277'; cat seeds.txt; } >seeds_bom.txt
+expect ivy_seed_file_bom 0 "$pgt" ivy cs.exr --seeds 2 -o xb.ply --seed-file seeds_bom.txt "${short[@]}"
+cmp -s x.ply xb.ply && ok ivy_seed_file_bom_same || bad ivy_seed_file_bom_same "x.ply and xb.ply differ"
 printf 'stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\nstroke\npoint 0 0 1\n' >strokes.txt
 expect ivy_paint 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --paint strokes.txt --mask-out m.png "${short[@]}"
 grep -q "painted 2 strokes, 4 points" out.txt && [ -s m.png ] && ok ivy_paint_reports || bad ivy_paint_reports "$(cat out.txt)"
@@ -678,6 +682,9 @@ ntri=$(sed -n 's/^explicit: \([0-9]*\) triangles.*/\1/p' out.txt)
 cam=$(sed -n 's/^camera: --camera //p' out.txt)
 expect facade_scene_file 0 "$pgt" facade --scene f.scene -o f2.exr --width 96 --height 64 --threads 1 --camera "$cam"
 cmp -s f.exr f2.exr && ok facade_scene_file_same_frame || bad facade_scene_file_same_frame "f.exr and f2.exr differ"
+{ printf '\357\273\277'; cat f.scene; } >f_bom.scene
+expect facade_scene_file_bom 0 "$pgt" facade --scene f_bom.scene -o f4.exr --width 96 --height 64 --threads 1 --camera "$cam"
+cmp -s f.exr f4.exr && ok facade_scene_file_bom_same_frame || bad facade_scene_file_bom_same_frame "f.exr and f4.exr differ"
 grep -q "^scene: 4 buildings, 16 facades" out.txt && ok facade_scene_file_counts || bad facade_scene_file_counts "$(cat out.txt)"
 expect facade_embree_check 0 "$pgt" facade --city 4 -o f3.exr --width 96 --height 64 --embree-check
 grep -q "^check: agreement .* -> PASS" out.txt && grep -q "^embree: BVH build" out.txt && grep -q "Embree / ours" out.txt \
@@ -788,6 +795,10 @@ grep -q "^tower 102 vertices 80 quads tower.obj" out.txt && ok datasets_tower_co
 expect facade_mesh 0 "$pgt" facade --mesh tower.obj -o tower.exr --width 64 --height 48 --threads 2 --embree-check
 grep -q "^scene: mesh of 80 quads, 102 vertices: 80 facades" out.txt && grep -q "^check: .* -> PASS" out.txt \
   && ok facade_mesh_prints || bad facade_mesh_prints "$(cat out.txt)"
+{ printf '\357\273\277'; cat tower.obj; } >tower_bom.obj
+expect facade_mesh_bom 0 "$pgt" facade --mesh tower_bom.obj -o tower_bom.exr --width 64 --height 48 --threads 2
+expect facade_mesh_nobom 0 "$pgt" facade --mesh tower.obj -o tower_nobom.exr --width 64 --height 48 --threads 2
+cmp -s tower_bom.exr tower_nobom.exr && ok facade_mesh_bom_same_frame || bad facade_mesh_bom_same_frame "tower_bom.exr and tower_nobom.exr differ"
 # geometry-image terminals (Mesh(0)) on the quads: clipped to each quad's window, Embree agrees
 expect facade_mesh_gimage 0 "$pgt" facade --mesh tower.obj --grammar "$src/grammars/facade_gimage.grammar" -o tower_gi.exr --width 64 --height 48 --threads 2 --embree-check
 grep -q "^check: .* -> PASS" out.txt && ok facade_mesh_gimage_check || bad facade_mesh_gimage_check "$(cat out.txt)"

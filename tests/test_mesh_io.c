@@ -511,6 +511,41 @@ static void test_obj_forms(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* A UTF-8 byte order mark (Windows editors) before an OBJ or OFF is read past: the same mesh as
+ * without it, and errors keep the file's line numbers; before "ply" it is named in the error
+ * (the format's first bytes are its magic). */
+static void test_byte_order_mark(void) {
+    static const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    static const char off[] = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    static const char *const texts[2] = {obj, off}, *const names[2] = {"bom.obj", "bom.off"};
+    char buf[256];
+    pgt_error err;
+    for (int k = 0; k < 2; ++k) {
+        pgt_mesh plain, marked;
+        const size_t n = strlen(texts[k]);
+        REQUIRE(read_mem(&plain, texts[k], n, names[k], &err) == PGT_OK);
+        memcpy(buf, "\xEF\xBB\xBF", 3), memcpy(buf + 3, texts[k], n);
+        CHECK_MSG(read_mem(&marked, buf, n + 3, names[k], &err) == PGT_OK, "%s", err.message);
+        CHECK(marked.vertex_count == plain.vertex_count && marked.face_count == plain.face_count &&
+              !memcmp(marked.positions, plain.positions, 9 * sizeof(float)) &&
+              !memcmp(marked.indices, plain.indices, 3 * sizeof(uint32_t)) &&
+              (k == 1 || !memcmp(marked.uvs, plain.uvs, 6 * sizeof(float))));
+        pgt_mesh_destroy(&plain), pgt_mesh_destroy(&marked);
+    }
+    /* line 3 stays line 3; a mark that is not at the start is not skipped */
+    pgt_mesh m;
+    static const char bad[] = "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nq 1 2 3\n";
+    CHECK(read_mem(&m, bad, sizeof bad - 1, "bad.obj", &err) != PGT_OK &&
+          strstr(err.message, "bad.obj:3: ") != NULL);
+    static const char inner[] = "v 0 0 0\n\xEF\xBB\xBFv 1 0 0\n";
+    CHECK(read_mem(&m, inner, sizeof inner - 1, "inner.obj", &err) != PGT_OK &&
+          strstr(err.message, "inner.obj:2: ") != NULL);
+    static const char ply[] = "\xEF\xBB\xBFply\nformat ascii 1.0\nend_header\n";
+    CHECK_MSG(read_mem(&m, ply, sizeof ply - 1, "bom.ply", &err) == PGT_ERROR_PARSE &&
+                  strstr(err.message, "bom.ply:1: ") && strstr(err.message, "byte order mark"),
+              "%s", err.message);
+}
+
 /* The reader's decimal fast path must give exactly strtof's float: random decimals of up to 18
  * digits, and decimals at or next to the midpoint between two floats (where rounding through
  * double could go wrong). */
@@ -971,6 +1006,7 @@ static const pgt_test_case cases[] = {
     {"fan_obj", test_fan_obj},
     {"fan_off", test_fan_off},
     {"obj_forms", test_obj_forms},
+    {"byte_order_mark", test_byte_order_mark},
     {"numbers_match_strtof", test_numbers_match_strtof},
     {"ply_groups_ascii", test_ply_groups_ascii},
     {"ply_groups_binary", test_ply_groups_binary},

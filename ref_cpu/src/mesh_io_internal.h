@@ -103,6 +103,21 @@ static inline void pgt_io_text_init(pgt_io_text *t, const char *data, size_t siz
     t->size = size;
 }
 
+/* A UTF-8 byte order mark: Windows editors (Notepad before 2019, some exporters) start a text
+ * file with it. */
+#define PGT_IO_UTF8_BOM "\xEF\xBB\xBF"
+
+static inline int pgt_io_starts_with_bom(const char *data, size_t size) {
+    return size >= 3 && memcmp(data, PGT_IO_UTF8_BOM, 3) == 0;
+}
+
+/* The text formats without a magic number (OBJ, OFF) read past a leading byte order mark; the
+ * line numbers and byte offsets stay the file's. PLY's first bytes must be "ply" (Turk's
+ * format): its reader names a mark there instead. */
+static inline void pgt_io_text_skip_bom(pgt_io_text *t) {
+    if (t->next == 0 && pgt_io_starts_with_bom(t->data, t->size)) t->next = 3;
+}
+
 /* Moves to the next line; 0 at the end of the data. */
 static inline int pgt_io_text_next(pgt_io_text *t) {
     if (t->next >= t->size) return 0;

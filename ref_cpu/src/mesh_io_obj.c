@@ -113,6 +113,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
     /* Pass 1: count the v, vt and vn lines. */
     obj_counts total = {0, 0, 0};
     pgt_io_text_init(&t, data, size);
+    pgt_io_text_skip_bom(&t);
     while (pgt_io_text_next(&t)) {
         p = t.begin; /* tokenised exactly as in pass 2, so the counts bound what it stores */
         n = pgt_io_token(&p, pgt_io_strip_comment(t.begin, t.end), &tok);
@@ -142,6 +143,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
         goto done;
     }
     pgt_io_text_init(&t, data, size);
+    pgt_io_text_skip_bom(&t);
     while (pgt_io_text_next(&t)) {
         end = pgt_io_strip_comment(t.begin, t.end);
         p = t.begin;

@@ -49,6 +49,7 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
     size_t n;
     char q[32];
     pgt_io_text_init(&t, data, size);
+    pgt_io_text_skip_bom(&t);
     if (size == 0) return pgt_io_fail_line(err, PGT_ERROR_EMPTY, name, 1, "file is empty");
     if (!next_data_line(&t, &p, &end))
         return pgt_io_fail_line(err, PGT_ERROR_EMPTY, name, t.line,

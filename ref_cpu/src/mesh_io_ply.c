@@ -304,7 +304,10 @@ static pgt_result parse_header(ply_header *h, const char *data, size_t size, con
     n = pgt_io_token(&p, t.end, &tok);
     if (!pgt_io_token_is(tok, n, "ply") || pgt_io_token(&p, t.end, &tok) != 0)
         return pgt_io_fail_line(err, PGT_ERROR_PARSE, name, 1,
-                                "not a PLY file (the first line is not 'ply')");
+                                pgt_io_starts_with_bom(data, size)
+                                    ? "not a PLY file (the first line is not 'ply': it starts "
+                                      "with a UTF-8 byte order mark; save it without one)"
+                                    : "not a PLY file (the first line is not 'ply')");
     for (;;) {
         if (!pgt_io_text_next(&t) || !t.newline)
             return pgt_io_fail_line(err, PGT_ERROR_TRUNCATED, name, t.line,

@@ -2,7 +2,9 @@
  *
  * Readers validate everything: a malformed file returns a pgt_result code and an error message
  * naming the file and the line (text formats) or byte offset (binary PLY); nothing aborts, and
- * declared counts are checked against the file size before anything is allocated.
+ * declared counts are checked against the file size before anything is allocated. A UTF-8
+ * byte order mark before an OBJ or OFF (Windows editors write one) is read past; before a PLY's
+ * "ply" magic it is an error that names it.
  * Writers write to a temporary file beside the target and rename it into place, so an existing
  * file is never left half-written. */
 #ifndef PGT_MESH_IO_H
