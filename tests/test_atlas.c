@@ -1028,8 +1028,14 @@ static void test_folded_uvs(void) {
     pgt_mesh_destroy(&m);
 }
 
-static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
-    const uint32_t n = SLIT_QUADS, nv = n + 1u;
+/* A plane sheet [0,1]^2 of n^2 quads (two triangles each) in ONE chart, UV = 0.1 + 0.8 (x +
+ * shift, y) where shift(x, y, side, ctx) moves the corners of the faces left (side -1) or right
+ * (+1) of x = 1/2 apart: the sheet's UVs are cut where the two sides' shifts differ. */
+typedef double (*sheet_shift_fn)(double x, double y, int side, const void *ctx);
+
+static pgt_result make_cut_sheet(pgt_mesh *m, uint32_t n, sheet_shift_fn shift, const void *ctx,
+                                 pgt_error *err) {
+    const uint32_t nv = n + 1u;
     pgt_result r = pgt_mesh_create(m, nv * nv, 2u * n * n, 1, 0, err);
     if (r != PGT_OK) return r;
     for (uint32_t j = 0; j < nv; ++j)
@@ -1046,7 +1052,7 @@ static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
             float uv[4][2];
             for (int k = 0; k < 4; ++k) {
                 const double x = m->positions[3u * c[k]], y = m->positions[3u * c[k] + 1u];
-                uv[k][0] = (float)(0.1 + 0.8 * (x + slit_shift(x, y, side)));
+                uv[k][0] = (float)(0.1 + 0.8 * (x + shift(x, y, side, ctx)));
                 uv[k][1] = (float)(0.1 + 0.8 * y);
             }
             const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
@@ -1058,6 +1064,15 @@ static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
                 }
         }
     return PGT_OK;
+}
+
+static double slit_sheet_shift(double x, double y, int side, const void *ctx) {
+    (void)ctx;
+    return slit_shift(x, y, side);
+}
+
+static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
+    return make_cut_sheet(m, SLIT_QUADS, slit_sheet_shift, NULL, err);
 }
 
 /* Filled crack texels: P on the cut (x = 1/2, z = 0, y that of the texel row: the two copies
@@ -1145,6 +1160,67 @@ static void test_slit_crack(void) {
     CHECK(junction > 0 && bad_rot == 0 && fabs(rot_lr) > 0.01);
     pgt_image_destroy(&img);
     pgt_mesh_destroy(&m);
+}
+
+/* A sheet [0,1]^2 of BOWTIE_QUADS^2 quads in ONE chart whose UVs are cut along x = 1/2 from the
+ * border y = 0 to y = 1/2 (the 3D sheet stays whole): the cut's vertices at y = 0 and y = 1/4
+ * get two UVs, x = 1/2 -+ BOWTIE_D on the left and right. Crossed, the vertex at y = 1/4 swaps
+ * them (+ on the left, - on the right): the two copies of the cut's first edge form an X, their
+ * quad a bow-tie, and between them at the border lies a triangle of background texels
+ * (sheet x in 1/2 -+ BOWTIE_D (1 - 8 y)). Not crossed, the cut is a slit 2 BOWTIE_D wide. */
+#define BOWTIE_QUADS 4u
+#define BOWTIE_RES 64u
+/* 2.5 texels between the copies at BOWTIE_RES (UVs 0.1 + 0.8 x): a crack the fill reaches
+ * (PGT_ATLAS_CRACK_TEXELS) */
+#define BOWTIE_D (2.5 / (2.0 * 0.8 * BOWTIE_RES))
+
+static double bowtie_shift(double x, double y, int side, const void *ctx) {
+    const int crossed = *(const int *)ctx;
+    if (x != 0.5 || !(y < 0.5)) return 0.0; /* off the cut, or its tip */
+    return side * BOWTIE_D * (crossed && y > 0.0 ? -1.0 : 1.0);
+}
+
+static pgt_result make_bowtie_sheet(pgt_mesh *m, int crossed, pgt_error *err) {
+    return make_cut_sheet(m, BOWTIE_QUADS, bowtie_shift, &crossed, err);
+}
+
+/* The crack fill skips a seam whose copies cross (a bow-tie quad: UVs folded inside the chart,
+ * not a slit). The texels between the crossed copies at the border stay background; with the
+ * copies side by side (the same sheet, not crossed) the same texels are filled, so the crossed
+ * sheet's gap is one the fill would reach. */
+static void test_bowtie_crack(void) {
+    uint32_t gap[2] = {0, 0}, inner[2] = {0, 0};
+    pgt_atlas_stats st[2];
+    for (int crossed = 0; crossed < 2; ++crossed) {
+        pgt_mesh m = {0};
+        pgt_image img = {0};
+        pgt_error err = {0};
+        REQUIRE(make_bowtie_sheet(&m, crossed, &err) == PGT_OK);
+        REQUIRE(build(&m, BOWTIE_RES, 2, 0, &img, &st[crossed], &err) == PGT_OK);
+        CHECK(st[crossed].charts == 1 && st[crossed].repacked == 0);
+        CHECK(check_contract(&img, st[crossed].band) == 0);
+        const view v = view_of(&img);
+        /* texel centres inside the crossed copies' bottom triangle, 0.05 texels in from its
+         * sides (the builder's float corners) */
+        const double margin = 0.05 / (0.8 * BOWTIE_RES);
+        for (uint32_t ty = 0; ty < v.H; ++ty)
+            for (uint32_t tx = 0; tx < v.W; ++tx) {
+                const double x = ((tx + 0.5) / v.W - 0.1) / 0.8;
+                const double y = ((1.0 - (ty + 0.5) / v.H) - 0.1) / 0.8;
+                if (!(y > margin && fabs(x - 0.5) < BOWTIE_D * (1.0 - 8.0 * y) - margin)) continue;
+                gap[crossed]++;
+                inner[crossed] += v.kind[(size_t)ty * v.W + tx] == (float)PGT_TEXEL_INNER;
+            }
+        pgt_image_destroy(&img);
+        pgt_mesh_destroy(&m);
+    }
+    printf("  bow-tie sheet %u^2: %u texels between the crossed copies, %u of them filled (%u "
+           "crack texels, %u folded over); side by side %u of %u filled (%u crack texels)\n",
+           BOWTIE_RES, gap[1], inner[1], st[1].crack_texels, st[1].fold_over_texels, inner[0],
+           gap[0], st[0].crack_texels);
+    CHECK(gap[1] > 0 && gap[0] == gap[1]);
+    CHECK(st[1].fold_over_texels > 0 && st[1].crack_texels == 0 && inner[1] == 0);
+    CHECK(st[0].crack_texels > 0 && inner[0] == gap[0]);
 }
 
 /* A torus cut open inside ONE chart: every pointer goes into its own chart, no dead end, and
@@ -1469,6 +1545,7 @@ static const pgt_test_case cases[] = {
     {"closed_meshes", test_closed_meshes},
     {"slit_crack", test_slit_crack},
     {"folded_uvs", test_folded_uvs},
+    {"bowtie_crack", test_bowtie_crack},
     {"mirrored_charts", test_mirrored_charts},
     {"voronoi_atlases", test_voronoi_atlases},
     {"self_seams_and_borders", test_self_seams_and_borders},
