@@ -548,6 +548,18 @@ static void test_runtime_errors(void) {
                   strstr(err.message, "t.grammar:2:20: ") == err.message &&
                   strstr(err.message, "('*' gives inf here)"),
               "%s", err.message);
+    /* max drops the NaN of 0 / a: the infinity of 1 / a is the one that stays */
+    eval_expr("max(0 / a, 1 / a)", args, NULL, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  strstr(err.message, "t.grammar:2:31: ") == err.message &&
+                  strstr(err.message, "('/' gives inf here)"),
+              "%s", err.message);
+    /* two infinities make a NaN: the operator that made it */
+    eval_expr("c * c - c * c", args, NULL, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
+                  strstr(err.message, "t.grammar:2:24: ") == err.message &&
+                  strstr(err.message, "('-' gives NaN here)"),
+              "%s", err.message);
     /* one a comparison made finite is forgotten: the second '*' overflows */
     eval_expr("(1 / a > 0) * c * c", args, NULL, &code, &err);
     CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
@@ -560,6 +572,18 @@ static void test_runtime_errors(void) {
     eval_expr("rand(0, 1) / a", args, &env, &code, &err);
     CHECK_MSG(code == PGT_ERROR_NOT_FINITE && counter == 8 &&
                   strstr(err.message, "t.grammar:2:29: ") == err.message,
+              "%s", err.message);
+    /* ... the same numbers: at a counter whose draw is >= 0.5 and whose next draw is not,
+     * 1 / (rand(0, 1) < 0.5) divides by zero; a search drawing the next number would find a
+     * finite value and no operator (the message would point at the expression's start, 2:18) */
+    uint64_t c0 = 0;
+    while (c0 < 1000u && !(pgt_rng_float(5, 2, c0) >= 0.5f && pgt_rng_float(5, 2, c0 + 1u) < 0.5f))
+        ++c0;
+    REQUIRE(c0 < 1000u);
+    counter = c0;
+    eval_expr("1 / (rand(0, 1) < 0.5)", args, &env, &code, &err);
+    CHECK_MSG(code == PGT_ERROR_NOT_FINITE && counter == c0 + 1u &&
+                  strstr(err.message, "t.grammar:2:20: ") == err.message,
               "%s", err.message);
     /* infinity in between is fine when the result is finite */
     CHECK(eval_expr("1 / a > 0", args, NULL, &code, &err) == 1.0f && code == PGT_OK);
@@ -616,6 +640,13 @@ static void test_params(void) {
     CHECK(pgt_grammar_set_param(&g, "n", 2, &err) == PGT_OK);
     pgt_grammar_destroy(&g);
     pgt_grammar_destroy(NULL);
+    /* a Branch count that no longer evaluates names its operator, not a count of 0 */
+    REQUIRE(compile(&g, "param a = 2\nA --> Branch(4 / (a - 1) - 2) {NIL, NIL}\n", &err) == PGT_OK);
+    CHECK_MSG(pgt_grammar_set_param(&g, "a", 1, &err) == PGT_ERROR_INVALID_ARGUMENT &&
+                  !strcmp(err.message, "t.grammar:2:16: with a = 1, the count of Branch divides "
+                                       "by zero"),
+              "%s", err.message);
+    pgt_grammar_destroy(&g);
     pgt_grammar_destroy(&g); /* a destroyed grammar is zeroed: destroying again is harmless */
 }
 

@@ -266,6 +266,7 @@ void pgt_facade_scene_destroy(pgt_facade_scene *s) {
     memset(s, 0, sizeof *s);
 }
 
+/* What a GPU holds of a grammar: every array but code_pos (source positions for messages). */
 static size_t grammar_bytes(const pgt_grammar *g) {
     return sizeof *g + g->rule_count * sizeof *g->rules + g->case_count * sizeof *g->cases +
            g->sequence_count * sizeof *g->sequences + g->item_count * sizeof *g->items +

@@ -149,9 +149,11 @@ static float binary_fn(uint32_t op, float a, float b) {
 }
 
 /* The machine. With diag it also follows where a value that is not finite came from: origin[i]
- * is the instruction that made stack[i] not finite from finite operands (an infinity passed on
- * by later operators keeps its origin; one that a comparison turns finite is forgotten), so a
- * failure names the operator at fault. Only the failure path runs with diag. */
+ * is the instruction that made stack[i] NaN or infinite. A result that is not finite takes the
+ * origin of its first operand of the same kind (NaN, or an infinity of either sign: inf * -1
+ * passes the infinity on, max(NaN, inf) the infinity, not the NaN fmaxf dropped), else the
+ * operator is the origin (1 / 0, inf - inf, sqrt(-inf)); a value a comparison turns finite is
+ * forgotten. So a failure names the operator at fault. Only the failure path runs with diag. */
 static pgt_result run(const pgt_grammar *g, uint32_t expr, const float *args, uint32_t arg_count,
                       const pgt_grammar_env *env, int strict, int diag, float *out,
                       pgt_grammar_fault *fault) {
@@ -167,13 +169,15 @@ static pgt_result run(const pgt_grammar *g, uint32_t expr, const float *args, ui
         const uint32_t at = e->first_code + k;
         const uint32_t ins = g->code[at];
         const uint32_t op = ins & PGT_GRAMMAR_OP_MASK, arg = ins >> PGT_GRAMMAR_OP_BITS;
-        /* diag: the operands' first origin */
-        uint32_t base = 0, from = PGT_NONE;
-        float from_value = 0.0f;
+        /* diag: where the operands are, and their NaN and infinity flags before the op */
+        uint32_t base = 0;
+        uint32_t operand_nan = 0, operand_inf = 0; /* bit i - base */
         if (diag) {
             base = sp + (uint32_t)pgt_grammar_op_effect(op) - 1u;
-            for (uint32_t i = base; i < sp && from == PGT_NONE; ++i)
-                if (!isfinite(stack[i])) from = origin[i], from_value = origin_value[i];
+            for (uint32_t i = base; i < sp; ++i) {
+                operand_nan |= (uint32_t)(isnan(stack[i]) != 0) << (i - base);
+                operand_inf |= (uint32_t)(isinf(stack[i]) != 0) << (i - base);
+            }
         }
         switch (op) {
         case PGT_GRAMMAR_OP_CONST:
@@ -233,8 +237,18 @@ static pgt_result run(const pgt_grammar *g, uint32_t expr, const float *args, ui
         if (diag) {
             assert(base == sp - 1u);
             const float v = stack[base];
-            origin[base] = isfinite(v) ? PGT_NONE : from != PGT_NONE ? from : at;
-            origin_value[base] = from != PGT_NONE ? from_value : v;
+            const uint32_t same = isnan(v) ? operand_nan : isinf(v) ? operand_inf : 0u;
+            if (isfinite(v)) {
+                origin[base] = PGT_NONE;
+            } else if (same) {
+                /* the first operand of the same kind (origin[] still holds the operands': the
+                 * result overwrote only stack[base]) */
+                uint32_t i = base;
+                while (!(same >> (i - base) & 1u)) ++i;
+                origin[base] = origin[i], origin_value[base] = origin_value[i];
+            } else {
+                origin[base] = at, origin_value[base] = v;
+            }
         }
     }
     assert(sp == 1);
@@ -353,8 +367,17 @@ pgt_result pgt_grammar_set_param(pgt_grammar *g, const char *name, float value, 
         const pgt_grammar_item *it = &g->items[i];
         if (it->kind != PGT_GRAMMAR_ITEM_BRANCH) continue;
         float n = 0.0f;
-        r = pgt_grammar_run(g, g->args[it->first_arg], NULL, 0, NULL, 1, &n, &fault);
-        if (r != PGT_OK || n != (float)it->sub_count) {
+        const uint32_t e = g->args[it->first_arg];
+        r = pgt_grammar_run(g, e, NULL, 0, NULL, 1, &n, &fault);
+        if (r != PGT_OK) { /* the count itself fails: where and why, as for a param */
+            uint32_t line, col;
+            char detail[64];
+            pgt_grammar_fault_place(g, e, &fault, &line, &col, detail, sizeof detail);
+            r = PGT_ERROR_INVALID_ARGUMENT;
+            pgt_error_set(err, r, "%s:%u:%u: with %s = %g, the count of Branch %s%s",
+                          g->names + g->file_name, line, col, name, (double)value, fault.why,
+                          detail);
+        } else if (n != (float)it->sub_count) {
             r = PGT_ERROR_INVALID_ARGUMENT;
             pgt_error_set(err, r, "%s:%u:%u: with %s = %g, Branch asks for %g sequences, it has %u",
                           g->names + g->file_name, it->line, it->col, name, (double)value,

@@ -259,7 +259,8 @@ pgt_result pgt_facade_scene_check(const pgt_facade_scene *s, const char *what, p
 void pgt_facade_scene_destroy(pgt_facade_scene *s);
 
 /* Bytes of the procedural representation: buildings, corners, params and the grammars' arrays
- * (what a GPU would hold; the derived facades are counted apart by the caller). */
+ * (what a GPU would hold: not the grammars' code_pos, kept for messages; the derived facades
+ * are counted apart by the caller). */
 size_t pgt_facade_scene_bytes(const pgt_facade_scene *s);
 
 /* Derives the facades of every building with a footprint, in building then edge order (a
