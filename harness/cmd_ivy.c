@@ -106,9 +106,10 @@ static const char *ivy_usage2 =
     "                  forbids, as triangles between texel centres lifted off the surface\n"
     "  --max-total-items N  grammar items all seeds together may run, 1 to 2^46 (default\n"
     "                  2^31 = 2147483648, a minute or two on one core): each seed may run\n"
-    "                  N / seeds of them, at most 2^26 (67108864); a seed that needs more\n"
-    "                  fails (exit 2), naming the grammar item. The paper's scenes run about\n"
-    "                  30k a seed; the bound stops a runaway grammar over many seeds\n"
+    "                  N / seeds of them (at least 1, at most 2^26 = 67108864); a seed that\n"
+    "                  needs more fails (exit 2), naming the grammar item. The paper's\n"
+    "                  scenes run about 30k a seed; the bound stops a runaway grammar over\n"
+    "                  many seeds\n"
     "\n"
     "The same inputs, seeds and flags give the same bytes for any --threads.\n"
     "Exit 0 on success, 2 on a bad flag, value, input file or grammar, or a grammar exceeding\n"
@@ -191,7 +192,8 @@ static int read_points(const char *verb, const char *flag, const char *path, int
     if (strokes && stroke_push(out)) goto oom;
     pgt_text_line got;
     size_t len;
-    while ((got = pgt_text_line_read(f, buf, IVY_MAX_LINE + 1, &len)) != PGT_TEXT_LINE_END) {
+    while ((got = pgt_text_line_read(f, buf, IVY_MAX_LINE + 1, &len, line == 0)) !=
+           PGT_TEXT_LINE_END) {
         ++line;
         if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
             char msg[PGT_TEXT_LINE_MESSAGE];
@@ -199,7 +201,6 @@ static int read_points(const char *verb, const char *flag, const char *path, int
             pgt_cli_fail(verb, "%s", msg);
             goto done;
         }
-        pgt_text_line_drop_bom(buf, &len, line);
         char *p = buf;
         while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
         if (!*p || *p == '\n' || *p == '#') continue;

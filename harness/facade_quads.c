@@ -56,8 +56,8 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
     pgt_result r = PGT_OK;
     pgt_text_line got;
     size_t len;
-    while (r == PGT_OK &&
-           (got = pgt_text_line_read(f, line, sizeof line, &len)) != PGT_TEXT_LINE_END) {
+    while (r == PGT_OK && (got = pgt_text_line_read(f, line, sizeof line, &len, lineno == 0)) !=
+                              PGT_TEXT_LINE_END) {
         ++lineno;
         if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
             char msg[PGT_TEXT_LINE_MESSAGE];
@@ -66,7 +66,6 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                               "%s", msg);
             break;
         }
-        pgt_text_line_drop_bom(line, &len, lineno);
         char *hash = strchr(line, '#'); /* a comment runs to the end of the line */
         if (hash) *hash = '\0';
         char *save = NULL, *tok = strtok_r(line, " \t\r\n", &save);

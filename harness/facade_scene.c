@@ -384,7 +384,7 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
     }
     pgt_text_line got;
     size_t len;
-    while ((got = pgt_text_line_read(fp, buf, PGT_FACADE_FILE_MAX_LINE + 1u, &len)) !=
+    while ((got = pgt_text_line_read(fp, buf, PGT_FACADE_FILE_MAX_LINE + 1u, &len, rd.line == 0)) !=
            PGT_TEXT_LINE_END) {
         ++rd.line;
         if (got != PGT_TEXT_LINE_OK) { /* too long, or a NUL */
@@ -395,7 +395,6 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
                               "%s", msg);
             goto done;
         }
-        pgt_text_line_drop_bom(buf, &len, rd.line);
         char *rest = buf;
         char *word = next_token(&rest);
         if (!word) continue;

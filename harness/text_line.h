@@ -26,10 +26,14 @@ typedef enum pgt_text_line {
 #define PGT_TEXT_LINE_GETC getc
 #endif
 
-/* Reads the next line of f into buf (size >= 2 bytes) as a C string without its '\n'; *out_len
+/* Reads the next line of f into buf (size >= 4 bytes) as a C string without its '\n'; *out_len
  * gets its length (on PGT_TEXT_LINE_NUL, the characters before the NUL). A read error, at the
- * start of a line or inside one, is PGT_TEXT_LINE_END with ferror(f) set. */
-static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, size_t *out_len) {
+ * start of a line or inside one, is PGT_TEXT_LINE_END with ferror(f) set. With first_line (the
+ * file's first line), a leading UTF-8 byte order mark (Windows editors such as Notepad before
+ * 2019 begin a text file with one) is dropped before anything is counted: columns and the
+ * length limit count from the text, as editors show them. */
+static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, size_t *out_len,
+                                               int first_line) {
     size_t n = 0;
     int c = PGT_TEXT_LINE_GETC(f);
     if (c == EOF) {
@@ -42,20 +46,12 @@ static inline pgt_text_line pgt_text_line_read(FILE *f, char *buf, size_t size, 
             return c == 0 ? PGT_TEXT_LINE_NUL : PGT_TEXT_LINE_LONG;
         }
         buf[n++] = (char)c;
+        if (first_line && n == 3u && (unsigned char)buf[0] == 0xEFu &&
+            (unsigned char)buf[1] == 0xBBu && (unsigned char)buf[2] == 0xBFu)
+            n = 0, first_line = 0;
     }
     buf[n] = '\0', *out_len = n;
     return c == EOF && ferror(f) ? PGT_TEXT_LINE_END : PGT_TEXT_LINE_OK;
-}
-
-/* Drops a UTF-8 byte order mark from the start of line 1 (Windows editors such as Notepad
- * before 2019 begin a text file with one); columns then count from the text, as editors show
- * them. */
-static inline void pgt_text_line_drop_bom(char *buf, size_t *len, unsigned line) {
-    if (line == 1u && *len >= 3u && (unsigned char)buf[0] == 0xEFu &&
-        (unsigned char)buf[1] == 0xBBu && (unsigned char)buf[2] == 0xBFu) {
-        memmove(buf, buf + 3, *len - 3u + 1u); /* the NUL too */
-        *len -= 3u;
-    }
 }
 
 /* Room for pgt_text_line_message: a path as long as Linux allows (PATH_MAX, 4096) and the

@@ -309,6 +309,10 @@ expect ivy_seed_file_too_few 2 "$pgt" ivy cs.exr --seeds 3 -o x.ply --seed-file 
 { printf '\357\273\277'; cat seeds.txt; } >seeds_bom.txt
 expect ivy_seed_file_bom 0 "$pgt" ivy cs.exr --seeds 2 -o xb.ply --seed-file seeds_bom.txt "${short[@]}"
 cmp -s x.ply xb.ply && ok ivy_seed_file_bom_same || bad ivy_seed_file_bom_same "x.ply and xb.ply differ"
+# ... and columns count from the text after it
+printf '\357\273\277texel 20.5\000 20.5 1 0\n' >seeds_bom_nul.txt
+expect ivy_seed_file_bom_nul 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bom_nul.txt
+one_line ivy_seed_file_bom_nul_column "seeds_bom_nul.txt:1:11: a NUL byte"
 printf 'stroke\npoint 1 0 0\npoint 0.9 0.43 0\npoint 0.7 0.71 0\nstroke\npoint 0 0 1\n' >strokes.txt
 expect ivy_paint 0 "$pgt" ivy cs.exr --seeds 2 -o x.ply --paint strokes.txt --mask-out m.png "${short[@]}"
 grep -q "painted 2 strokes, 4 points" out.txt && [ -s m.png ] && ok ivy_paint_reports || bad ivy_paint_reports "$(cat out.txt)"
@@ -976,6 +980,14 @@ printf '0 1\n# a comment\n2, 3\n' >prot.txt
 expect protect_file 0 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot.txt --json
 /usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); sys.exit(0 if d["faces_out"]==76*3+4 and d["protected_faces"]==4 else 1)' \
   && ok protect_counts || bad protect_counts "$(cat out.txt)"
+# a UTF-8 byte order mark (Notepad) before the first index is skipped: the same output
+{ printf '\357\273\277'; cat prot.txt; } >prot_bom.txt
+expect protect_file_bom 0 "$pgt" subdiv "$ico" --iters 1 -o p_bom.off --protect prot_bom.txt
+expect protect_file_again 0 "$pgt" subdiv "$ico" --iters 1 -o p_nobom.off --protect prot.txt
+cmp -s p_bom.off p_nobom.off && ok protect_file_bom_same || bad protect_file_bom_same "p_bom.off and p_nobom.off differ"
+printf '\357x0 1\n' >prot_ef.txt
+expect protect_file_ef 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_ef.txt
+one_line protect_file_ef_one_line "prot_ef.txt:1:1: a byte 0xEF that does not start a UTF-8 byte order mark"
 printf '0 1\n2 99\n' >prot_bad.txt
 expect protect_out_of_range 2 "$pgt" subdiv "$ico" --iters 1 -o p.off --protect prot_bad.txt
 one_line protect_out_of_range_names_line "prot_bad.txt:2"

@@ -19,6 +19,21 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
     /* a comma must follow an index on its line: "0,1,,2" or ",2" is a typo, not a separator */
     int index_before_comma = 0;
     pgt_result r = PGT_OK;
+    /* a UTF-8 byte order mark (Windows editors such as Notepad before 2019 start a text file
+     * with one) is skipped; columns count from the text after it */
+    const int b0 = fgetc(f);
+    if (b0 == 0xEF) {
+        const int b1 = fgetc(f), b2 = fgetc(f);
+        if (b1 != 0xBB || b2 != 0xBF) {
+            fclose(f);
+            return pgt_error_set(err, PGT_ERROR_PARSE,
+                                 "%s:1:1: a byte 0xEF that does not start a UTF-8 byte order mark "
+                                 "(expected face indices)",
+                                 path);
+        }
+    } else if (b0 != EOF) {
+        ungetc(b0, f);
+    }
     do {
         c = fgetc(f);
         col++;
