@@ -1028,10 +1028,10 @@ static void test_folded_uvs(void) {
     pgt_mesh_destroy(&m);
 }
 
-/* A plane sheet [0,1]^2 of n^2 quads (two triangles each) in ONE chart, UV = 0.1 + 0.8 (x +
- * shift, y) where shift(x, y, side, ctx) moves the corners of the faces left (side -1) or right
- * (+1) of x = 1/2 apart: the sheet's UVs are cut where the two sides' shifts differ. */
-typedef double (*sheet_shift_fn)(double x, double y, int side, const void *ctx);
+/* A plane sheet [0,1]^2 of n^2 quads (two triangles each) in ONE chart, UV = 0.1 + 0.8 ((x, y)
+ * + shift) where shift(x, y, side, ctx, out) moves the corners of the faces left (side -1) or
+ * right (+1) of x = 1/2 apart: the sheet's UVs are cut where the two sides' shifts differ. */
+typedef void (*sheet_shift_fn)(double x, double y, int side, const void *ctx, double out[2]);
 
 static pgt_result make_cut_sheet(pgt_mesh *m, uint32_t n, sheet_shift_fn shift, const void *ctx,
                                  pgt_error *err) {
@@ -1052,8 +1052,10 @@ static pgt_result make_cut_sheet(pgt_mesh *m, uint32_t n, sheet_shift_fn shift, 
             float uv[4][2];
             for (int k = 0; k < 4; ++k) {
                 const double x = m->positions[3u * c[k]], y = m->positions[3u * c[k] + 1u];
-                uv[k][0] = (float)(0.1 + 0.8 * (x + shift(x, y, side, ctx)));
-                uv[k][1] = (float)(0.1 + 0.8 * y);
+                double d[2] = {0.0, 0.0};
+                shift(x, y, side, ctx, d);
+                uv[k][0] = (float)(0.1 + 0.8 * (x + d[0]));
+                uv[k][1] = (float)(0.1 + 0.8 * (y + d[1]));
             }
             const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
             for (int t = 0; t < 2; ++t, ++f)
@@ -1066,9 +1068,9 @@ static pgt_result make_cut_sheet(pgt_mesh *m, uint32_t n, sheet_shift_fn shift, 
     return PGT_OK;
 }
 
-static double slit_sheet_shift(double x, double y, int side, const void *ctx) {
+static void slit_sheet_shift(double x, double y, int side, const void *ctx, double out[2]) {
     (void)ctx;
-    return slit_shift(x, y, side);
+    out[0] = slit_shift(x, y, side);
 }
 
 static pgt_result make_slit_sheet(pgt_mesh *m, pgt_error *err) {
@@ -1163,64 +1165,83 @@ static void test_slit_crack(void) {
 }
 
 /* A sheet [0,1]^2 of BOWTIE_QUADS^2 quads in ONE chart whose UVs are cut along x = 1/2 from the
- * border y = 0 to y = 1/2 (the 3D sheet stays whole): the cut's vertices at y = 0 and y = 1/4
- * get two UVs, x = 1/2 -+ BOWTIE_D on the left and right. Crossed, the vertex at y = 1/4 swaps
- * them (+ on the left, - on the right): the two copies of the cut's first edge form an X, their
- * quad a bow-tie, and between them at the border lies a triangle of background texels
- * (sheet x in 1/2 -+ BOWTIE_D (1 - 8 y)). Not crossed, the cut is a slit 2 BOWTIE_D wide. */
+ * border y = 0 to y = 1/2 (the 3D sheet stays whole): the cut's vertices A (y = 0) and M
+ * (y = 1/4) get two UVs each, x = 1/2 -+ BOWTIE_D on the left and right; the first edge's two
+ * copies A_l M_l and A_r M_r are BOWTIE_D * 2 apart. By mode:
+ * - BOWTIE_SLIT: side by side, a slit the fill closes;
+ * - BOWTIE_X: M's copies swap sides (M_l right, M_r left): the copies cross at y = 1/8, and
+ *   between them at the border lies a triangle of background texels, sheet x in
+ *   1/2 -+ BOWTIE_D (1 - 8 y);
+ * - BOWTIE_ENDS: the right copy runs down instead of up (A_r at y = 1/4, M_r at y = 0): the
+ *   copies stay apart but A_l A_r crosses M_l M_r; near the border, sheet x from 1/2 - BOWTIE_D
+ *   to 1/2 + BOWTIE_D / 2 and y below 1/10, the texels are background (the right faces reach
+ *   no farther left there). */
+enum { BOWTIE_SLIT, BOWTIE_X, BOWTIE_ENDS, BOWTIE_MODES };
 #define BOWTIE_QUADS 4u
 #define BOWTIE_RES 64u
 /* 2.5 texels between the copies at BOWTIE_RES (UVs 0.1 + 0.8 x): a crack the fill reaches
  * (PGT_ATLAS_CRACK_TEXELS) */
 #define BOWTIE_D (2.5 / (2.0 * 0.8 * BOWTIE_RES))
 
-static double bowtie_shift(double x, double y, int side, const void *ctx) {
-    const int crossed = *(const int *)ctx;
-    if (x != 0.5 || !(y < 0.5)) return 0.0; /* off the cut, or its tip */
-    return side * BOWTIE_D * (crossed && y > 0.0 ? -1.0 : 1.0);
+static void bowtie_shift(double x, double y, int side, const void *ctx, double out[2]) {
+    const int mode = *(const int *)ctx;
+    if (x != 0.5 || !(y < 0.5)) return; /* off the cut, or its tip */
+    out[0] = side * BOWTIE_D * (mode == BOWTIE_X && y > 0.0 ? -1.0 : 1.0);
+    if (mode == BOWTIE_ENDS && side > 0) out[1] = y > 0.0 ? -0.25 : 0.25;
 }
 
-static pgt_result make_bowtie_sheet(pgt_mesh *m, int crossed, pgt_error *err) {
-    return make_cut_sheet(m, BOWTIE_QUADS, bowtie_shift, &crossed, err);
+static pgt_result make_bowtie_sheet(pgt_mesh *m, int mode, pgt_error *err) {
+    return make_cut_sheet(m, BOWTIE_QUADS, bowtie_shift, &mode, err);
 }
 
-/* The crack fill skips a seam whose copies cross (a bow-tie quad: UVs folded inside the chart,
- * not a slit). The texels between the crossed copies at the border stay background; with the
- * copies side by side (the same sheet, not crossed) the same texels are filled, so the crossed
- * sheet's gap is one the fill would reach. */
+/* Is sheet point (x, y) in the background region of a crossed mode (see above), `margin` in from
+ * its sides (the builder's float corners)? */
+static int bowtie_gap(int mode, double x, double y, double margin) {
+    if (!(y > margin)) return 0;
+    if (mode == BOWTIE_X) return fabs(x - 0.5) < BOWTIE_D * (1.0 - 8.0 * y) - margin;
+    return y < 0.1 && x > 0.5 - BOWTIE_D + margin && x < 0.5 + 0.5 * BOWTIE_D - margin;
+}
+
+/* The crack fill skips a seam whose copies cross or whose ends cross over (a bow-tie quad:
+ * UVs folded inside the chart, not a slit; each test of atlas_fill_cracks has its sheet). The
+ * texels of each crossed sheet's gap stay background, while the slit sheet fills the same
+ * texels: a gap the fill would reach. */
 static void test_bowtie_crack(void) {
-    uint32_t gap[2] = {0, 0}, inner[2] = {0, 0};
-    pgt_atlas_stats st[2];
-    for (int crossed = 0; crossed < 2; ++crossed) {
+    pgt_image img[BOWTIE_MODES] = {{0}};
+    pgt_atlas_stats st[BOWTIE_MODES];
+    for (int mode = 0; mode < BOWTIE_MODES; ++mode) {
         pgt_mesh m = {0};
-        pgt_image img = {0};
         pgt_error err = {0};
-        REQUIRE(make_bowtie_sheet(&m, crossed, &err) == PGT_OK);
-        REQUIRE(build(&m, BOWTIE_RES, 2, 0, &img, &st[crossed], &err) == PGT_OK);
-        CHECK(st[crossed].charts == 1 && st[crossed].repacked == 0);
-        CHECK(check_contract(&img, st[crossed].band) == 0);
-        const view v = view_of(&img);
-        /* texel centres inside the crossed copies' bottom triangle, 0.05 texels in from its
-         * sides (the builder's float corners) */
-        const double margin = 0.05 / (0.8 * BOWTIE_RES);
+        REQUIRE(make_bowtie_sheet(&m, mode, &err) == PGT_OK);
+        REQUIRE(build(&m, BOWTIE_RES, 2, 0, &img[mode], &st[mode], &err) == PGT_OK);
+        CHECK(st[mode].charts == 1 && st[mode].repacked == 0);
+        CHECK(check_contract(&img[mode], st[mode].band) == 0);
+        pgt_mesh_destroy(&m);
+    }
+    const view slit = view_of(&img[BOWTIE_SLIT]);
+    const double margin = 0.05 / (0.8 * BOWTIE_RES);
+    for (int mode = BOWTIE_X; mode < BOWTIE_MODES; ++mode) {
+        const view v = view_of(&img[mode]);
+        uint32_t gap = 0, filled = 0, slit_filled = 0;
         for (uint32_t ty = 0; ty < v.H; ++ty)
             for (uint32_t tx = 0; tx < v.W; ++tx) {
                 const double x = ((tx + 0.5) / v.W - 0.1) / 0.8;
                 const double y = ((1.0 - (ty + 0.5) / v.H) - 0.1) / 0.8;
-                if (!(y > margin && fabs(x - 0.5) < BOWTIE_D * (1.0 - 8.0 * y) - margin)) continue;
-                gap[crossed]++;
-                inner[crossed] += v.kind[(size_t)ty * v.W + tx] == (float)PGT_TEXEL_INNER;
+                if (!bowtie_gap(mode, x, y, margin)) continue;
+                const size_t i = (size_t)ty * v.W + tx;
+                gap++;
+                filled += v.kind[i] == (float)PGT_TEXEL_INNER;
+                slit_filled += slit.kind[i] == (float)PGT_TEXEL_INNER;
             }
-        pgt_image_destroy(&img);
-        pgt_mesh_destroy(&m);
+        printf("  bow-tie sheet %u^2, %s: %u texels in the gap, %u filled (%u crack texels, %u "
+               "folded over); the slit sheet fills %u of them (%u crack texels)\n",
+               BOWTIE_RES, mode == BOWTIE_X ? "crossed copies" : "crossed ends", gap, filled,
+               st[mode].crack_texels, st[mode].fold_over_texels, slit_filled,
+               st[BOWTIE_SLIT].crack_texels);
+        CHECK(gap > 0 && filled == 0 && slit_filled == gap);
+        CHECK(st[mode].fold_over_texels > 0);
     }
-    printf("  bow-tie sheet %u^2: %u texels between the crossed copies, %u of them filled (%u "
-           "crack texels, %u folded over); side by side %u of %u filled (%u crack texels)\n",
-           BOWTIE_RES, gap[1], inner[1], st[1].crack_texels, st[1].fold_over_texels, inner[0],
-           gap[0], st[0].crack_texels);
-    CHECK(gap[1] > 0 && gap[0] == gap[1]);
-    CHECK(st[1].fold_over_texels > 0 && st[1].crack_texels == 0 && inner[1] == 0);
-    CHECK(st[0].crack_texels > 0 && inner[0] == gap[0]);
+    for (int mode = 0; mode < BOWTIE_MODES; ++mode) pgt_image_destroy(&img[mode]);
 }
 
 /* A torus cut open inside ONE chart: every pointer goes into its own chart, no dead end, and

@@ -393,11 +393,11 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
             if (job->max_total_items)
                 res = pgt_error_set(&out->err, PGT_ERROR_LIMIT,
                                     "%s:%u:%u: seed %u (id %u): more than %u grammar items run "
-                                    "(option max_total_items: %llu over all %u seeds, %u a seed); "
-                                    "the grammar does not stop growing here",
+                                    "(option max_total_items: %llu over all %u seed%s, %u a "
+                                    "seed); the grammar does not stop growing here",
                                     file_of(g), it->line, it->col, index, r.id, job->max_items,
                                     (unsigned long long)job->max_total_items, job->in->seed_count,
-                                    job->max_items);
+                                    job->in->seed_count == 1u ? "" : "s", job->max_items);
             else
                 res = limit(&r, it, "grammar items run", job->max_items, "max_items");
             break;
