@@ -479,6 +479,66 @@ static void test_exr_half_uint_float(void) {
     scratch_remove();
 }
 
+/* The reader refuses a file whose chunks could not hold its pixels under their compression's
+ * largest expansion (image_exr.c, max_expansion). The files that compress best, constant images
+ * as OpenEXR's encoders write them, stay within those bounds: every compression with a bound
+ * reads them back exactly (HALF 1.5 and FLOAT 1.5, which PXR24's 24-bit floats and B44's HALF
+ * blocks keep). */
+/* B44 stores a flat 4x4 block of HALF values through its monotonic 16-bit mapping and a
+ * 6-bit shift: 1.5 comes back one HALF step (2^-10 at 1..2) below; two steps allowed. */
+#define EXR_B44_HALF_TOL (2.0 / 1024.0)
+
+static void test_exr_constant_images(void) {
+    enum { W = 512, H = 512 };
+    static uint16_t half[W * H];
+    static float floats[W * H];
+    for (int i = 0; i < W * H; ++i) half[i] = 0x3e00, floats[i] = 1.5f;
+    static const exr_compression_t comps[] = {
+        EXR_COMPRESSION_NONE, EXR_COMPRESSION_RLE,   EXR_COMPRESSION_ZIPS, EXR_COMPRESSION_ZIP,
+        EXR_COMPRESSION_PIZ,  EXR_COMPRESSION_PXR24, EXR_COMPRESSION_B44,  EXR_COMPRESSION_B44A};
+    scratch_make();
+    REQUIRE(scratch[0] != '\0');
+    for (size_t k = 0; k < sizeof(comps) / sizeof(comps[0]); ++k)
+        for (int with_float = 0; with_float < 2; ++with_float) {
+            capi_file f = {0,
+                           0,
+                           W,
+                           H,
+                           EXR_STORAGE_SCANLINE,
+                           0,
+                           0,
+                           comps[k],
+                           EXR_LINEORDER_INCREASING_Y,
+                           1 + with_float,
+                           {{"Y", EXR_PIXEL_HALF, half}, {"Z", EXR_PIXEL_FLOAT, floats}}};
+            const char *path = scratch_path("constant.exr");
+            REQUIRE(capi_write(path, &f) == 0);
+            size_t bytes = 0;
+            free(load_file(path, &bytes));
+            pgt_image img;
+            pgt_error err;
+            pgt_error_clear(&err);
+            const pgt_result r = pgt_image_read_exr(&img, path, &err);
+            printf("  constant %dx%d %s, compression %d: %zu bytes (%.0f:1)\n", W, H,
+                   with_float ? "HALF + FLOAT" : "HALF", (int)comps[k], bytes,
+                   (double)W * H * (with_float ? 6.0 : 2.0) / (double)bytes);
+            CHECK_MSG(r == PGT_OK, "compression %d: %s", (int)comps[k], err.message);
+            if (r != PGT_OK) continue;
+            /* B44 is lossy on HALF channels (Y here): within EXR_B44_HALF_TOL */
+            const int lossy = comps[k] == EXR_COMPRESSION_B44 || comps[k] == EXR_COMPRESSION_B44A;
+            int bad = 0;
+            for (uint32_t c = 0; c < img.channel_count; ++c) {
+                const double tol = lossy && !strcmp(img.names[c], "Y") ? EXR_B44_HALF_TOL : 0.0;
+                for (size_t i = 0; i < (size_t)W * H; ++i)
+                    bad += fabs(pgt_image_plane(&img, c)[i] - 1.5) > tol;
+            }
+            CHECK_MSG(img.channel_count == (uint32_t)(1 + with_float) && bad == 0,
+                      "compression %d: %d values differ", (int)comps[k], bad);
+            pgt_image_destroy(&img);
+        }
+    scratch_remove();
+}
+
 /* A tiled file whose tiles do not divide the image (partial tiles right and bottom). */
 static void test_exr_tiled(void) {
     enum { W = 37, H = 23 };
@@ -1274,6 +1334,7 @@ static const pgt_test_case cases[] = {
     {"image_create_contract", test_image_create_contract},
     {"exr_half_uint_float", test_exr_half_uint_float},
     {"exr_tiled", test_exr_tiled},
+    {"exr_constant_images", test_exr_constant_images},
     {"exr_truncations", test_exr_truncations},
     {"exr_garbage_and_mutations", test_exr_garbage_and_mutations},
     {"exr_threads_damaged", test_exr_threads_damaged},

@@ -395,10 +395,20 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
     return PGT_OK;
 }
 
-/* The most a chunk's bytes expand under a compression, 0 when no simple bound holds (PIZ's
- * Huffman run codes, B44's flat blocks, DWA's lossy coding): NONE stores the pixels, RLE codes a
- * run of up to 128 bytes in 2, ZIP and ZIPS are deflate (at most 1032:1), PXR24 deflates 3 of a
- * float's 4 bytes. */
+/* B44 and B44A pack a 4x4 block of HALF values (32 bytes) into 14 bytes, or 3 when the block
+ * is flat (B44A), and store FLOAT and UINT channels as they are: at most 32/3, rounded up. */
+#define EXR_B44_MAX_RATIO 11u
+/* PIZ's last stage is OpenEXR's 16-bit Huffman code: a code is at least 1 bit, and its run code
+ * (at least 1 bit, then an 8-bit count) repeats the previous value up to 255 times, so 9 bits
+ * give at most 255 values of 16 bits (453.3:1; its encoder sends a value, the run code and the
+ * count, 10 bits for 256 values: 409.6:1 on a constant image). The wavelet and the value table
+ * before it keep the size. */
+#define EXR_PIZ_MAX_RATIO 454u
+
+/* The most a chunk's bytes expand under a compression, 0 when no simple bound holds (DWA's
+ * lossy coding: run lengths inside deflate): NONE stores the pixels, RLE codes a run of up to
+ * 128 bytes in 2, ZIP and ZIPS are deflate (at most 1032:1), PXR24 deflates 3 of a float's 4
+ * bytes, B44 and PIZ as above. */
 static uint64_t max_expansion(exr_compression_t c) {
     switch (c) {
     case EXR_COMPRESSION_NONE:
@@ -410,6 +420,11 @@ static uint64_t max_expansion(exr_compression_t c) {
         return PGT_IMAGE_DEFLATE_MAX_RATIO;
     case EXR_COMPRESSION_PXR24:
         return PGT_IMAGE_DEFLATE_MAX_RATIO * 4u / 3u;
+    case EXR_COMPRESSION_B44:
+    case EXR_COMPRESSION_B44A:
+        return EXR_B44_MAX_RATIO;
+    case EXR_COMPRESSION_PIZ:
+        return EXR_PIZ_MAX_RATIO;
     default:
         return 0u;
     }

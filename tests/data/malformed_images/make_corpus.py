@@ -275,6 +275,16 @@ def corpus():
          assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
                                              compression=3) + b"\0",
                   [struct.pack("<ii", 16 * i, 1) + b"\0" for i in range(1024)])),
+        # ... in 512 PIZ chunks (32 rows each; PIZ expands at most 454 times) and 512 B44
+        # chunks (32 rows; at most 11 times: a flat 4x4 block of HALF values in 3 bytes)
+        ("exr_piz_declares_too_much.exr", "truncated",
+         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
+                                             compression=4) + b"\0",
+                  [struct.pack("<ii", 32 * i, 1) + b"\0" for i in range(512)])),
+        ("exr_b44_declares_too_much.exr", "truncated",
+         assemble(MAGIC + version() + header([("Y", HALF, 1, 1)], (0, 0, 16383, 16383),
+                                             compression=6) + b"\0",
+                  [struct.pack("<ii", 32 * i, 3) + b"\0\0\xfc" for i in range(512)])),
     ]
 
 
