@@ -5,15 +5,16 @@ input gets one error line naming the file, exit 2).
   fuzz_inputs.py PGT PGT_DATASETS SOURCE_DIR WORK_DIR [--runs N] [--seed S]
 
 Starts from valid files (generated meshes in OBJ, PLY and OFF, the shipped grammars, a generated
-city scene, a quad tower OBJ, ivy seed and stroke files, an atlas EXR, a PNG mask, a protected-face
-list), applies 1-10 random edits to each copy (byte changes, inserted tokens such as nan, -1, 1e39
-or 4294967295, deleted, duplicated or truncated spans, duplicated lines) and runs the verb that
-reads it: pgt atlas and pgt subdiv (meshes), pgt ivy (grammars, seed and stroke files, the atlas,
-the mask), pgt facade (facade grammars, scenes, the tower with --mesh and --embree-check), pgt
-march (the atlas, the mask) and pgt subdiv --protect (the face list). Every run must end with
-exit 0, 1 or 2 within the time limit and without a sanitizer report (the Sanitize build
-runs this test too); an exit 2 must print exactly one error line on stderr, naming the input
-file, after any notes the readers print (such as "note: FILE: fan-triangulated 1 polygons").
+city scene, a quad tower OBJ, ivy seed and stroke files, an atlas EXR, a PNG mask, a
+protected-face list), applies 1-10 random edits to each copy (byte changes, inserted tokens such
+as nan, -1, 1e39 or 4294967295, deleted, duplicated or truncated spans, duplicated lines, a
+leading UTF-8 byte order mark) and runs the verb that reads it: pgt atlas and pgt subdiv (meshes),
+pgt ivy (grammars, seed and stroke files, the atlas, the mask), pgt facade (facade grammars,
+scenes, the tower with --mesh and --embree-check), pgt march (the atlas, the mask) and pgt subdiv
+--protect (the face list). Every run must end with exit 0, 1 or 2 within the time limit and
+without a sanitizer report (the Sanitize build runs this test too); an exit 2 must print exactly
+one error line on stderr, naming the input file, after any notes the readers print (such as "note:
+FILE: fan-triangulated 1 polygons").
 The edits come from Python's random with a fixed seed: the same inputs every run. A failing
 input is kept in WORK_DIR/failed/ with its command and stderr. Exit 0 when every run passes,
 1 otherwise, 2 on bad arguments.
@@ -34,7 +35,7 @@ TIMEOUT_S = 60
 TOKENS = [b"-1", b"0", b"1e39", b"nan", b"inf", b"-inf", b"4294967295", b"2147483648",
           b"-2147483649", b"1e-45", b"/", b"//", b" ", b"\n", b"\x00", b"{", b"}", b"(", b")",
           b",", b":", b"*", b"'", b"~", b"|", b"9999999999999999999999", b"-0", b"0x10", b".",
-          b"..", b"e", b"#", b'"', b"\t", b"\r"]
+          b"..", b"e", b"#", b'"', b"\t", b"\r", b"\xef\xbb\xbf"]
 
 
 def is_note(line):
@@ -57,7 +58,7 @@ def mutate(rng, data):
         if not d:
             d += b"x"
         i = rng.randrange(len(d))
-        op = rng.randrange(7)
+        op = rng.randrange(8)
         if op == 0:
             d[i] = rng.randrange(256)
         elif op == 1:
@@ -74,6 +75,8 @@ def mutate(rng, data):
             while j < len(d) and d[j] not in b" \n":
                 j += 1
             d[i:j] = rng.choice(TOKENS)
+        elif op == 7:  # a UTF-8 byte order mark first, as Windows editors write one
+            d[0:0] = b"\xef\xbb\xbf"
         else:
             lines = bytes(d).split(b"\n")
             k = rng.randrange(len(lines))
