@@ -106,7 +106,9 @@ pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, u
  * - PGT_ERROR_PARSE: not an OpenEXR file (magic number), or a header or pixel data that
  *   OpenEXR rejects as malformed (bad attribute, corrupt chunk, inverted data window, ...).
  * - PGT_ERROR_TRUNCATED: the file ends inside its header, its offset table or a chunk, or its
- *   offset table points past the end.
+ *   offset table points past the end, or its chunks hold fewer bytes than the pixels its header
+ *   declares need under its compression's largest expansion (checked before the pixels are
+ *   allocated, for every compression but DWAA and DWAB).
  * - PGT_ERROR_LIMIT: width or height above PGT_IMAGE_MAX_SIDE, more than PGT_IMAGE_MAX_CHANNELS
  *   channels, more than PGT_IMAGE_MAX_VALUES values, a tile of more than 2^26 values (clipped
  *   to the image), or a channel name longer than 31.
