@@ -484,8 +484,9 @@ static void test_exr_half_uint_float(void) {
  * as OpenEXR's encoders write them, stay within those bounds: every compression with a bound
  * reads them back exactly (HALF 1.5 and FLOAT 1.5, which PXR24's 24-bit floats and B44's HALF
  * blocks keep). */
-/* B44 stores a flat 4x4 block of HALF values through its monotonic 16-bit mapping and a
- * 6-bit shift: 1.5 comes back one HALF step (2^-10 at 1..2) below; two steps allowed. */
+/* capi_write marks its channels perceptually linear (pLinear 1): B44 then codes HALF values
+ * through its logarithmic table, and 1.5 comes back one HALF step (2^-10 at 1..2) below; two
+ * steps allowed (with pLinear 0 the flat blocks come back exact). */
 #define EXR_B44_HALF_TOL (2.0 / 1024.0)
 
 static void test_exr_constant_images(void) {

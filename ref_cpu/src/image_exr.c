@@ -37,8 +37,10 @@ typedef struct exr_stream {
     uint64_t size;            /* reading: bytes in the file, fixed when it was opened */
     _Atomic int io_errno;     /* the first failed read or write, 0 if none */
     int chunks_checked;       /* reading: check_chunks found every chunk inside the file */
-    uint64_t packed_bytes;    /* reading: the chunks' packed sizes, summed (0: not every chunk
-                                 was examined) */
+    uint64_t packed_bytes;    /* reading (chunks_checked): the chunks' packed sizes, summed, or
+                                 when a chunk's offset or size is not one a chunk can have, the
+                                 bytes after the offset table (all the chunks can hold) */
+    int packed_is_sum;        /* packed_bytes is the sum of the chunks' sizes */
     const char *compression;  /* reading: the file's compression, once the header is read */
     char lib_msg[256];        /* the library's last error message */
     /* a decoding worker's stream, for its messages: the stream the library reads through,
@@ -391,7 +393,11 @@ static pgt_result check_chunks(exr_stream *s, uint64_t header_end, int32_t chunk
                                  (unsigned long long)s->size);
     }
     s->chunks_checked = 1;
-    s->packed_bytes = all ? packed_sum : 0u;
+    /* an offset or size the library will refuse still leaves the pixels no more than the rest
+     * of the file (a 0 here once skipped the bound below: 512 chunks of packed size 0 had a 1 GiB
+     * image allocated before the library refused them) */
+    s->packed_is_sum = all;
+    s->packed_bytes = all ? packed_sum : s->size - table_end;
     return PGT_OK;
 }
 
@@ -760,7 +766,7 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
         r = check_chunks(s, header_end, lay.chunks, lay.tiled, multipart, err);
     /* pixels the chunks cannot hold are refused before they are allocated (a 17 KB ZIP file
      * declaring 16384^2 floats reserved 1 GiB) */
-    if (r == PGT_OK && s->packed_bytes && max_expansion(lay.compression)) {
+    if (r == PGT_OK && s->chunks_checked && max_expansion(lay.compression)) {
         uint64_t pixel_bytes = 0;
         for (uint32_t c = 0; c < lay.channels; ++c)
             pixel_bytes += ch->entries[c].pixel_type == EXR_PIXEL_HALF ? 2u : 4u;
@@ -768,10 +774,11 @@ static pgt_result read_stream(pgt_image *out, exr_stream *s, uint32_t threads, p
         if (need > max_expansion(lay.compression) * s->packed_bytes + PGT_IMAGE_EXPANSION_SLACK)
             r = pgt_error_set(
                 err, PGT_ERROR_TRUNCATED,
-                "%s: declares %u x %u pixels of %llu bytes each, more than its chunks' "
-                "%llu bytes can hold with %s compression (at most %llu times)",
+                "%s: declares %u x %u pixels of %llu bytes each, more than %llu bytes %s can "
+                "hold with %s compression (at most %llu times)",
                 s->name, lay.width, lay.height, (unsigned long long)pixel_bytes,
-                (unsigned long long)s->packed_bytes, s->compression,
+                (unsigned long long)s->packed_bytes,
+                s->packed_is_sum ? "of chunks" : "after its offset table", s->compression,
                 (unsigned long long)max_expansion(lay.compression));
     }
     if (r == PGT_OK &&

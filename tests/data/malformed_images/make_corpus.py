@@ -281,6 +281,18 @@ def corpus():
          assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
                                              compression=4) + b"\0",
                   [struct.pack("<ii", 32 * i, 1) + b"\0" for i in range(512)])),
+        # ... and with every chunk's packed size 0 (not a size a chunk can have): the rest of
+        # the file bounds what the chunks hold
+        ("exr_piz_zero_sizes.exr", "truncated",
+         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
+                                             compression=4) + b"\0",
+                  [struct.pack("<ii", 32 * i, 0) + b"\0" for i in range(512)])),
+        # ... or one chunk's size negative: then all the bytes after the offset table
+        ("exr_piz_negative_size.exr", "truncated",
+         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
+                                             compression=4) + b"\0",
+                  [struct.pack("<ii", 32 * i, 1) + b"\0" for i in range(511)]
+                  + [struct.pack("<ii", 32 * 511, -1)])),
         ("exr_b44_declares_too_much.exr", "truncated",
          assemble(MAGIC + version() + header([("Y", HALF, 1, 1)], (0, 0, 16383, 16383),
                                              compression=6) + b"\0",
