@@ -272,32 +272,33 @@ def corpus():
          png(16384, 16384, color_type=6, depth=16, idat=zlib.compress(b"\0" * 100))),
         # the same for EXR: 16384^2 floats in 1024 ZIP chunks of one byte each
         ("exr_zip_declares_too_much.exr", "truncated",
-         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
-                                             compression=3) + b"\0",
-                  [struct.pack("<ii", 16 * i, 1) + b"\0" for i in range(1024)])),
+         exr_16384(3, FLOAT, [leader(16 * i, 1) + b"\0" for i in range(1024)])),
         # ... in 512 PIZ chunks (32 rows each; PIZ expands at most 454 times) and 512 B44
         # chunks (32 rows; at most 11 times: a flat 4x4 block of HALF values in 3 bytes)
         ("exr_piz_declares_too_much.exr", "truncated",
-         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
-                                             compression=4) + b"\0",
-                  [struct.pack("<ii", 32 * i, 1) + b"\0" for i in range(512)])),
-        # ... and with every chunk's packed size 0 (not a size a chunk can have): the rest of
-        # the file bounds what the chunks hold
-        ("exr_piz_zero_sizes.exr", "truncated",
-         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
-                                             compression=4) + b"\0",
-                  [struct.pack("<ii", 32 * i, 0) + b"\0" for i in range(512)])),
-        # ... or one chunk's size negative: then all the bytes after the offset table
-        ("exr_piz_negative_size.exr", "truncated",
-         assemble(MAGIC + version() + header([("Y", FLOAT, 1, 1)], (0, 0, 16383, 16383),
-                                             compression=4) + b"\0",
-                  [struct.pack("<ii", 32 * i, 1) + b"\0" for i in range(511)]
-                  + [struct.pack("<ii", 32 * 511, -1)])),
+         exr_16384(4, FLOAT, [leader(32 * i, 1) + b"\0" for i in range(512)])),
         ("exr_b44_declares_too_much.exr", "truncated",
-         assemble(MAGIC + version() + header([("Y", HALF, 1, 1)], (0, 0, 16383, 16383),
-                                             compression=6) + b"\0",
-                  [struct.pack("<ii", 32 * i, 3) + b"\0\0\xfc" for i in range(512)])),
+         exr_16384(6, HALF, [leader(32 * i, 3) + b"\0\0\xfc" for i in range(512)])),
+        # ... with every chunk's packed size 0 (their sum holds nothing), or one chunk's size
+        # negative (not a size a chunk can have: then all the bytes after the offset table
+        # bound what the chunks hold)
+        ("exr_piz_zero_sizes.exr", "truncated",
+         exr_16384(4, FLOAT, [leader(32 * i, 0) + b"\0" for i in range(512)])),
+        ("exr_piz_negative_size.exr", "truncated",
+         exr_16384(4, FLOAT,
+                   [leader(32 * i, 1) + b"\0" for i in range(511)] + [leader(32 * 511, -1)])),
     ]
+
+
+def leader(y, packed_size):
+    """A scanline chunk's leader: its first row, then its packed size."""
+    return struct.pack("<ii", y, packed_size)
+
+
+def exr_16384(compression, pixel_type, chunks):
+    """A one-channel file declaring 16384^2 pixels, with the given chunks after its header."""
+    return assemble(MAGIC + version() + header([("Y", pixel_type, 1, 1)], (0, 0, 16383, 16383),
+                                               compression=compression) + b"\0", chunks)
 
 
 def main():
