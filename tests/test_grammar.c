@@ -526,6 +526,19 @@ static void test_context(void) {
     CHECK(code == PGT_ERROR_INVALID_ARGUMENT);
 }
 
+/* Does expression text fail as not finite with a message starting with `where` and holding
+ * `detail` (NULL: any)? The message is printed when not. */
+static int not_finite_at(const char *text, const float *args, const pgt_grammar_env *env,
+                         const char *where, const char *detail) {
+    pgt_error err = {0};
+    pgt_result code;
+    eval_expr(text, args, env, &code, &err);
+    const int ok = code == PGT_ERROR_NOT_FINITE && strstr(err.message, where) == err.message &&
+                   (!detail || strstr(err.message, detail));
+    if (!ok) printf("  %s: %s\n", text, err.message);
+    return ok;
+}
+
 /* Runtime errors name FILE:LINE:COL of the operator the value that is not finite came from
  * (the expressions sit in "R(a, b, c) --> B(...)", line 2, from column 18). */
 static void test_runtime_errors(void) {
@@ -543,36 +556,19 @@ static void test_runtime_errors(void) {
                                        "gives NaN here)"),
               "%s", err.message);
     /* an infinity passed on through later operators keeps its origin */
-    eval_expr("c * c - 1", args, NULL, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
-                  strstr(err.message, "t.grammar:2:20: ") == err.message &&
-                  strstr(err.message, "('*' gives inf here)"),
-              "%s", err.message);
+    CHECK(not_finite_at("c * c - 1", args, NULL, "t.grammar:2:20: ", "('*' gives inf here)"));
     /* max drops the NaN of 0 / a: the infinity of 1 / a is the one that stays */
-    eval_expr("max(0 / a, 1 / a)", args, NULL, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
-                  strstr(err.message, "t.grammar:2:31: ") == err.message &&
-                  strstr(err.message, "('/' gives inf here)"),
-              "%s", err.message);
+    CHECK(
+        not_finite_at("max(0 / a, 1 / a)", args, NULL, "t.grammar:2:31: ", "('/' gives inf here)"));
     /* two infinities make a NaN: the operator that made it */
-    eval_expr("c * c - c * c", args, NULL, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
-                  strstr(err.message, "t.grammar:2:24: ") == err.message &&
-                  strstr(err.message, "('-' gives NaN here)"),
-              "%s", err.message);
+    CHECK(not_finite_at("c * c - c * c", args, NULL, "t.grammar:2:24: ", "('-' gives NaN here)"));
     /* one a comparison made finite is forgotten: the second '*' overflows */
-    eval_expr("(1 / a > 0) * c * c", args, NULL, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE &&
-                  strstr(err.message, "t.grammar:2:34: ") == err.message,
-              "%s", err.message);
+    CHECK(not_finite_at("(1 / a > 0) * c * c", args, NULL, "t.grammar:2:34: ", NULL));
     /* the search for the origin draws the same numbers again and leaves the counter as the
      * failed run left it: one draw */
     uint64_t counter = 7;
     pgt_grammar_env env = {5, 2, &counter, 0, 0, NULL, NULL, NULL};
-    eval_expr("rand(0, 1) / a", args, &env, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE && counter == 8 &&
-                  strstr(err.message, "t.grammar:2:29: ") == err.message,
-              "%s", err.message);
+    CHECK(not_finite_at("rand(0, 1) / a", args, &env, "t.grammar:2:29: ", NULL) && counter == 8);
     /* ... the same numbers: at a counter whose draw is >= 0.5 and whose next draw is not,
      * 1 / (rand(0, 1) < 0.5) divides by zero; a search drawing the next number would find a
      * finite value and no operator (the message would point at the expression's start, 2:18) */
@@ -581,10 +577,8 @@ static void test_runtime_errors(void) {
         ++c0;
     REQUIRE(c0 < 1000u);
     counter = c0;
-    eval_expr("1 / (rand(0, 1) < 0.5)", args, &env, &code, &err);
-    CHECK_MSG(code == PGT_ERROR_NOT_FINITE && counter == c0 + 1u &&
-                  strstr(err.message, "t.grammar:2:20: ") == err.message,
-              "%s", err.message);
+    CHECK(not_finite_at("1 / (rand(0, 1) < 0.5)", args, &env, "t.grammar:2:20: ", NULL) &&
+          counter == c0 + 1u);
     /* infinity in between is fine when the result is finite */
     CHECK(eval_expr("1 / a > 0", args, NULL, &code, &err) == 1.0f && code == PGT_OK);
     /* fewer arguments than the rule has: an error, not a read past the array */

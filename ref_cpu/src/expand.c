@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -390,16 +391,13 @@ static pgt_result run_seed(const xjob *job, uint32_t index, xseed *out) {
         if (w.pos >= sq->item_count) continue;
         const pgt_grammar_item *it = &g->items[sq->first_item + w.pos];
         if (r.items++ == job->max_items) {
-            if (job->max_total_items)
-                res = pgt_error_set(&out->err, PGT_ERROR_LIMIT,
-                                    "%s:%u:%u: seed %u (id %u): more than %u grammar items run "
-                                    "(option max_total_items: %llu over all %u seed%s, %u a "
-                                    "seed); the grammar does not stop growing here",
-                                    file_of(g), it->line, it->col, index, r.id, job->max_items,
-                                    (unsigned long long)job->max_total_items, job->in->seed_count,
-                                    job->in->seed_count == 1u ? "" : "s", job->max_items);
-            else
-                res = limit(&r, it, "grammar items run", job->max_items, "max_items");
+            char option[96] = "max_items";
+            if (job->max_total_items) /* the bound is the seed's share of the total */
+                snprintf(option, sizeof option,
+                         "max_total_items: %llu over all %u seed%s, %u a seed",
+                         (unsigned long long)job->max_total_items, job->in->seed_count,
+                         job->in->seed_count == 1u ? "" : "s", job->max_items);
+            res = limit(&r, it, "grammar items run", job->max_items, option);
             break;
         }
         if (r.items % EXPAND_CHECK_ITEMS == 0 &&
