@@ -617,12 +617,15 @@ int pgt_cmd_facade(int argc, char **argv) {
                ours, theirs, eb.embree_bytes, eb.buffer_bytes, (double)theirs / (double)ours);
         printf("check: agreement %.4f %% of %llu rays (%llu both miss), %llu disagreements "
                "(%llu ties: coincident faces at one distance, %llu near an edge, %llu neither), "
+               "%llu of those near an edge inside a rectangle (Embree's ray through the crack "
+               "between two of its triangles), "
                "max distance error among agreeing rays %.3g (relative %.3g) -> %s\n",
                chk.agreement_pct, (unsigned long long)chk.pixels, (unsigned long long)chk.both_miss,
                (unsigned long long)chk.disagree, (unsigned long long)chk.ties,
                (unsigned long long)chk.near_edge,
-               (unsigned long long)(chk.disagree - chk.ties - chk.near_edge), chk.max_abs_dt,
-               chk.max_rel_dt, pass ? "PASS" : "FAIL");
+               (unsigned long long)(chk.disagree - chk.ties - chk.near_edge),
+               (unsigned long long)chk.crack, chk.max_abs_dt, chk.max_rel_dt,
+               pass ? "PASS" : "FAIL");
         for (uint32_t k = 0; k < chk.reported; ++k) {
             const pgt_facade_check_pixel *p = &chk.far[k];
             fprintf(stderr,

@@ -320,6 +320,7 @@ static double seg_dist(const double p[3], const float *a, const float *b) {
  * indices, tell a shared edge). */
 typedef struct pos_edge {
     const float *a, *b;
+    int inner; /* shared by two triangles of the surface (surface_edges) */
 } pos_edge;
 
 static int pos_cmp(const float *a, const float *b) {
@@ -334,11 +335,12 @@ static int edge_cmp(const void *x, const void *y) {
     return c ? c : pos_cmp(e->b, f->b);
 }
 
-/* The boundary of the surface made of triangles tris[0 .. n) into out (at most 3n edges): the
- * edges no two of them share (a rectangle's 4 sides without its diagonal, a roof's outline
- * without its fan's inner edges). Returns the count. */
-static uint32_t boundary_edges(const pgt_facade_mesh *m, const uint32_t *tris, uint32_t n,
-                               pos_edge *out) {
+/* The edges of the surface made of triangles tris[0 .. n) into out (at most 3n edges): first
+ * its boundary, the edges no two of them share (a rectangle's 4 sides, a roof's outline), then
+ * its inner edges, each once (a rectangle's diagonal, the inner edges of a roof's ear clipping).
+ * Returns the boundary's count; *inner gets the inner edges' count. */
+static uint32_t surface_edges(const pgt_facade_mesh *m, const uint32_t *tris, uint32_t n,
+                              pos_edge *out, uint32_t *inner) {
     uint32_t e = 0;
     for (uint32_t a = 0; a < n; ++a)
         for (uint32_t k = 0; k < 3; ++k) {
@@ -350,14 +352,24 @@ static uint32_t boundary_edges(const pgt_facade_mesh *m, const uint32_t *tris, u
             e++;
         }
     qsort(out, e, sizeof *out, edge_cmp);
+    /* each edge once (u <= k: the writes never pass the reads), then the boundary's in front */
     uint32_t u = 0;
     for (uint32_t k = 0; k < e;) {
         uint32_t r = k + 1;
         while (r < e && !edge_cmp(&out[k], &out[r])) r++;
-        if (r == k + 1) out[u++] = out[k];
+        out[u] = out[k], out[u].inner = r > k + 1, u++;
         k = r;
     }
-    return u;
+    uint32_t b = 0, s = u;
+    while (b < s)
+        if (!out[b].inner)
+            b++;
+        else {
+            const pos_edge t = out[b];
+            out[b] = out[--s], out[s] = t;
+        }
+    *inner = u - b;
+    return b;
 }
 
 /* Distance from p to the nearest of n edges. */
@@ -392,11 +404,11 @@ static double tri_dist(const double p[3], const float *fa, const float *fb, cons
 }
 
 /* A disagreement being explained: its keys, their triangles (tris[first .. + n) of the
- * comparison's list, every one: a roof has as many as its footprint's corners less 2) and
- * their boundary (edges[efirst .. + en)). */
+ * comparison's list, every one: a roof has as many as its footprint's corners less 2), their
+ * boundary (edges[efirst .. + en)) and their inner edges (the next ein). */
 typedef struct wanted {
     rect_key key;
-    uint32_t first, n, efirst, en;
+    uint32_t first, n, efirst, en, ein;
 } wanted;
 
 static int wanted_cmp(const void *a, const void *b) {
@@ -497,8 +509,8 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
         key_triangles(mesh, w, wn, tris);
         for (size_t k = 0, e = 0; k < wn; ++k) {
             w[k].efirst = (uint32_t)e;
-            w[k].en = boundary_edges(mesh, tris + w[k].first, w[k].n, edges + e);
-            e += w[k].en;
+            w[k].en = surface_edges(mesh, tris + w[k].first, w[k].n, edges + e, &w[k].ein);
+            e += w[k].en + w[k].ein;
         }
         for (size_t b = 0; b < bad_n; ++b) {
             const size_t i = bad[b];
@@ -508,7 +520,7 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             pgt_facade_check_pixel px;
             memset(&px, 0, sizeof px);
             px.x = x, px.y = y;
-            px.edge[0] = px.edge[1] = INFINITY;
+            px.edge[0] = px.edge[1] = px.inner = INFINITY;
             px.facade[0] = px.facade[1] = PGT_NONE;
             px.t[0] = frame->depth[i], px.t[1] = hits->t[i];
             /* both hit at one distance, different rectangles: a tie when the rectangle ours
@@ -529,7 +541,16 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 const double t = frame->depth[i];
                 double p[3];
                 for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
-                if (r && r->n) px.edge[0] = (float)(edges_dist(edges + r->efirst, r->en, p) / t);
+                if (r && r->n) {
+                    px.edge[0] = (float)(edges_dist(edges + r->efirst, r->en, p) / t);
+                    /* Embree's ray went on past the rectangle ours hit (a miss, or a hit
+                     * behind it): through the crack along an edge between two of its
+                     * triangles when ours' point lies on one */
+                    const int passed = hits->tri[i] == PGT_NONE ||
+                                       hits->t[i] > t * (1.0 + PGT_FACADE_CHECK_DEPTH_TOL_REL);
+                    if (passed && r->ein)
+                        px.inner = (float)(edges_dist(edges + r->efirst + r->en, r->ein, p) / t);
+                }
                 ours = r;
             }
             const uint32_t et = hits->tri[i];
@@ -562,6 +583,8 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             else if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||
                      px.edge[1] <= PGT_FACADE_CHECK_EDGE_EPS_REL)
                 out->near_edge++;
+            else if (px.inner <= PGT_FACADE_CHECK_EDGE_EPS_REL)
+                out->near_edge++, out->crack++;
             else if (out->reported < PGT_FACADE_CHECK_MAX_REPORTED)
                 out->far[out->reported++] = px;
         }
