@@ -153,8 +153,10 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                  "grammars; facades_bytes = the derived facade array, apart); explicit = the "
                  "twin's arrays (positions, indices, per-triangle ids); embree = its reported "
                  "peak + vertex and index buffers; memory_ratio = embree / procedural\n");
-    fprintf(csv, "# agreement: per pixel both miss or same (facade, node, kind, surface) within "
-                 "1e-4 relative depth; ties: disagreements where both hit at that depth on "
+    fprintf(csv, "# agreement: Embree's rays traced once more without the coherent flag "
+                 "(harness/facade_embree.h), per pixel both miss or same (facade, node, kind, "
+                 "surface) within 1e-4 relative depth or 4 float epsilons of the coordinates "
+                 "along the surface's normal; ties: disagreements where both hit at that depth on "
                  "coincident faces (harness/facade_embree.h); near_edge: the others within "
                  "1e-4 t of a rectangle edge, or of an edge between two of its triangles when "
                  "Embree's ray went on past it (cracks: those, Embree not being watertight)\n");
@@ -241,6 +243,9 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
                     bad = pgt_facade_embree_trace(&eb, &cam, (pgt_facade_embree_mode)m, &hits,
                                                   &theirs[m][f ? f - 1 : 0], &err) != PGT_OK;
             }
+            /* the agreement of the rays without the coherent flag (facade_embree.h) */
+            bad = bad || pgt_facade_embree_trace(&eb, &cam, PGT_FACADE_EMBREE_CHECK_RAYS, &hits,
+                                                 NULL, &err) != PGT_OK;
             const double mode_med[2] = {bad ? 0.0 : pgt_cli_median(theirs[0], frames),
                                         bad ? 0.0 : pgt_cli_median(theirs[1], frames)};
             if (bad || st.rays.errors) {

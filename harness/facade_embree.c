@@ -3,6 +3,7 @@
 
 #include <embree3/rtcore.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -163,6 +164,7 @@ typedef struct trace_job {
     const pgt_facade_camera *cam;
     pgt_facade_embree_hits *out;
     uint32_t tiles_x;
+    int coherent; /* RTC_INTERSECT_CONTEXT_FLAG_COHERENT (else INCOHERENT) */
     struct RTCRayHit *stream[PGT_MAX_THREADS]; /* per worker: one tile row of rays */
 } trace_job;
 
@@ -186,7 +188,8 @@ static void trace_packets(void *ctx_, uint32_t begin, uint32_t end, uint32_t wor
     const uint32_t W = job->out->width, H = job->out->height;
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    ctx.flags =
+        job->coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     /* Embree's 16-wide kernels read the packet and the valid mask with aligned 64-byte loads:
      * RTCRayHit16 carries that alignment, the int array needs it spelled out (without it the
      * AVX-512 kernels fault where the stack puts it elsewhere, as ASan's layout did) */
@@ -260,6 +263,7 @@ pgt_result pgt_facade_embree_trace(pgt_facade_embree *e, const pgt_facade_camera
     job->cam = cam;
     job->out = out;
     job->tiles_x = (cam->width + TILE - 1u) / TILE;
+    job->coherent = mode != PGT_FACADE_EMBREE_CHECK_RAYS;
     const uint32_t tiles_y = (cam->height + TILE - 1u) / TILE;
     const uint32_t workers = e->threads < PGT_MAX_THREADS ? e->threads : PGT_MAX_THREADS;
     pgt_result r = PGT_OK;
@@ -430,6 +434,40 @@ static void key_triangles(const pgt_facade_mesh *mesh, wanted *w, size_t wn, uin
     }
 }
 
+/* How far along the ray (o, d) a hit at depth t on triangle tri's plane may move when the plane
+ * moves PGT_FACADE_CHECK_PLANE_EPS float epsilons of the coordinates' magnitude (the largest
+ * |coordinate| of o and the hit) along its normal: that distance / |cos a|, a the angle between
+ * the ray and the normal (INFINITY for a ray in the plane; 0 for a degenerate triangle). The
+ * rounding of either side's coordinates moves a hit this much in depth, and along the surface:
+ * at street level, nearly parallel to a wall, it passes the relative tolerances. */
+static double plane_slack(const pgt_facade_mesh *mesh, uint32_t tri, const float o[3],
+                          const float d[3], double t) {
+    const uint32_t *v = mesh->indices + 3u * (size_t)tri;
+    const float *a = mesh->positions + 3u * (size_t)v[0], *b = mesh->positions + 3u * (size_t)v[1],
+                *c = mesh->positions + 3u * (size_t)v[2];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = (double)b[k] - a[k], e2[k] = (double)c[k] - a[k];
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    double nn = 0.0, dd = 0.0, nd = 0.0, mag = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        nn += n[k] * n[k], dd += (double)d[k] * d[k], nd += n[k] * d[k];
+        mag = fmax(mag, fmax(fabs((double)o[k]), fabs((double)o[k] + t * d[k])));
+    }
+    if (!(nn > 0.0 && dd > 0.0)) return 0.0;
+    const double cos_a = fabs(nd) / sqrt(nn * dd);
+    const double along = PGT_FACADE_CHECK_PLANE_EPS * FLT_EPSILON * mag;
+    return cos_a > 0.0 ? along / cos_a : INFINITY;
+}
+
+/* plane_slack of pixel (x, y)'s ray. */
+static double pixel_slack(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam, uint32_t tri,
+                          uint32_t x, uint32_t y, double t) {
+    float o[3], d[3];
+    pgt_facade_camera_ray(cam, x, y, o, d);
+    return plane_slack(mesh, tri, o, d, t);
+}
+
 int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_camera *cam,
                               const pgt_facade_frame *frame, const pgt_facade_embree_hits *hits,
                               pgt_facade_check *out) {
@@ -449,7 +487,8 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             if (mesh->facade[et] == of && mesh->node[et] == frame->node[i] &&
                 mesh->kind[et] == (uint32_t)frame->terminal[i] &&
                 mesh->surface[et] == frame->surface[i] &&
-                dt <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t) {
+                (dt <= PGT_FACADE_CHECK_DEPTH_TOL_REL * t ||
+                 dt <= pixel_slack(mesh, cam, et, (uint32_t)(i % W), (uint32_t)(i / W), t))) {
                 out->agree++;
                 out->max_abs_dt = fmax(out->max_abs_dt, dt);
                 out->max_rel_dt = fmax(out->max_rel_dt, dt / t);
@@ -526,9 +565,14 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             /* both hit at one distance, different rectangles: a tie when the rectangle ours
              * names passes through the point Embree hit (two faces in one place; a label of
              * ours that names no face there, or a face behind or before Embree's, is no tie) */
-            const int tie_depth =
-                frame->facade[i] != PGT_NONE && hits->tri[i] != PGT_NONE &&
-                fabs((double)px.t[0] - px.t[1]) <= PGT_FACADE_CHECK_DEPTH_TOL_REL * px.t[0];
+            /* float rounding's reach along the ray on the plane Embree hit (plane_slack) */
+            const double slack1 =
+                hits->tri[i] != PGT_NONE ? plane_slack(mesh, hits->tri[i], o, d, hits->t[i]) : 0.0;
+            const int tie_depth = frame->facade[i] != PGT_NONE && hits->tri[i] != PGT_NONE &&
+                                  fabs((double)px.t[0] - px.t[1]) <=
+                                      fmax(PGT_FACADE_CHECK_DEPTH_TOL_REL * px.t[0], slack1);
+            /* the edge distances (relative to t) within which a disagreement is rounding */
+            double tol[2] = {PGT_FACADE_CHECK_EDGE_EPS_REL, PGT_FACADE_CHECK_EDGE_EPS_REL};
             const wanted *ours = NULL;
             double on = INFINITY; /* from Embree's hit point to the rectangle ours names */
             if (frame->facade[i] != PGT_NONE) {
@@ -543,11 +587,14 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                 for (int k = 0; k < 3; ++k) p[k] = (double)o[k] + t * (double)d[k];
                 if (r && r->n) {
                     px.edge[0] = (float)(edges_dist(edges + r->efirst, r->en, p) / t);
+                    const double slack0 = plane_slack(mesh, tris[r->first], o, d, t);
+                    tol[0] = fmax(tol[0], slack0 / t);
                     /* Embree's ray went on past the rectangle ours hit (a miss, or a hit
                      * behind it): through the crack along an edge between two of its
                      * triangles when ours' point lies on one */
-                    const int passed = hits->tri[i] == PGT_NONE ||
-                                       hits->t[i] > t * (1.0 + PGT_FACADE_CHECK_DEPTH_TOL_REL);
+                    const int passed =
+                        hits->tri[i] == PGT_NONE ||
+                        hits->t[i] > t + fmax(PGT_FACADE_CHECK_DEPTH_TOL_REL * t, slack0);
                     if (passed && r->ein)
                         px.inner = (float)(edges_dist(edges + r->efirst + r->en, r->ein, p) / t);
                 }
@@ -570,6 +617,7 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
                            bv * mesh->positions[3u * (size_t)tv[2] + k];
                 if (r && r->n)
                     px.edge[1] = (float)(edges_dist(edges + r->efirst, r->en, p) / hits->t[i]);
+                tol[1] = fmax(tol[1], slack1 / hits->t[i]);
                 for (uint32_t k = 0; tie_depth && ours && k < ours->n; ++k) {
                     const uint32_t *ov = mesh->indices + 3u * (size_t)tris[ours->first + k];
                     on = fmin(on, tri_dist(p, mesh->positions + 3u * (size_t)ov[0],
@@ -580,10 +628,9 @@ int pgt_facade_embree_compare(const pgt_facade_mesh *mesh, const pgt_facade_came
             const int tie = tie_depth && on <= PGT_FACADE_CHECK_TIE_TOL_REL * px.t[1];
             if (tie)
                 out->ties++;
-            else if (px.edge[0] <= PGT_FACADE_CHECK_EDGE_EPS_REL ||
-                     px.edge[1] <= PGT_FACADE_CHECK_EDGE_EPS_REL)
+            else if (px.edge[0] <= tol[0] || px.edge[1] <= tol[1])
                 out->near_edge++;
-            else if (px.inner <= PGT_FACADE_CHECK_EDGE_EPS_REL)
+            else if (px.inner <= tol[0])
                 out->near_edge++, out->crack++;
             else if (out->reported < PGT_FACADE_CHECK_MAX_REPORTED)
                 out->far[out->reported++] = px;

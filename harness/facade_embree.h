@@ -30,7 +30,12 @@
  * a shared edge can miss both triangles (a 1000-building city at 3840 x 2160 had one such ray,
  * through a roof's diagonal, and failed the check). The robust flag closes these cracks, but it
  * changes what is timed against ours: measured on pgt bench facade's cities (2 runs each), BVH
- * builds 1.5-3 times faster in 2-21 % less memory, rays 0-15 % (median 5 %) slower. */
+ * builds 1.5-3 times faster in 2-21 % less memory, rays 0-15 % (median 5 %) slower.
+ *
+ * At grazing angles the three distances (depth of agreeing hits, edge distances, "went on past")
+ * also accept what float rounding of the coordinates reaches along the ray: PGT_FACADE_CHECK_
+ * PLANE_EPS epsilons of the coordinates' magnitude along the surface's normal, over the cosine
+ * of the angle between the ray and the normal (plane_slack in facade_embree.c). */
 #ifndef PGT_FACADE_EMBREE_H
 #define PGT_FACADE_EMBREE_H
 
@@ -47,6 +52,14 @@
  * at city coordinates of ~1000 with t ~ 100 (measured maximum in the tests: see
  * test_facade_embree). */
 #define PGT_FACADE_CHECK_DEPTH_TOL_REL 1e-4
+/* ... or, when the depths differ by more, agreeing hits when they lie within this many float
+ * epsilons of the coordinates' magnitude (the largest |coordinate| of the eye and the hit) of
+ * one another along the surface's normal: at street level the depth error is absolute and grows
+ * as 1 / cos(a), past the relative bound at small t (a door 5.5 m away at 89.4 degrees: 1.5 mm,
+ * 2.7e-4 t, but 1.5e-5 m along the normal, 0.4 epsilons of its coordinates of ~300; a window at
+ * 89.87 degrees, 15 m: 5.4 mm, 0.3 epsilons). 4 leaves room for the few roundings of each side
+ * and still refuses a surface 0.14 mm off at coordinates of 300. */
+#define PGT_FACADE_CHECK_PLANE_EPS 4.0
 /* Disagreements within this distance (relative to t) of a rectangle's boundary are rounding:
  * a pixel's footprint at 512 pixels and 45 degrees is ~1.6e-3 t, float coordinates of a city
  * ~1e-7 of 1000 = 1e-4 absolute; 1e-4 t is a tenth of a pixel at 512^2 and well above the
@@ -63,8 +76,16 @@
 #define PGT_FACADE_CHECK_MIN_AGREEMENT 99.99
 
 typedef enum pgt_facade_embree_mode {
-    PGT_FACADE_EMBREE_PACKETS = 0, /* rtcIntersect16, one 4 x 4 tile per packet */
-    PGT_FACADE_EMBREE_STREAMS = 1  /* rtcIntersect1M of a tile row, coherent flag */
+    PGT_FACADE_EMBREE_PACKETS = 0, /* rtcIntersect16, one 4 x 4 tile per packet, coherent flag */
+    PGT_FACADE_EMBREE_STREAMS = 1, /* rtcIntersect1M of a tile row, coherent flag */
+    /* The rays the check compares: packets as above with the incoherent flag. With the coherent
+     * flag Embree 3.13's packet and stream traversal missed hits that rtcIntersect1 finds: an
+     * eye at street level inside a building, 0.52 m behind a window's frame (a back face,
+     * cos 0.99998, 0.018 m inside its edge), missed by 59 rays as packets and 43 as streams of
+     * one frame (a 248-building city, seed 31, camera 340,2,286,118,13,98,0,1,0,78), found by
+     * every one without the flag. The coherent modes are timed (faster on small scenes: 77 against
+     * 58 Mrays/s on 25 buildings at 1280x720); the check traces once more without it. */
+    PGT_FACADE_EMBREE_CHECK_RAYS = 2
 } pgt_facade_embree_mode;
 #define PGT_FACADE_EMBREE_DEFAULT_MODE PGT_FACADE_EMBREE_PACKETS
 

@@ -9,6 +9,7 @@
  * one looking almost straight down. Each must agree on >= 99.99 % of the pixels with every
  * disagreement a tie (two faces in one place) or within PGT_FACADE_CHECK_EDGE_EPS_REL of a
  * rectangle's edge. */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -364,9 +365,50 @@ static void test_cracks(void) {
     traced_view_close(&v);
 }
 
+/* Depth at grazing angles (facade_embree.h, PGT_FACADE_CHECK_PLANE_EPS): a 20 m square in the
+ * plane z = 300, seen from 5 cm before it along -x (the middle pixel's ray meets it at about
+ * 89.4 degrees from its normal, 5 m away). Ours' depth moved by what the plane moving k float
+ * epsilons of the coordinates (~305) along its normal gives along that ray: k = 1 agrees (the
+ * relative tolerance alone refuses it: 7e-4 t), k = 40 is neither a tie nor near an edge. */
+static void test_grazing_depth(void) {
+    const float pos[12] = {290, 0, 300, 310, 0, 300, 310, 20, 300, 290, 20, 300};
+    const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+    uint32_t fac[2] = {0, 0}, node[2] = {7, 7}, kind[2] = {1, 1}, surf[2] = {0, 0};
+    const pgt_facade_mesh mesh = {4, 2, (float *)pos, (uint32_t *)idx, fac, node, kind, surf};
+    const uint32_t side = 128; /* one disagreement stays within the agreement bar */
+    const float eye[3] = {305.0f, 10.0f, 300.05f}, at[3] = {300.0f, 10.0f, 300.0f};
+    traced_view v;
+    REQUIRE(traced_view_open(&v, &mesh, eye, at, side));
+    for (uint32_t i = 0; i < side * side; ++i) { /* ours = Embree's hits: all agree */
+        v.fr.facade[i] = v.hits.tri[i] == PGT_NONE ? PGT_NONE : 0u;
+        v.fr.node[i] = 7u, v.fr.terminal[i] = 1.0f, v.fr.surface[i] = 0u;
+        v.fr.depth[i] = v.hits.t[i];
+    }
+    const uint32_t x = side / 2, y = side / 2, mid = y * side + x;
+    REQUIRE(v.hits.tri[mid] != PGT_NONE);
+    float o[3], d[3];
+    pgt_facade_camera_ray(&v.cam, x, y, o, d);
+    const double dn = sqrt((double)d[0] * d[0] + (double)d[1] * d[1] + (double)d[2] * d[2]);
+    const double cos_a = fabs((double)d[2]) / dn, t = (300.0 - o[2]) / d[2];
+    CHECK(cos_a > 0.005 && cos_a < 0.02 && t > 4.0 && t < 6.0);
+    double mag = 0.0;
+    for (int k = 0; k < 3; ++k) mag = fmax(mag, fmax(fabs(o[k]), fabs(o[k] + t * d[k])));
+    const double step = FLT_EPSILON * mag / cos_a; /* one epsilon along the normal */
+    CHECK(step > 5.0 * PGT_FACADE_CHECK_DEPTH_TOL_REL * t);
+    pgt_facade_check chk;
+    v.fr.depth[mid] = (float)(t + step);
+    CHECK(pgt_facade_embree_compare(&mesh, &v.cam, &v.fr, &v.hits, &chk));
+    CHECK(chk.disagree == 0 && chk.max_rel_dt > PGT_FACADE_CHECK_DEPTH_TOL_REL);
+    v.fr.depth[mid] = (float)(t + 40.0 * step);
+    CHECK(!pgt_facade_embree_compare(&mesh, &v.cam, &v.fr, &v.hits, &chk));
+    CHECK(chk.disagree == 1 && chk.near_edge == 0 && chk.ties == 0 && chk.reported == 1);
+    traced_view_close(&v);
+}
+
 static const pgt_test_case cases[] = {
     {"ties", test_ties},
     {"cracks", test_cracks},
+    {"grazing_depth", test_grazing_depth},
     {"aerial", test_aerial},
     {"street", test_street},
     {"grazing", test_grazing},
