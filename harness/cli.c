@@ -15,6 +15,7 @@
 #include "pgt/image.h"
 #include "pgt/mesh_io.h"
 #include "png_io.h"
+#include "progress_line.h"
 
 /* The stage whose names pgt_cli_fail turns back into the outputs' paths (pgt_cli_stage_add
  * sets it; a verb stages its outputs in one place). */
@@ -29,6 +30,7 @@ int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     va_end(ap);
     /* a writer names the staging file it was given: the user's path instead */
     if (cli_active_stage) stage_unname(cli_active_stage, msg, sizeof msg);
+    pgt_cli_progress_silence(); /* the error is stderr's last line */
     fprintf(stderr, "pgt %s: %s\n", verb, msg);
     return PGT_EXIT_USAGE;
 }

@@ -190,7 +190,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
         if (pgt_facade_file_city(&file, grammar, buildings[c], seed, &err) != PGT_OK ||
             pgt_facade_prepare(&file.scene, &facades, &fc, &err) != PGT_OK ||
             pgt_facade_explicit_limit(&file.scene, facades, fc, max_t, &mesh, &err) != PGT_OK ||
-            pgt_facade_embree_create(&eb, &mesh, threads, &err) != PGT_OK) {
+            pgt_facade_embree_create(&eb, &mesh, threads, NULL, &err) != PGT_OK) {
             char why[200] = "";
             if (err.code == PGT_ERROR_LIMIT) pgt_facade_twin_limit_why(why, sizeof why, avail, 1);
             pgt_cli_fail(verb, "facade: city of %u buildings: %s%s", buildings[c], err.message,

@@ -13,6 +13,7 @@
 #include "pgt/image.h"
 #include "pgt/parallel.h"
 #include "png_io.h"
+#include "progress_line.h"
 
 /* The grammar of --city when --grammar is not given. */
 #define PGT_FACADE_DEFAULT_GRAMMAR PGT_SOURCE_DIR "/grammars/facade.grammar"
@@ -79,7 +80,13 @@ static const char *facade_usage_twin =
     "                  within 1e-4 but naming different rectangles, ours passing within\n"
     "                  1e-5 t of Embree's hit point = a tie (coincident faces); other\n"
     "                  disagreements within 1e-4 t of a rectangle's edge are\n"
-    "                  counted apart. Prints agreement, ties, max distance error, Mrays/s\n"
+    "                  counted apart (at grazing angles, distances also within 4 float\n"
+    "                  epsilons of the coordinates along the surface's normal; and ours'\n"
+    "                  hit on an edge between its rectangle's triangles when Embree's ray\n"
+    "                  went on past: a crack, Embree not being watertight). The compared\n"
+    "                  rays are traced once more without Embree's coherent flag, with\n"
+    "                  which it missed hits near the eye. Prints agreement, ties, max distance "
+    "error, Mrays/s\n"
     "                  (ours with hits only, the same work as Embree's rays, and shaded)\n"
     "                  and bytes of both; exit 1 when a disagreement is neither a tie nor\n"
     "                  near an edge, or agreement with the ties is below 99.99 %\n";
@@ -107,6 +114,7 @@ static const char *facade_usage2 =
     "Prints buildings, facades, pixels, ms per frame (coverage, rays), Mrays/s, nodes developed\n"
     "per ray (mean over the rays that entered a facade volume) and the bytes of the procedural\n"
     "representation (buildings, footprints, params, grammars; the derived facade array apart).\n"
+    "A progress line on stderr every 5 s of work (PGT_PROGRESS_SECONDS: the period, 0: none).\n"
     "Exit 0 on success, 1 when the Embree check fails, 2 on a bad flag, value or input file\n"
     "(naming the flag or FILE:LINE) or a grammar error while rendering.\n";
 
@@ -336,6 +344,10 @@ int pgt_cmd_facade(int argc, char **argv) {
     /* every output appears once all are written, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;
     stage.count = stage.dir_count = 0;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    pgt_progress *const pr = prog.progress;
+    pgt_progress_stage(pr, "scene", 0, "");
     double *ms = calloc(2u * a.frames, sizeof(double));
     if (!ms) {
         pgt_cli_fail(verb, "out of memory");
@@ -470,6 +482,7 @@ int pgt_cmd_facade(int argc, char **argv) {
     pgt_facade_render_stats st, first;
     memset(&first, 0, sizeof first);
     double *cover = ms + a.frames;
+    pgt_progress_stage(pr, "rendering", a.frames, "frames");
     for (uint32_t f = 0; f < a.frames; ++f) {
         if (pgt_facade_render(s, facades, facade_count, &cam, &shading, a.threads, &frame, &st,
                               &err) != PGT_OK) {
@@ -479,6 +492,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         if (f == 0) first = st;
         ms[f] = st.ms_total;
         cover[f] = st.ms_cover;
+        pgt_progress_add(pr, 1);
     }
     if (first.rays.errors) {
         char buf[600];
@@ -506,6 +520,7 @@ int pgt_cmd_facade(int argc, char **argv) {
     }
     const double frame_ms = pgt_cli_median(ms, a.frames),
                  cover_ms = pgt_cli_median(cover, a.frames);
+    pgt_progress_stage(pr, "writing the frame", 0, "");
     if (write_exr(&frame, pgt_cli_stage_add(&stage, a.out_path), a.threads, &err) != PGT_OK) {
         pgt_cli_fail(verb, "-o %s", err.message);
         goto done;
@@ -543,6 +558,7 @@ int pgt_cmd_facade(int argc, char **argv) {
     /* the explicit twin */
     if (a.explicit_path || a.embree_check) {
         const double e0 = pgt_cli_now_ms();
+        pgt_progress_stage(pr, "the explicit twin", 0, "");
         uint64_t avail = 0;
         const uint32_t max_t = a.max_triangles
                                    ? a.max_triangles
@@ -565,6 +581,7 @@ int pgt_cmd_facade(int argc, char **argv) {
                mesh.triangle_count, mesh.vertex_count, pgt_facade_mesh_bytes(&mesh),
                (double)pgt_facade_mesh_bytes(&mesh) / (double)proc_bytes, e1 - e0,
                a.explicit_path ? " -> " : "", a.explicit_path ? a.explicit_path : "");
+        if (a.explicit_path) pgt_progress_stage(pr, "writing the explicit twin", 0, "");
         if (a.explicit_path &&
             pgt_facade_mesh_write_ply(&mesh, pgt_cli_stage_add(&stage, a.explicit_path), &err) !=
                 PGT_OK) {
@@ -577,16 +594,20 @@ int pgt_cmd_facade(int argc, char **argv) {
     rc = PGT_EXIT_OK;
     if (a.embree_check) {
         rc = PGT_EXIT_USAGE;
-        if (pgt_facade_embree_create(&eb, &mesh, a.threads, &err) != PGT_OK ||
+        if (pgt_facade_embree_create(&eb, &mesh, a.threads, pr, &err) != PGT_OK ||
             pgt_facade_embree_hits_create(&hits, a.width, a.height, &err) != PGT_OK) {
             pgt_cli_fail(verb, "--embree-check: %s", err.message);
             goto done;
         }
-        for (uint32_t f = 0; f < a.frames; ++f)
+        pgt_progress_stage(pr, "Embree's rays", a.frames, "frames");
+        for (uint32_t f = 0; f < a.frames; ++f) {
             if (pgt_facade_embree_trace(&eb, &cam, a.mode, &hits, &ms[f], &err) != PGT_OK) {
                 pgt_cli_fail(verb, "--embree-check: %s", err.message);
                 goto done;
             }
+            pgt_progress_add(pr, 1);
+        }
+        pgt_progress_stage(pr, "the check", 0, "");
         const double trace_ms = pgt_cli_median(ms, a.frames);
         /* the hits the check compares: the same rays without the coherent flag, whose traversal
          * missed hits (PGT_FACADE_EMBREE_CHECK_RAYS) */
@@ -646,6 +667,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         rc = pass ? PGT_EXIT_OK : PGT_EXIT_FAIL;
     }
 done:
+    pgt_cli_progress_stop(&prog);
     pgt_cli_stage_abort(&stage);
     pgt_facade_embree_hits_destroy(&hits);
     pgt_facade_embree_destroy(&eb);

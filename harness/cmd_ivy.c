@@ -14,6 +14,7 @@
 #include "pgt/parallel.h"
 #include "pgt/rng.h"
 #include "png_io.h"
+#include "progress_line.h"
 #include "text_line.h"
 
 /* Most seeds: each seed keeps its own output buffers while the seeds expand; 2^20 is far beyond
@@ -112,6 +113,7 @@ static const char *ivy_usage2 =
     "                  many seeds\n"
     "\n"
     "The same inputs, seeds and flags give the same bytes for any --threads.\n"
+    "A progress line on stderr every 5 s of work (PGT_PROGRESS_SECONDS: the period, 0: none).\n"
     "Exit 0 on success, 2 on a bad flag, value, input file or grammar, or a grammar exceeding\n"
     "the expander's bounds.\n";
 
@@ -559,7 +561,14 @@ int pgt_cmd_ivy(int argc, char **argv) {
     uint32_t *tree_ids = NULL;
     int rc = PGT_EXIT_USAGE;
     pgt_error err = {0};
-    if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) return PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    pgt_progress_stage(prog.progress, "atlas", 0, "");
+    if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) {
+        pgt_cli_progress_stop(&prog);
+        return PGT_EXIT_USAGE;
+    }
+    pgt_progress_stage(prog.progress, "inputs", 0, "");
     if (pgt_ivy_scene_grammar(&s, verb, grammar_path, params, param_count)) goto done;
     if (no_secondary && pgt_grammar_set_param(&s.grammar, "secondaryBranches", 0.0f, &err)) {
         pgt_cli_fail(verb, "--no-secondary sets the param secondaryBranches to 0: %s", err.message);
@@ -652,6 +661,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
      * the process killed while it writes */
     o.terminals.max_bytes = pgt_cli_available_bytes();
     o.threads = threads;
+    o.progress = prog.progress;
     if (pgt_ivy_generate(&out, &in, &o, &err) != PGT_OK) {
         if (err.code == PGT_ERROR_LIMIT && !strncmp(err.message, "terminals:", 10))
             pgt_cli_fail(verb,
@@ -666,6 +676,13 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const pgt_terminals_output *m = &out.mesh;
     const pgt_vertex_mesh soup = {m->vertex_count, m->triangle_count, m->positions, m->normals,
                                   m->uvs,          m->triangles};
+    char stage_text[PGT_PROGRESS_STAGE_MAX + 1], size_text[32];
+    /* binary PLY: 8 floats a vertex, a count byte and 3 indices a triangle */
+    snprintf(
+        stage_text, sizeof stage_text, "writing %s (%s)", out_path,
+        pgt_cli_bytes_text(size_text, sizeof size_text,
+                           32u * (uint64_t)m->vertex_count + 13u * (uint64_t)m->triangle_count));
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     if (pgt_mesh_write_ply_soup(&soup, pgt_cli_stage_add(&stage, out_path), &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
@@ -697,6 +714,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
            out.ms_expand + out.ms_bezier + out.ms_terminals, ms_write);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     pgt_cli_stage_abort(&stage);
     pgt_ivy_destroy(&out);
     points_free(&seedp);

@@ -59,8 +59,21 @@ static pgt_result status(RTCDevice dev, monitor *m, const char *what, pgt_error 
 
 /* ---- scene ---- */
 
+/* Embree's build progress n in [0, 1] as triangles of the progress's stage (rtcSetSceneProgress
+ * MonitorFunction: may run on Embree's threads; returning true lets the build go on). */
+typedef struct build_progress {
+    pgt_progress *progress;
+    uint32_t triangles;
+} build_progress;
+
+static bool on_build_progress(void *vp, double n) {
+    const build_progress *b = vp;
+    if (n >= 0.0 && n <= 1.0) pgt_progress_raise(b->progress, (uint64_t)(n * b->triangles));
+    return true;
+}
+
 pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
-                                    uint32_t threads, pgt_error *err) {
+                                    uint32_t threads, pgt_progress *progress, pgt_error *err) {
     memset(e, 0, sizeof *e);
     /* an explicit mesh without triangles (a valid grammar that generates nothing) is a scene
      * without geometry: every ray misses, as every ray of ours does */
@@ -98,6 +111,11 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     pgt_result r = status(dev, m, "rtcNewScene", err);
     if (r != PGT_OK) return r;
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    build_progress bp = {progress, mesh->triangle_count};
+    if (progress) {
+        pgt_progress_stage(progress, "Embree's BVH", mesh->triangle_count, "triangles");
+        rtcSetSceneProgressMonitorFunction(scene, on_build_progress, &bp);
+    }
     if (mesh->triangle_count == 0) {
         rtcCommitScene(scene);
         if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
@@ -116,6 +134,7 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     rtcReleaseGeometry(g);
     if ((r = status(dev, m, "geometry", err)) != PGT_OK) return r;
     rtcCommitScene(scene);
+    rtcSetSceneProgressMonitorFunction(scene, NULL, NULL); /* bp is this call's */
     if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
     e->build_ms = pgt_cli_now_ms() - t0;
     e->embree_bytes = (size_t)atomic_load(&m->peak);

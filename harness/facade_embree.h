@@ -43,6 +43,7 @@
 #include <stdint.h>
 
 #include "pgt/facade.h"
+#include "pgt/progress.h"
 #include "pgt/result.h"
 
 /* Relative depth tolerance of agreeing hits. Both sides intersect the same float rectangles:
@@ -103,9 +104,10 @@ typedef struct pgt_facade_embree {
 
 /* Builds the scene on `threads` threads. The mesh must outlive e. PGT_ERROR_BACKEND with
  * Embree's first message. A mesh without triangles gives a scene without geometry (every ray
- * misses). */
+ * misses). progress (NULL: none) gets the stage "Embree's BVH" in triangles, from Embree's
+ * build progress (rtcSetSceneProgressMonitorFunction). */
 pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh *mesh,
-                                    uint32_t threads, pgt_error *err);
+                                    uint32_t threads, pgt_progress *progress, pgt_error *err);
 void pgt_facade_embree_destroy(pgt_facade_embree *e);
 
 /* Embree's hits of one frame: per pixel (row-major, y = 0 at the top). */

@@ -6,6 +6,10 @@ set -u
 pgt=$1 gen=$2 src=$3 work=$4
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 pass=0 fail=0
+# no progress lines (pgt ivy and pgt facade print one every 5 s of work): a run under the
+# sanitizers may pass the first period, and many tests count stderr's lines; the progress
+# tests below set the period themselves
+export PGT_PROGRESS_SECONDS=0
 ok() { pass=$((pass + 1)); echo "PASS $1"; }
 bad() { fail=$((fail + 1)); echo "FAIL $1: $2"; }
 # expect NAME CODE CMD...: exit code is CODE; stderr kept in err.txt, stdout in out.txt
@@ -236,6 +240,22 @@ one_line ivy_named_input_output_one_line "^pgt ivy: -o spot_link.ply is the inpu
 expect ivy_named_input_curves 2 "$pgt" ivy spot.obj --seeds 1 -o ivn.ply --curves spot_link.ply
 one_line ivy_named_input_curves_one_line "\-\-curves spot_link.ply is the input mesh spot.obj"
 rm -f spot_link.ply
+# progress lines (PGT_PROGRESS_SECONDS): with a period of 1 ms every stage prints, one line each
+# of the form "pgt ivy: STAGE[: DONE of TOTAL UNIT (P %)], S s" and nothing else on stderr; the
+# output is the same bytes as without them; a period that is not a number is refused
+PGT_PROGRESS_SECONDS=0.001 expect ivy_progress 0 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp1.ply
+if [ -s err.txt ] && ! grep -Ev "^pgt ivy: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null; then
+  ok ivy_progress_lines
+else bad ivy_progress_lines "$(head -c 400 err.txt)"; fi
+expect ivy_progress_off 0 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp0.ply
+[ ! -s err.txt ] && cmp -s ivp0.ply ivp1.ply && ok ivy_progress_same_bytes || bad ivy_progress_same_bytes "stderr $(head -c 200 err.txt); cmp $(cmp ivp0.ply ivp1.ply 2>&1)"
+PGT_PROGRESS_SECONDS=soon expect ivy_progress_bad 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp2.ply
+one_line ivy_progress_bad_one_line "^pgt ivy: the environment variable PGT_PROGRESS_SECONDS is 'soon': give seconds between progress lines, 0 to 86400 (0: none)$"
+[ ! -e ivp2.ply ] && ok ivy_progress_bad_writes_nothing || bad ivy_progress_bad_writes_nothing "ivp2.ply written"
+# an error stays stderr's last line: the lines stop before it is printed
+PGT_PROGRESS_SECONDS=0.001 expect ivy_progress_error 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o no_such_dir/ivp3.ply
+tail -n 1 err.txt | grep -q "^pgt ivy: cannot write no_such_dir/ivp3.ply" && ok ivy_progress_error_last || bad ivy_progress_error_last "$(tail -n 3 err.txt)"
+rm -f ivp0.ply ivp1.ply
 # bark and leaves beyond the memory available (PGT_MEMORY_AVAILABLE: 2 * 10^7 bytes) are refused
 # before they are allocated
 PGT_MEMORY_AVAILABLE=20000000 expect ivy_memory 2 "$pgt" ivy cs.exr --seeds 2 -o ivm.ply
@@ -724,6 +744,12 @@ c = " ".join("%.6f %.6f" % (15 * math.cos(-2 * math.pi * k / 40), 15 * math.sin(
 print("grammar a '"$src"'/grammars/facade.grammar\ngrammar b balc.grammar\nbuilding a 0 10 1 DDDDDD : " + c + "\nbuilding b 10 6 2 AAAAFF : -5 -5 -5 5 5 5 5 -5")' >roof.scene
 expect facade_roof_ties 0 "$pgt" facade --scene roof.scene -o rf.exr --width 64 --height 64 --threads 1 --camera 0,2,0,5.3,10,0,0,1,0,30 --embree-check
 grep -q "([1-9][0-9]* ties: .*, 0 neither).* -> PASS$" out.txt && ok facade_roof_ties_counted || bad facade_roof_ties_counted "$(grep check: out.txt)"
+# progress lines of pgt facade: every stage, Embree's BVH counted in triangles
+PGT_PROGRESS_SECONDS=0.001 expect facade_progress 0 "$pgt" facade --city 4 -o fp.exr --width 64 --height 48 --embree-check
+if grep -q "^pgt facade: Embree's BVH: [0-9]* of [0-9]* triangles ([0-9]* %), [0-9]* s$" err.txt &&
+  ! grep -Ev "^pgt facade: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null; then
+  ok facade_progress_lines
+else bad facade_progress_lines "$(head -c 400 err.txt)"; fi
 # a roof's diagonal: at 3840 x 2160 one ray of this camera passes through the edge between the
 # roof's two triangles, and Embree (not watertight without its robust flag) misses both and hits
 # a window behind; the building is pgt facade --city 1000's building 703 (the check failed on

@@ -167,6 +167,9 @@ def main(argv):
     env = dict(os.environ)
     env.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
     env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
+    # no progress lines (a slow run under the sanitizers may pass their first period): the
+    # check below counts stderr lines
+    env["PGT_PROGRESS_SECONDS"] = "0"
     rng = random.Random(seed)
     failed_dir = os.path.join(work, "failed")
     counts = {0: 0, 1: 0, 2: 0}

@@ -47,7 +47,7 @@ static int city_setup(void) {
         pgt_facade_prepare(&city.file.scene, &city.facades, &city.facade_count, &err) != PGT_OK ||
         pgt_facade_explicit(&city.file.scene, city.facades, city.facade_count, &city.mesh, &err) !=
             PGT_OK ||
-        pgt_facade_embree_create(&city.eb, &city.mesh, THREADS, &err) != PGT_OK) {
+        pgt_facade_embree_create(&city.eb, &city.mesh, THREADS, NULL, &err) != PGT_OK) {
         fprintf(stderr, "  city setup: %s\n", err.message);
         city.failed = 1;
     }
@@ -249,7 +249,7 @@ static int traced_view_open(traced_view *v, const pgt_facade_mesh *mesh, const f
     memset(v, 0, sizeof *v);
     const float up[3] = {0, 1, 0};
     pgt_error err = {0};
-    if (pgt_facade_embree_create(&v->eb, mesh, 1, &err) != PGT_OK ||
+    if (pgt_facade_embree_create(&v->eb, mesh, 1, NULL, &err) != PGT_OK ||
         pgt_facade_camera_init(&v->cam, eye, at, up, 30.0f, side, side, &err) != PGT_OK ||
         pgt_facade_frame_create(&v->fr, side, side, &err) != PGT_OK ||
         pgt_facade_embree_hits_create(&v->hits, side, side, &err) != PGT_OK ||

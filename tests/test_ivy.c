@@ -276,6 +276,42 @@ static void test_pipeline_determinism(void) {
     pgt_ivy_destroy(&bare);
 }
 
+/* A progress tracker (pgt/progress.h) observes: the same bytes with it as without, and at the
+ * end its last stage, terminals, has every point's segment done; three stages ran (expand,
+ * whose seeds all counted, bezier, terminals). */
+static void test_progress_observes(void) {
+    ivy_scene *s = get_scene();
+    REQUIRE(s);
+    pgt_ivy_options o;
+    memset(&o, 0, sizeof o);
+    o.threads = 2;
+    pgt_ivy_output plain, watched;
+    pgt_error err = {0};
+    REQUIRE(pgt_ivy_generate(&plain, &s->in, &o, &err) == PGT_OK);
+    o.progress = pgt_progress_create();
+    REQUIRE(o.progress);
+    pgt_progress_state st;
+    pgt_progress_read(o.progress, &st);
+    CHECK(st.stages == 0 && st.stage[0] == 0 && st.done == 0);
+    REQUIRE(pgt_ivy_generate(&watched, &s->in, &o, &err) == PGT_OK);
+    CHECK(same_mesh(&plain.mesh, &watched.mesh));
+    pgt_progress_read(o.progress, &st);
+    CHECK(st.stages == 3 && !strcmp(st.stage, "terminals") && !strcmp(st.unit, "segments"));
+    CHECK(st.total == watched.expand.point_count && st.done == st.total);
+    /* expand alone: its seeds */
+    pgt_expand_options eo;
+    memset(&eo, 0, sizeof eo);
+    eo.threads = 2, eo.progress = o.progress;
+    pgt_expand_output ex;
+    REQUIRE(pgt_expand(&ex, &s->in, &eo, &err) == PGT_OK);
+    pgt_progress_read(o.progress, &st);
+    CHECK(st.stages == 4 && !strcmp(st.stage, "expand") && st.total == s->in.seed_count &&
+          st.done == st.total);
+    pgt_expand_destroy(&ex);
+    pgt_progress_destroy(o.progress);
+    pgt_ivy_destroy(&plain), pgt_ivy_destroy(&watched);
+}
+
 /* A seed's ivy, leaves included, does not depend on the other seeds: seeds 1.. alone (with
  * seed_base + 1, so each keeps its id) give the tail of the vertices of seeds 0.. . */
 static void test_seed_independence(void) {
@@ -306,6 +342,7 @@ static const pgt_test_case cases[] = {
     {"paint_tiny_brush_endpoints", test_paint_tiny_brush_endpoints},
     {"mask_forbids", test_mask_forbids},
     {"pipeline_determinism", test_pipeline_determinism},
+    {"progress_observes", test_progress_observes},
 };
 
 int main(int argc, char **argv) {

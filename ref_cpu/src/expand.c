@@ -68,6 +68,7 @@ typedef struct xjob {
      * or stopped within EXPAND_CHECK_ITEMS items (a runaway grammar fails on every seed, each
      * after max_items items: 16 seeds took 6x as long as one to give the same error). */
     atomic_uint *first_failed;
+    pgt_progress *progress;
 } xjob;
 
 /* Items a seed runs between looks at xjob.first_failed (a relaxed atomic load). */
@@ -421,7 +422,9 @@ static void run_range(void *ctx, uint32_t begin, uint32_t end, uint32_t worker) 
     (void)worker;
     for (uint32_t i = begin; i < end; ++i) {
         if (atomic_load_explicit(job->first_failed, memory_order_relaxed) < i) return;
-        if (run_seed(job, i, &job->seeds[i]) == PGT_OK) continue;
+        const pgt_result r = run_seed(job, i, &job->seeds[i]);
+        pgt_progress_add(job->progress, 1);
+        if (r == PGT_OK) continue;
         unsigned low = atomic_load_explicit(job->first_failed, memory_order_relaxed);
         while (i < low &&
                !atomic_compare_exchange_weak_explicit(job->first_failed, &low, i,
@@ -567,6 +570,8 @@ pgt_result pgt_expand(pgt_expand_output *out, const pgt_expand_input *in,
     }
     atomic_uint first_failed = UINT32_MAX;
     job.first_failed = &first_failed;
+    job.progress = o->progress;
+    pgt_progress_stage(o->progress, "expand", in->seed_count, "seeds");
     job.seeds = calloc(in->seed_count ? in->seed_count : 1u, sizeof(xseed));
     if (!job.seeds) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "pgt_expand: out of memory");
     pgt_parallel_for_items(in->seed_count, EXPAND_SEED_WEIGHT, o->threads ? o->threads : 1u,

@@ -302,6 +302,7 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     const uint32_t threads = o->threads ? o->threads : 1u;
     pgt_expand_options eo = o->expand;
     eo.threads = threads;
+    eo.progress = o->progress;
     double t0 = pgt_now_ms();
     pgt_result r = pgt_expand(&out->expand, in, &eo, err);
     if (r != PGT_OK) {
@@ -310,6 +311,7 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     }
     double t1 = pgt_now_ms();
     out->ms_expand = t1 - t0;
+    pgt_progress_stage(o->progress, "bezier", 0, "");
 
     const pgt_expand_output *ex = &out->expand;
     const uint32_t n = ex->point_count;
@@ -394,6 +396,7 @@ pgt_result pgt_ivy_generate(pgt_ivy_output *out, const pgt_expand_input *in,
     ti.terminal_count = kept;
     pgt_terminals_options to = o->terminals;
     to.threads = threads;
+    to.progress = o->progress;
     to.reuse = o->reuse;
     out->mesh = mesh; /* zeroed unless reused */
     memset(&mesh, 0, sizeof mesh);

@@ -17,6 +17,7 @@
 
 typedef struct term_ctx {
     const pgt_terminals_input *in;
+    pgt_progress *progress; /* the options' (NULL: none) */
     uint32_t sides, rings, stream;
     int centred;
     int with_segments;        /* fill out->triangle_segment */
@@ -331,6 +332,7 @@ static void fill_range(void *vctx, uint32_t begin, uint32_t end, uint32_t worker
         if (c->bark[i] != PGT_NONE) fill_bark(c, i, &vnext, &tnext, cum);
         fill_leaves(c, i, &vnext, &tnext);
     }
+    pgt_progress_add(c->progress, end - begin);
 }
 
 /* ---- driver --------------------------------------------------------------------------- */
@@ -580,6 +582,8 @@ pgt_result pgt_terminals_build(pgt_terminals_output *out, const pgt_terminals_in
     const uint32_t quads = c.sides * c.rings; /* >= 1: both are checked above */
     const uint32_t weight = n && quads > UINT32_MAX / n ? UINT32_MAX / n : quads;
     pgt_parallel_for(n, threads, frame_range, &c); /* the shared rings' tangents, once each */
+    c.progress = o->progress;
+    pgt_progress_stage(o->progress, "terminals", n, "segments");
     pgt_parallel_for_items(n, weight, threads, fill_range, &c);
     ctx_free(&c);
     return PGT_OK;

@@ -83,6 +83,7 @@
 
 #include "grammar.h"
 #include "march.h"
+#include "progress.h"
 #include "result.h"
 
 #ifdef __cplusplus
@@ -156,6 +157,8 @@ typedef struct pgt_expand_options {
     int no_candidates;   /* 1: no candidate directions (a failing first try stops) */
     uint32_t stream;     /* RNG stream of the grammar's rand */
     uint32_t threads;    /* 0: 1 */
+    /* NULL, or the stage "expand" with its seeds as the work (one added as each finishes) */
+    pgt_progress *progress;
 } pgt_expand_options;
 
 typedef struct pgt_expand_output {

@@ -71,6 +71,9 @@ typedef struct pgt_ivy_options {
      * generator again and again; the rest of *out is freed and rebuilt. */
     int reuse;
     uint32_t threads; /* every stage; 0: 1 */
+    /* NULL, or the stages as they run: expand, bezier and terminals (it replaces the stages'
+     * own) */
+    pgt_progress *progress;
 } pgt_ivy_options;
 
 /* What the pipeline made, stage by stage. */

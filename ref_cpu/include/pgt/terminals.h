@@ -64,6 +64,7 @@
 
 #include <stdint.h>
 
+#include "progress.h"
 #include "result.h"
 
 #ifdef __cplusplus
@@ -132,6 +133,8 @@ typedef struct pgt_terminals_options {
      * naming the counts (a caller passes the memory available: an allocation the kernel
      * overcommits would get the process killed while it writes). */
     uint64_t max_bytes;
+    /* NULL, or the stage "terminals" with the segments as the work (added as they are filled) */
+    pgt_progress *progress;
 } pgt_terminals_options;
 
 typedef struct pgt_terminals_output {
