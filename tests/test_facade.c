@@ -691,7 +691,8 @@ static void test_lod_levels(void) {
 }
 
 /* Roofs: an L-shaped (concave) footprint's roof triangles cover exactly its area, lie at base +
- * height, and a ray down through the notch of the L misses the roof. */
+ * height, a ray down through the notch of the L misses the roof, and from an eye standing on
+ * the roof every ray meeting it inside the L finds it. */
 static void test_roof_concave(void) {
     pgt_grammar g;
     float corners[12], params[8];
@@ -742,6 +743,31 @@ static void test_roof_concave(void) {
     REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &fr, NULL, &err) == PGT_OK);
     CHECK(fr.facade[0] == fc && fr.terminal[0] == (float)PGT_FACADE_ROOF);
     CHECK(fabsf(fr.depth[0] - 19.0f) < 1e-3f);
+    pgt_facade_frame_destroy(&fr);
+    /* standing on the roof, its corners at z = 0 behind the eye (the roof's coverage is the
+     * footprint clipped against the near plane): every pixel whose ray meets the roof's plane
+     * inside the L shows the roof at that depth, every other pixel something else */
+    const uint32_t side = 48;
+    const float eye3[3] = {2.0f, 12.7f, 2.0f}, at3[3] = {3.0f, 11.0f, 6.0f}, up3[3] = {0, 1, 0};
+    REQUIRE(pgt_facade_camera_init(&cam, eye3, at3, up3, 100, side, side, &err) == PGT_OK);
+    REQUIRE(pgt_facade_frame_create(&fr, side, side, &err) == PGT_OK);
+    REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &fr, NULL, &err) == PGT_OK);
+    uint32_t on_roof = 0, wrong = 0;
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = 0; x < side; ++x) {
+            float o[3], d[3];
+            pgt_facade_camera_ray(&cam, x, y, o, d);
+            const double t = d[1] < 0.0f ? (11.0 - o[1]) / d[1] : -1.0;
+            const double px = o[0] + t * d[0], pz = o[2] + t * d[2];
+            const int in_l = t > 0.0 && px > 0.0 && px < 10.0 && pz > 0.0 && pz < 10.0 &&
+                             !(px > 4.0 && pz < 4.0);
+            const size_t i = (size_t)y * side + x;
+            const int roof = fr.facade[i] == fc && fr.terminal[i] == (float)PGT_FACADE_ROOF;
+            on_roof += in_l;
+            wrong += in_l ? !roof || fabs(fr.depth[i] - t) > 1e-4 * t : roof;
+        }
+    CHECK_MSG(wrong == 0 && on_roof > side * side / 4u, "%u of %u roof pixels wrong", wrong,
+              on_roof);
     pgt_facade_frame_destroy(&fr);
     pgt_facade_mesh_destroy(&m);
     free(fa);

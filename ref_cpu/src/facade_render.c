@@ -216,6 +216,25 @@ static int pixel_box(cover *cv, const pgt_facade_camera *cam, const float ext[4]
     return 1;
 }
 
+/* Grows ext by a polygon's edge A -> B (camera space) clipped against the near plane
+ * (Sutherland-Hodgman, one plane): A when it lies in front, and the edge's crossing of the
+ * plane. Returns how many points of the clipped polygon that adds (a polygon with fewer than 3
+ * has no pixel). */
+static uint32_t extend_clipped(const pgt_facade_camera *cam, const float A[3], const float B[3],
+                               float ext[4]) {
+    uint32_t n = 0;
+    const int ia = A[2] >= COVER_NEAR, ib = B[2] >= COVER_NEAR;
+    if (ia) extend_projected(cam, A, ext), n++;
+    if (ia != ib) {
+        const float s = (COVER_NEAR - A[2]) / (B[2] - A[2]);
+        float x[3];
+        for (int j = 0; j < 3; ++j) x[j] = A[j] + (B[j] - A[j]) * s;
+        x[2] = COVER_NEAR;
+        extend_projected(cam, x, ext), n++;
+    }
+    return n;
+}
+
 static void cover_facade(const render_ctx *c, uint32_t i) {
     cover *cv = &c->cov[i];
     const pgt_facade_camera *cam = c->cam;
@@ -227,23 +246,12 @@ static void cover_facade(const render_ctx *c, uint32_t i) {
         cv->full = 1, cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = W - 1u, cv->y1 = H - 1u;
         return;
     }
-    /* clip against the near plane in camera space (Sutherland-Hodgman, one plane) */
-    float in[4][3], out[8][3];
+    float in[4][3];
     for (int k = 0; k < 4; ++k) to_camera(cam, q[k], in[k]);
-    uint32_t n = 0;
-    for (int k = 0; k < 4; ++k) {
-        const float *A = in[k], *B = in[(k + 1) % 4];
-        const int ia = A[2] >= COVER_NEAR, ib = B[2] >= COVER_NEAR;
-        if (ia) memcpy(out[n++], A, sizeof out[0]);
-        if (ia != ib) {
-            const float s = (COVER_NEAR - A[2]) / (B[2] - A[2]);
-            for (int j = 0; j < 3; ++j) out[n][j] = A[j] + (B[j] - A[j]) * s;
-            out[n++][2] = COVER_NEAR;
-        }
-    }
-    if (n < 3) return;
     float ext[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-    for (uint32_t k = 0; k < n; ++k) extend_projected(cam, out[k], ext);
+    uint32_t n = 0;
+    for (int k = 0; k < 4; ++k) n += extend_clipped(cam, in[k], in[(k + 1) % 4], ext);
+    if (n < 3) return;
     if (!pixel_box(cv, cam, ext)) return;
     /* the cone's sides, oriented so that the polygon's centre is inside */
     float d[4][3], ctr[3] = {0.0f, 0.0f, 0.0f};
@@ -263,8 +271,11 @@ static void cover_facade(const render_ctx *c, uint32_t i) {
     cv->n = 4;
 }
 
-/* The roof of building b: the pixel box of its corners (the whole screen when one lies behind
- * the eye's near plane), its distance (to its footprint's box at roof height). */
+/* The roof of building b: the pixel box of its footprint at roof height, clipped against the
+ * near plane (a roof wholly behind it covers nothing), and its distance (to the footprint's box
+ * at roof height). Until 2026-11-25 a roof with a corner behind the near plane covered the whole
+ * screen: at street level in a city, half of the roofs lie partly behind the eye, and their
+ * tests took 30 % of a 1000-building frame (perf, one thread). */
 static void cover_roof(const render_ctx *c, uint32_t b) {
     cover *cv = &c->cov[c->fcount + b];
     const pgt_facade_camera *cam = c->cam;
@@ -273,25 +284,25 @@ static void cover_roof(const render_ctx *c, uint32_t b) {
     memset(cv, 0, sizeof *cv);
     float lo[3] = {INFINITY, y, INFINITY}, hi[3] = {-INFINITY, y, -INFINITY};
     float ext[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-    int behind = 0;
-    for (uint32_t k = 0; k < B->corner_count; ++k) {
+    const uint32_t m = B->corner_count;
+    float first[3], cur[3];
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < m; ++k) {
         const float P[3] = {cr[2 * k], y, cr[2 * k + 1]};
         lo[0] = facade_min(lo[0], P[0]), hi[0] = facade_max(hi[0], P[0]);
         lo[2] = facade_min(lo[2], P[2]), hi[2] = facade_max(hi[2], P[2]);
         float q[3];
         to_camera(cam, P, q);
-        if (q[2] < COVER_NEAR)
-            behind = 1;
+        if (k == 0)
+            memcpy(first, q, sizeof first);
         else
-            extend_projected(cam, q, ext);
+            n += extend_clipped(cam, cur, q, ext);
+        memcpy(cur, q, sizeof cur);
     }
+    if (m) n += extend_clipped(cam, cur, first, ext); /* the closing edge */
     cv->dist = box_distance(cam->eye, lo, hi);
     cv->full = 1; /* the roof test itself is exact: no cone */
-    if (behind) {
-        cv->n = 1, cv->x0 = 0, cv->y0 = 0, cv->x1 = cam->width - 1u, cv->y1 = cam->height - 1u;
-        return;
-    }
-    if (pixel_box(cv, cam, ext)) cv->n = 1;
+    if (n >= 3 && pixel_box(cv, cam, ext)) cv->n = 1;
 }
 
 static void cover_range(void *vc, uint32_t b, uint32_t e, uint32_t worker) {
