@@ -68,11 +68,13 @@ int pgt_cli_progress_start(pgt_cli_progress *p, const char *verb) {
         char *end = NULL;
         errno = 0;
         secs = strtod(env, &end);
-        if (errno || *end || !(secs >= 0.0 && secs <= PGT_CLI_PROGRESS_MAX_SECONDS))
+        if (errno || *end ||
+            !(secs == 0.0 ||
+              (secs >= PGT_CLI_PROGRESS_MIN_SECONDS && secs <= PGT_CLI_PROGRESS_MAX_SECONDS)))
             return pgt_cli_fail(verb,
                                 "the environment variable PGT_PROGRESS_SECONDS is '%s': give "
-                                "seconds between progress lines, 0 to %.0f (0: none)",
-                                env, PGT_CLI_PROGRESS_MAX_SECONDS);
+                                "seconds between progress lines, %g to %.0f (0: none)",
+                                env, PGT_CLI_PROGRESS_MIN_SECONDS, PGT_CLI_PROGRESS_MAX_SECONDS);
     }
     if (secs == 0.0) return 0;
     p->period_ms = secs * 1e3;

@@ -18,8 +18,10 @@
 
 /* Seconds between progress lines (and before the first). */
 #define PGT_CLI_PROGRESS_DEFAULT_SECONDS 5.0
-/* Most seconds PGT_PROGRESS_SECONDS may ask for (a day). */
+/* Most seconds PGT_PROGRESS_SECONDS may ask for (a day), and fewest but 0 (a millisecond: a
+ * shorter period would keep the thread busy catching up, not printing). */
 #define PGT_CLI_PROGRESS_MAX_SECONDS 86400.0
+#define PGT_CLI_PROGRESS_MIN_SECONDS 0.001
 
 typedef struct pgt_cli_progress {
     pgt_progress *progress; /* hand to the computation; NULL when the lines are off */
@@ -33,7 +35,8 @@ typedef struct pgt_cli_progress {
 
 /* Starts the lines for `verb` (a string that outlives them). Without a thread (lines off, or
  * the thread could not start) p->progress is NULL and the work runs as it would without. A
- * PGT_PROGRESS_SECONDS that is not a number in [0, PGT_CLI_PROGRESS_MAX_SECONDS] is an error
+ * PGT_PROGRESS_SECONDS that is neither 0 nor a number in [PGT_CLI_PROGRESS_MIN_SECONDS,
+ * PGT_CLI_PROGRESS_MAX_SECONDS] is an error
  * (one line naming it, returns PGT_EXIT_USAGE; 0 otherwise). */
 int pgt_cli_progress_start(pgt_cli_progress *p, const char *verb);
 

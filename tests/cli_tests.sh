@@ -250,7 +250,8 @@ else bad ivy_progress_lines "$(head -c 400 err.txt)"; fi
 expect ivy_progress_off 0 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp0.ply
 [ ! -s err.txt ] && cmp -s ivp0.ply ivp1.ply && ok ivy_progress_same_bytes || bad ivy_progress_same_bytes "stderr $(head -c 200 err.txt); cmp $(cmp ivp0.ply ivp1.ply 2>&1)"
 PGT_PROGRESS_SECONDS=soon expect ivy_progress_bad 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp2.ply
-one_line ivy_progress_bad_one_line "^pgt ivy: the environment variable PGT_PROGRESS_SECONDS is 'soon': give seconds between progress lines, 0 to 86400 (0: none)$"
+one_line ivy_progress_bad_one_line "^pgt ivy: the environment variable PGT_PROGRESS_SECONDS is 'soon': give seconds between progress lines, 0.001 to 86400 (0: none)$"
+PGT_PROGRESS_SECONDS=1e-9 expect ivy_progress_too_short 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp2.ply
 [ ! -e ivp2.ply ] && ok ivy_progress_bad_writes_nothing || bad ivy_progress_bad_writes_nothing "ivp2.ply written"
 # an error stays stderr's last line: the lines stop before it is printed
 PGT_PROGRESS_SECONDS=0.001 expect ivy_progress_error 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o no_such_dir/ivp3.ply
