@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "png_io.h"
+#include "progress_line.h"
 #include "render.h"
 
 static const char *render_usage =
@@ -15,7 +16,8 @@ static const char *render_usage =
     "Ray traces triangle meshes with Embree into an 8-bit sRGB PNG for figures: geometric\n"
     "normals seen from either side, Lambert shading under a key light from above-left of the\n"
     "camera plus ambient 0.25, one shadow ray per hit, N x N regular subpixel samples (the same\n"
-    "bytes for any thread count).\n"
+    "bytes for any thread count). A progress line on stderr every 5 s of work\n"
+    "(PGT_PROGRESS_SECONDS: the period, 0: none).\n"
     "\n"
     "  MESH[@R,G,B]   .obj .off .ply (extra PLY vertex properties are skipped), a mesh of\n"
     "                 ../shared/datasets/meshes by name, or a generated dataset (pgt_datasets\n"
@@ -116,6 +118,8 @@ int pgt_cmd_render(int argc, char **argv) {
     uint8_t *pixels = NULL;
     uint32_t count = 0;
     int rc = PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    memset(&prog, 0, sizeof prog);
     pgt_error err = {0};
     if (!args || !meshes || !rmeshes) {
         pgt_cli_fail(verb, "out of memory");
@@ -198,6 +202,8 @@ int pgt_cmd_render(int argc, char **argv) {
             goto done;
         }
     if (pgt_cli_check_outputs(verb, &out_path, 1)) goto done;
+    if (pgt_cli_progress_start(&prog, verb)) goto done;
+    pgt_progress_stage(prog.progress, "reading", 0, "");
     if (!has_png_extension(out_path)) {
         pgt_cli_fail(verb, "-o %s: the picture is a .png file", out_path);
         goto done;
@@ -279,6 +285,8 @@ int pgt_cmd_render(int argc, char **argv) {
     opt.no_shadows = no_shadows;
     opt.background_set = background_set;
     memcpy(opt.background, background, sizeof opt.background);
+    opt.progress = prog.progress;
+    pgt_progress_stage(prog.progress, "BVH", 0, "");
     pgt_render_stats st;
     pgt_error_clear(&err);
     if (pgt_render(pixels, width, height, rmeshes, count, &cam, &opt, &st, &err) != PGT_OK) {
@@ -286,6 +294,7 @@ int pgt_cmd_render(int argc, char **argv) {
         goto done;
     }
     const double t2 = pgt_cli_now_ms();
+    pgt_progress_stage(prog.progress, "writing the PNG", 0, "");
     if (pgt_png_write(out_path, width, height, 3, pixels, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;
@@ -306,6 +315,7 @@ int pgt_cmd_render(int argc, char **argv) {
             out_path);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     for (int i = 0; args && i <= argc; ++i) free(args[i].path);
     for (int i = 0; meshes && i <= argc; ++i) pgt_mesh_destroy(&meshes[i]);
     free(args);

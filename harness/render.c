@@ -222,6 +222,7 @@ static pgt_result embree_status(RTCDevice dev, embree_errors *e, const char *wha
 
 typedef struct trace_job {
     RTCScene scene;
+    pgt_progress *progress; /* rows done (NULL: none) */
     uint8_t *out;
     uint32_t w, h, n; /* n x n samples per pixel */
     int shadows;
@@ -322,6 +323,7 @@ static void trace_rows(void *ctx_, uint32_t begin, uint32_t end, uint32_t worker
             for (int k = 0; k < 3; ++k)
                 row[3u * x + k] = pgt_png_linear_to_srgb8(sum[k] * inv_count);
         }
+        pgt_progress_add(job->progress, 1);
     }
     job->rays[worker] += rays;
 }
@@ -472,6 +474,8 @@ pgt_result pgt_render(uint8_t *rgb_out, uint32_t w, uint32_t h, const pgt_render
     job->albedo = (const float(*)[3])albedo;
     job->meshes = meshes;
     const uint32_t workers = threads < PGT_MAX_THREADS ? threads : PGT_MAX_THREADS;
+    job->progress = o->progress;
+    pgt_progress_stage(o->progress, "rays", h, "rows");
     pgt_parallel_for_items(h, w, workers, trace_rows, job);
     if ((r = embree_status(dev, &errors, "tracing", err)) != PGT_OK) goto done;
     if (out_stats) {

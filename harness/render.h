@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "pgt/mesh.h"
+#include "pgt/progress.h"
 #include "pgt/result.h"
 
 /* Shading constants. The key light comes from above-left of the camera and a little from behind
@@ -88,6 +89,7 @@ typedef struct pgt_render_options {
     int no_shadows;      /* nonzero: no shadow rays (the key light reaches every surface) */
     int background_set;  /* zero: white background */
     float background[3]; /* the background as it appears in the PNG (sRGB-encoded, in [0, 1]) */
+    pgt_progress *progress; /* NULL, or the stages "BVH" and "rays" (in image rows) */
 } pgt_render_options;
 
 /* What a render took (milliseconds of wall time) and what it drew. */

@@ -437,6 +437,14 @@ cam=$(sed -n 's/^camera: --camera //p' out.txt)
 # the printed camera reproduces the picture byte for byte, with any thread count
 expect render_camera_reproduces 0 "$pgt" render "$ico" -o r2.png --width 64 --height 48 --spp 1 --camera "$cam" --threads 1
 cmp -s r.png r2.png && ok render_same_bytes || bad render_same_bytes "r.png and r2.png differ"
+# progress lines: the rays counted in rows, and the timing line still last; the same picture
+PGT_PROGRESS_SECONDS=0.001 expect render_progress 0 "$pgt" render "$ico" -o r3.png --width 256 --height 192 --spp 4 --camera "$cam"
+if grep -q "^pgt render: rays: [0-9]* of 192 rows ([0-9]* %), [0-9]* s$" err.txt && tail -n 1 err.txt | grep -q "^render: 256x192" &&
+  ! grep -Ev "^pgt render: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$|^render: " err.txt >/dev/null; then
+  ok render_progress_lines
+else bad render_progress_lines "$(head -c 400 err.txt)"; fi
+expect render_progress_off 0 "$pgt" render "$ico" -o r4.png --width 256 --height 192 --spp 4 --camera "$cam"
+cmp -s r3.png r4.png && ok render_progress_same_bytes || bad render_progress_same_bytes "r3.png and r4.png differ"
 ls ./*.tmp.* >/dev/null 2>&1 && bad render_no_temporary_left "$(ls ./*.tmp.*)" || ok render_no_temporary_left
 # a PLY with extra vertex and face properties (skipped by the reader)
 expect render_ply_extra_properties 0 "$pgt" render "$src/tests/data/valid/groups_extra.ply" -o rx.png --width 32 --height 32
