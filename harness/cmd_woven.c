@@ -7,6 +7,7 @@
 #include "pgt/mesh_io.h"
 #include "pgt/parallel.h"
 #include "pgt/woven.h"
+#include "progress_line.h"
 
 /* Most frames of one run: 10^6 frames of the 5k model take minutes; the bound keeps a typo
  * (an extra digit or two) from running for hours. */
@@ -44,6 +45,7 @@ static const char *woven_usage =
     "                  outward from the curve), triangles; temporary file, then renamed\n"
     "  --seed S        seed of the particles, their directions and the key subsets (default 1)\n"
     "\n"
+    "A progress line on stderr every 5 s of work (PGT_PROGRESS_SECONDS: the period, 0: none).\n"
     "Exit 0 on success, 2 on a bad flag or value (one line naming the flag).\n";
 
 /* A woven.c message without its "woven: " prefix (the verb already names it). */
@@ -122,6 +124,12 @@ int pgt_cmd_woven(int argc, char **argv) {
     memset(&m, 0, sizeof m);
     double *ms = malloc((size_t)frames * sizeof(double));
     int rc = PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) {
+        free(ms);
+        return PGT_EXIT_USAGE;
+    }
+    pgt_progress_stage(prog.progress, "setting up", 0, "");
     if (pgt_woven_create(&w, &p, seed, &err) != PGT_OK ||
         pgt_woven_mesh_create(&m, &p, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", bare(err.message));
@@ -131,10 +139,12 @@ int pgt_cmd_woven(int argc, char **argv) {
         pgt_cli_fail(verb, "out of memory");
         goto done;
     }
+    pgt_progress_stage(prog.progress, "frames", frames, "frames");
     for (uint32_t f = 0; f < frames; ++f) {
         const double t0 = pgt_cli_now_ms();
         pgt_woven_frame(&m, &w, threads);
         ms[f] = pgt_cli_now_ms() - t0;
+        pgt_progress_add(prog.progress, 1);
     }
     printf("woven %s: P %u, K %u, C %u, U %u, V %u; %u vertices, %u triangles\n",
            res ? res : "(--params)", p.particles, p.keys, p.curves, p.ring, p.samples,
@@ -142,6 +152,7 @@ int pgt_cmd_woven(int argc, char **argv) {
     printf("  %u frames, %u threads: median %.3f ms per frame, min %.3f ms\n", frames, threads,
            pgt_cli_median(ms, frames), pgt_cli_min(ms, frames));
     if (out_path) {
+        pgt_progress_stage(prog.progress, "writing the last frame", 0, "");
         const pgt_vertex_mesh soup = {
             m.counts.vertices, m.counts.triangles, m.positions, m.normals, NULL, m.triangles};
         if (pgt_mesh_write_ply_soup(&soup, out_path, &err) != PGT_OK) {
@@ -152,6 +163,7 @@ int pgt_cmd_woven(int argc, char **argv) {
     }
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     free(ms);
     pgt_woven_mesh_destroy(&m);
     pgt_woven_destroy(&w);

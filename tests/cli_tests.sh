@@ -518,6 +518,11 @@ expect woven_help 0 "$pgt" woven --help
 for flag in --res --params --frames --threads -o --seed 5k 22k 50k 89k 179k; do
   grep -q -- "$flag" out.txt && ok "woven_help_documents_$flag" || bad "woven_help_documents_$flag" "missing"
 done
+# progress lines: the frames counted
+PGT_PROGRESS_SECONDS=0.001 expect woven_progress 0 "$pgt" woven --res 5k --frames 400 --threads 1
+grep -q "^pgt woven: frames: [0-9]* of 400 frames ([0-9]* %), [0-9]* s$" err.txt &&
+  ! grep -Ev "^pgt woven: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null &&
+  ok woven_progress_lines || bad woven_progress_lines "$(head -c 400 err.txt)"
 expect woven_no_model 2 "$pgt" woven
 one_line woven_no_model_one_line "\-\-res NAME or \-\-params"
 expect woven_res_and_params 2 "$pgt" woven --res 5k --params 10,4,2,8,9
