@@ -106,22 +106,23 @@ int pgt_cli_progress_start(pgt_cli_progress *p, const char *verb) {
     return 0;
 }
 
-void pgt_cli_progress_silence(void) {
-    pgt_cli_progress *p = active_progress;
-    if (!p || !p->running) return;
-    pthread_mutex_lock(&p->lock); /* the thread prints holding it */
+/* Tells the thread to stop; once this returns it prints nothing more (it prints holding the
+ * lock, and looks at stop before printing). */
+static void request_stop(pgt_cli_progress *p) {
+    pthread_mutex_lock(&p->lock);
     p->stop = 1;
     pthread_cond_signal(&p->wake);
     pthread_mutex_unlock(&p->lock);
 }
 
+void pgt_cli_progress_silence(void) {
+    if (active_progress && active_progress->running) request_stop(active_progress);
+}
+
 void pgt_cli_progress_stop(pgt_cli_progress *p) {
     if (active_progress == p) active_progress = NULL;
     if (p->running) {
-        pthread_mutex_lock(&p->lock);
-        p->stop = 1;
-        pthread_cond_signal(&p->wake);
-        pthread_mutex_unlock(&p->lock);
+        request_stop(p);
         pthread_join(p->thread, NULL);
         pthread_mutex_destroy(&p->lock);
         pthread_cond_destroy(&p->wake);

@@ -3,6 +3,7 @@
 
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,19 +33,11 @@ void pgt_progress_destroy(pgt_progress *p) {
     free(p);
 }
 
-/* Copies s into dst[size], cut to fit. */
-static void copy_cut(char *dst, size_t size, const char *s) {
-    size_t n = s ? strlen(s) : 0;
-    if (n >= size) n = size - 1u;
-    if (n) memcpy(dst, s, n);
-    dst[n] = 0;
-}
-
 void pgt_progress_stage(pgt_progress *p, const char *stage, uint64_t total, const char *unit) {
     if (!p) return;
     pthread_mutex_lock(&p->lock);
-    copy_cut(p->stage, sizeof p->stage, stage);
-    copy_cut(p->unit, sizeof p->unit, unit);
+    snprintf(p->stage, sizeof p->stage, "%s", stage ? stage : ""); /* cut to fit */
+    snprintf(p->unit, sizeof p->unit, "%s", unit ? unit : "");
     p->total = total;
     p->stages++;
     atomic_store_explicit(&p->done, 0, memory_order_relaxed);
