@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "png_io.h"
+#include "progress_line.h"
 #include "pgt/atlas_build.h"
 #include "pgt/mesh_io.h"
 #include "pgt/rng.h"
@@ -52,7 +53,8 @@ static const char *atlas_usage =
     "efficiency (inner texels / N^2), the texels filled in the cracks of seams inside a chart\n"
     "(a slit cut into a chart: where its two sides lie within 3 texels its texels become inner\n"
     "texels on the seam in 3D) and ms per stage. Exit 0 on success, 2 on a bad flag or input\n"
-    "(a mesh without UVs, a resolution too small for the charts, ...).\n";
+    "(a mesh without UVs, a resolution too small for the charts, ...). A progress line on\n"
+    "stderr every 5 s of work (PGT_PROGRESS_SECONDS: the period, 0: none).\n";
 
 /* A bright colour per chart id (counter-based hash, so the picture is stable). */
 static void chart_colour(uint32_t chart, float rgb[3]) {
@@ -167,6 +169,11 @@ int pgt_cmd_atlas(int argc, char **argv) {
     pgt_mesh mesh = {0};
     pgt_image atlas = {0};
     int rc = PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    char stage_text[PGT_PROGRESS_STAGE_MAX + 1];
+    snprintf(stage_text, sizeof stage_text, "reading %s", in_path);
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     const double t0 = pgt_cli_now_ms();
     if (pgt_cli_load_named(in_path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
@@ -188,6 +195,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     opt.threads = threads;
     opt.force_repack = repack;
     opt.what = in_path;
+    opt.progress = prog.progress; /* the build names its steps */
     pgt_atlas_stats st;
     if (pgt_atlas_build(&atlas, &mesh, &opt, &st, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
@@ -197,6 +205,8 @@ int pgt_cmd_atlas(int argc, char **argv) {
     {
         /* both files under staging names first, renamed only when both are written: a failed
          * -o or --png leaves no new file behind (nor replaces an old one) */
+        snprintf(stage_text, sizeof stage_text, "writing %s", out_path);
+        pgt_progress_stage(prog.progress, stage_text, 0, "");
         pgt_cli_stage stage;
         stage.count = stage.dir_count = 0;
         const char *exr_tmp = pgt_cli_stage_add(&stage, out_path);
@@ -255,6 +265,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     }
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     pgt_image_destroy(&atlas);
     pgt_mesh_destroy(&mesh);
     return rc;

@@ -16,9 +16,13 @@
 #include "pgt/image.h"
 #include "pgt/march.h"
 #include "png_io.h"
+#include "progress_line.h"
 
 /* Most steps of one pgt march: a CSV row is ~80 bytes, so 10^7 steps is ~1 GB of text. */
 #define MARCH_CLI_MAX_STEPS 10000000u
+/* The progress line's count moves every this many steps (a power of two: a mask test per step,
+ * one atomic store every ~50 ms of rows). */
+#define MARCH_PROGRESS_STEPS 65536u
 
 /* Inner texels written by --dump for the 3D point cloud of a figure (about; every k-th texel
  * of every k-th row): enough to show the surface, small enough for matplotlib. */
@@ -76,8 +80,9 @@ static const char *march_usage =
     "                   PREFIX.texels.csv (u,v,chart,x,y,z,nx,ny,nz of about 40000 inner\n"
     "                   texels, on a regular grid of texels)\n"
     "\n"
-    "Prints one summary line. Exit 0 on success (a march that stops early included), 2 on a\n"
-    "bad flag, value or input.\n";
+    "Prints one summary line, and a progress line on stderr every 5 s of work\n"
+    "(PGT_PROGRESS_SECONDS: the period, 0: none). Exit 0 on success (a march that stops early\n"
+    "included), 2 on a bad flag, value or input.\n";
 
 /* A pastel colour per chart (golden-ratio hues). */
 static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
@@ -262,12 +267,15 @@ int pgt_cmd_march(int argc, char **argv) {
     }
 
     const float ux = from[0], uy = from[1], dx = dir[0], dy = dir[1];
-    const double t0 = pgt_cli_now_ms();
     pgt_error err = {0};
     pgt_image img = {0};
     pgt_march_atlas atlas = {0};
     float *mask = NULL, *density = NULL;
     int rc = PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    pgt_progress_stage(prog.progress, "reading", 0, "");
+    const double t0 = pgt_cli_now_ms();
     /* the march is one walker; the atlas decodes on every CPU */
     if (pgt_image_read_exr_threads(&img, in_path, pgt_cli_cpu_count(), &err) != PGT_OK ||
         pgt_march_atlas_create(&atlas, &img, in_path, &err) != PGT_OK) {
@@ -316,6 +324,7 @@ int pgt_cmd_march(int argc, char **argv) {
     pgt_march_stop why = PGT_MARCH_STOP_NONE;
     float p[3];
     pgt_march_position(&atlas, s.x, s.y, p);
+    pgt_progress_stage(prog.progress, "marching and writing", steps, "steps");
     fprintf(f, "step,u,v,chart,x,y,z,event\n");
     if (with_start)
         fprintf(f, "0,%.9g,%.9g,%u,%.9g,%.9g,%.9g,start\n", (double)s.x, (double)s.y, s.chart,
@@ -332,6 +341,7 @@ int pgt_cmd_march(int argc, char **argv) {
             break;
         }
         done_steps = k;
+        if (!(k & (MARCH_PROGRESS_STEPS - 1u))) pgt_progress_raise(prog.progress, k);
     }
     if (pgt_cli_table_close(f, tmp, out_staged, verb) || pgt_cli_stage_commit(&stage, verb))
         goto done;
@@ -346,6 +356,7 @@ int pgt_cmd_march(int argc, char **argv) {
     printf(" -> %s (read %.1f ms, march+write %.1f ms)\n", out_path, t1 - t0, t2 - t1);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     pgt_cli_stage_abort(&stage);
     free(mask);
     free(density);

@@ -1,9 +1,11 @@
 /* pgt subdiv: sqrt(3) subdivision of a mesh file (ref_cpu/src/sqrt3.c). */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "backend.h"
 #include "cli.h"
+#include "progress_line.h"
 #include "pgt/adjacency.h"
 #include "pgt/mesh_io.h"
 #include "pgt/selection.h"
@@ -38,7 +40,8 @@ static const char *subdiv_usage =
     "  --json         print the summary as one JSON object instead of one line\n"
     "\n"
     "Prints one summary line: input and output vertex/face counts and milliseconds (read,\n"
-    "subdivide, write). Exit 0 on success, 2 on a bad flag or input.\n";
+    "subdivide, write), and a progress line on stderr every 5 s of work (PGT_PROGRESS_SECONDS:\n"
+    "the period, 0: none). Exit 0 on success, 2 on a bad flag or input.\n";
 
 /* Where in the input file a subdivision error is: for a non-manifold edge or vertex or a
  * degenerate face, the line (binary PLY: the byte offset) of the face record the error is about,
@@ -121,9 +124,19 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     pgt_mesh_origin origin = {0};
     uint8_t *prot = NULL;
     int rc = PGT_EXIT_USAGE;
+    pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
+    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    char stage_text[PGT_PROGRESS_STAGE_MAX + 1];
+    snprintf(stage_text, sizeof stage_text, "opening the %s backend", pgt_backend_kind_name(kind));
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     pgt_backend backend;
-    if (pgt_backend_open(&backend, kind, device, profile, &err) != PGT_OK)
-        return pgt_cli_fail(verb, "%s", err.message);
+    if (pgt_backend_open(&backend, kind, device, profile, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        pgt_cli_progress_stop(&prog);
+        return PGT_EXIT_USAGE;
+    }
+    snprintf(stage_text, sizeof stage_text, "reading %s", in_path);
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     double t0 = pgt_cli_now_ms();
     const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 0, &origin};
     if (pgt_mesh_read(&in, in_path, &ro, &err) != PGT_OK) {
@@ -160,6 +173,9 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     opts.iterations = iters;
     opts.threads = threads;
     opts.protected_faces = prot;
+    opts.progress = prog.progress; /* the reference's iterations (a GPU backend: the stage) */
+    snprintf(stage_text, sizeof stage_text, "sqrt(3) on %s", pgt_backend_kind_name(kind));
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     if (kind != PGT_BACKEND_CPU && in.uvs)
         fprintf(stderr,
                 "pgt subdiv: note: the %s backend does not carry UVs; %s is written "
@@ -173,6 +189,9 @@ int pgt_cmd_subdiv(int argc, char **argv) {
         goto done;
     }
     double t2 = pgt_cli_now_ms();
+    snprintf(stage_text, sizeof stage_text, "writing %s (%u vertices, %u faces)", out_path,
+             out.vertex_count, out.face_count);
+    pgt_progress_stage(prog.progress, stage_text, 0, "");
     pgt_mesh_write_options wo = {PGT_FORMAT_AUTO, precise};
     if (pgt_mesh_write(&out, out_path, &wo, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
@@ -202,6 +221,7 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     if (profile) pgt_backend_print_profile(&backend, json ? stderr : stdout);
     rc = PGT_EXIT_OK;
 done:
+    pgt_cli_progress_stop(&prog);
     pgt_backend_close(&backend);
     free(prot);
     pgt_mesh_destroy(&in);

@@ -104,8 +104,8 @@ pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t itera
             return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "diff: out of memory (%u faces)",
                                  fb);
         }
-        pgt_sqrt3_options o = {iterations, pgt_cli_cpu_count(), protected_faces,
-                               r->prot,    r->parent,           r->opp};
+        pgt_sqrt3_options o = {
+            iterations, pgt_cli_cpu_count(), protected_faces, r->prot, r->parent, r->opp, NULL};
         pgt_error e = {0};
         const double t0 = pgt_cli_now_ms();
         pgt_result res = pgt_backend_sqrt3(i == 0 ? &cpu : b, &r->out, in, &o, NULL, &e);

@@ -6,7 +6,7 @@ set -u
 pgt=$1 gen=$2 src=$3 work=$4
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 pass=0 fail=0
-# no progress lines (pgt ivy and pgt facade print one every 5 s of work): a run under the
+# no progress lines (the long-running verbs print one every 5 s of work): a run under the
 # sanitizers may pass the first period, and many tests count stderr's lines; the progress
 # tests below set the period themselves
 export PGT_PROGRESS_SECONDS=0
@@ -23,6 +23,14 @@ expect() {
 one_line() {
   local n; n=$(wc -l <err.txt)
   if [ "$n" -eq 1 ] && grep -q -- "$2" err.txt; then ok "$1"; else bad "$1" "stderr: $(cat err.txt)"; fi
+}
+# progress_lines NAME VERB PATTERN [OTHER]: stderr has a line matching PATTERN (extended regular
+# expression) and every line is a progress line, "pgt VERB: STAGE[: DONE of TOTAL UNIT (P %)],
+# S s" (harness/progress_line.c), or matches OTHER
+progress_lines() {
+  local form="^pgt $2: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s\$"
+  [ -n "${4:-}" ] && form="$form|$4"
+  if grep -Eq -- "$3" err.txt && ! grep -Ev -- "$form" err.txt >/dev/null; then ok "$1"; else bad "$1" "$(head -c 400 err.txt)"; fi
 }
 
 # fields_match NAME CSV: every line that is not a '#' comment has as many fields as the header
@@ -111,6 +119,23 @@ expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
+# progress lines of pgt atlas (its steps by name, then the EXR), pgt march (steps counted) and
+# pgt subdiv (iterations counted): stderr holds them only, and the outputs are the same bytes
+PGT_PROGRESS_SECONDS=0.001 expect atlas_progress 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o csp1.exr --res 1024 --threads 1
+progress_lines atlas_progress_lines atlas "^pgt atlas: writing csp1.exr, [0-9]+ s$"
+expect atlas_progress_off 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o csp0.exr --res 1024 --threads 1
+[ ! -s err.txt ] && cmp -s csp0.exr csp1.exr && ok atlas_progress_same_bytes || bad atlas_progress_same_bytes "stderr $(head -c 200 err.txt); $(cmp csp0.exr csp1.exr 2>&1)"
+rm -f csp0.exr csp1.exr
+PGT_PROGRESS_SECONDS=0.001 expect march_progress 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0.3 --step 2 --steps 300000 -o mp1.csv
+progress_lines march_progress_lines march "^pgt march: marching and writing: [0-9]+ of 300000 steps \([0-9]+ %\), [0-9]+ s$"
+expect march_progress_off 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0.3 --step 2 --steps 300000 -o mp0.csv
+[ ! -s err.txt ] && cmp -s mp0.csv mp1.csv && ok march_progress_same_bytes || bad march_progress_same_bytes "stderr $(head -c 200 err.txt); $(cmp mp0.csv mp1.csv 2>&1)"
+rm -f mp0.csv mp1.csv
+PGT_PROGRESS_SECONDS=0.001 expect subdiv_progress 0 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 7 --threads 1 -o sdp1.ply
+progress_lines subdiv_progress_lines subdiv "^pgt subdiv: sqrt\(3\): [0-9]+ of 7 iterations \([0-9]+ %\), [0-9]+ s$"
+expect subdiv_progress_off 0 "$pgt" subdiv "$work/data/cube_sphere_8.ply" --iters 7 --threads 1 -o sdp0.ply
+[ ! -s err.txt ] && cmp -s sdp0.ply sdp1.ply && ok subdiv_progress_same_bytes || bad subdiv_progress_same_bytes "stderr $(head -c 200 err.txt); $(cmp sdp0.ply sdp1.ply 2>&1)"
+rm -f sdp0.ply sdp1.ply
 # a denormal heading is a heading (strtof's underflow is no error); one that rounds to zero is none
 expect march_denormal_dir 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1e-45,0 --step 2 --steps 1 -o pn.csv
 sed -n 2p pn.csv | grep -q "^1,22.5,20.5," && ok march_denormal_dir_heads_right || bad march_denormal_dir_heads_right "$(cat pn.csv)"
@@ -244,9 +269,7 @@ rm -f spot_link.ply
 # of the form "pgt ivy: STAGE[: DONE of TOTAL UNIT (P %)], S s" and nothing else on stderr; the
 # output is the same bytes as without them; a period that is not a number is refused
 PGT_PROGRESS_SECONDS=0.001 expect ivy_progress 0 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp1.ply
-if [ -s err.txt ] && ! grep -Ev "^pgt ivy: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null; then
-  ok ivy_progress_lines
-else bad ivy_progress_lines "$(head -c 400 err.txt)"; fi
+progress_lines ivy_progress_lines ivy "^pgt ivy: "
 expect ivy_progress_off 0 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp0.ply
 [ ! -s err.txt ] && cmp -s ivp0.ply ivp1.ply && ok ivy_progress_same_bytes || bad ivy_progress_same_bytes "stderr $(head -c 200 err.txt); cmp $(cmp ivp0.ply ivp1.ply 2>&1)"
 PGT_PROGRESS_SECONDS=soon expect ivy_progress_bad 2 "$pgt" ivy cs.exr --seeds 2 --param maxMainSteps=20 -o ivp2.ply
@@ -439,10 +462,8 @@ expect render_camera_reproduces 0 "$pgt" render "$ico" -o r2.png --width 64 --he
 cmp -s r.png r2.png && ok render_same_bytes || bad render_same_bytes "r.png and r2.png differ"
 # progress lines: the rays counted in rows, and the timing line still last; the same picture
 PGT_PROGRESS_SECONDS=0.001 expect render_progress 0 "$pgt" render "$ico" -o r3.png --width 256 --height 192 --spp 4 --camera "$cam"
-if grep -q "^pgt render: rays: [0-9]* of 192 rows ([0-9]* %), [0-9]* s$" err.txt && tail -n 1 err.txt | grep -q "^render: 256x192" &&
-  ! grep -Ev "^pgt render: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$|^render: " err.txt >/dev/null; then
-  ok render_progress_lines
-else bad render_progress_lines "$(head -c 400 err.txt)"; fi
+progress_lines render_progress_lines render "^pgt render: rays: [0-9]+ of 192 rows \([0-9]+ %\), [0-9]+ s$" "^render: "
+tail -n 1 err.txt | grep -q "^render: 256x192" && ok render_progress_timing_last || bad render_progress_timing_last "$(tail -n 2 err.txt)"
 expect render_progress_off 0 "$pgt" render "$ico" -o r4.png --width 256 --height 192 --spp 4 --camera "$cam"
 cmp -s r3.png r4.png && ok render_progress_same_bytes || bad render_progress_same_bytes "r3.png and r4.png differ"
 ls ./*.tmp.* >/dev/null 2>&1 && bad render_no_temporary_left "$(ls ./*.tmp.*)" || ok render_no_temporary_left
@@ -520,9 +541,7 @@ for flag in --res --params --frames --threads -o --seed 5k 22k 50k 89k 179k; do
 done
 # progress lines: the frames counted
 PGT_PROGRESS_SECONDS=0.001 expect woven_progress 0 "$pgt" woven --res 5k --frames 400 --threads 1
-grep -q "^pgt woven: frames: [0-9]* of 400 frames ([0-9]* %), [0-9]* s$" err.txt &&
-  ! grep -Ev "^pgt woven: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null &&
-  ok woven_progress_lines || bad woven_progress_lines "$(head -c 400 err.txt)"
+progress_lines woven_progress_lines woven "^pgt woven: frames: [0-9]+ of 400 frames \([0-9]+ %\), [0-9]+ s$"
 expect woven_no_model 2 "$pgt" woven
 one_line woven_no_model_one_line "\-\-res NAME or \-\-params"
 expect woven_res_and_params 2 "$pgt" woven --res 5k --params 10,4,2,8,9
@@ -760,10 +779,7 @@ expect facade_roof_ties 0 "$pgt" facade --scene roof.scene -o rf.exr --width 64 
 grep -q "([1-9][0-9]* ties: .*, 0 neither).* -> PASS$" out.txt && ok facade_roof_ties_counted || bad facade_roof_ties_counted "$(grep check: out.txt)"
 # progress lines of pgt facade: every stage, Embree's BVH counted in triangles
 PGT_PROGRESS_SECONDS=0.001 expect facade_progress 0 "$pgt" facade --city 4 -o fp.exr --width 64 --height 48 --embree-check
-if grep -q "^pgt facade: Embree's BVH: [0-9]* of [0-9]* triangles ([0-9]* %), [0-9]* s$" err.txt &&
-  ! grep -Ev "^pgt facade: [A-Za-z][^:]*(: [0-9]+ of [0-9]+ [a-z]+ \([0-9]+ %\))?, [0-9]+ s$" err.txt >/dev/null; then
-  ok facade_progress_lines
-else bad facade_progress_lines "$(head -c 400 err.txt)"; fi
+progress_lines facade_progress_lines facade "^pgt facade: Embree's BVH: [0-9]+ of [0-9]+ triangles \([0-9]+ %\), [0-9]+ s$"
 # a roof's diagonal: at 3840 x 2160 one ray of this camera passes through the edge between the
 # roof's two triangles, and Embree (not watertight without its robust flag) misses both and hits
 # a window behind; the building is pgt facade --city 1000's building 703 (the check failed on

@@ -1332,6 +1332,21 @@ static void test_thread_determinism(void) {
             CHECK(sa.indirection_texels == sb.indirection_texels && sa.texel_size == sb.texel_size);
             pgt_image_destroy(&b);
         }
+        /* a pgt_progress only observes (the same bytes), and has seen the five steps */
+        pgt_atlas_options o = {0};
+        o.width = o.height = res;
+        o.threads = 2;
+        o.progress = pgt_progress_create();
+        REQUIRE(o.progress);
+        REQUIRE(pgt_atlas_build(&b, &m, &o, NULL, &err) == PGT_OK);
+        CHECK_MSG(memcmp(a.data, b.data, sizeof(float) * res * res * PGT_ATLAS_CHANNEL_COUNT) == 0,
+                  "%s: with a progress tracker", meshes[k]);
+        pgt_progress_state st;
+        pgt_progress_read(o.progress, &st);
+        CHECK_MSG(st.stages == 5 && !strcmp(st.stage, "angles"), "%s: stage %u '%s'", meshes[k],
+                  st.stages, st.stage);
+        pgt_progress_destroy(o.progress);
+        pgt_image_destroy(&b);
         pgt_image_destroy(&a);
         pgt_mesh_destroy(&m);
     }

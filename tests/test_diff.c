@@ -107,7 +107,7 @@ static int reference_output(const pgt_mesh *m, pgt_diff_sqrt3_output *o) {
     o->prot = malloc(fb);
     if (!prot || !o->opp || !o->parent || !o->prot) return free(prot), 0;
     for (uint32_t f = 0; f < m->face_count; f += 4) prot[f] = 1;
-    pgt_sqrt3_options opt = {2, 1, prot, o->prot, o->parent, o->opp};
+    pgt_sqrt3_options opt = {2, 1, prot, o->prot, o->parent, o->opp, NULL};
     const int ok = pgt_sqrt3_subdivide(&o->out, m, &opt, NULL) == PGT_OK;
     free(prot);
     return ok;

@@ -47,7 +47,7 @@ static int run_sqrt3(run *r, const pgt_mesh *in, uint32_t k, uint32_t threads,
     r->opp = malloc(((size_t)fb * 3 + 1) * sizeof(uint32_t));
     r->prot = malloc((size_t)fb + 1);
     r->parent = malloc(((size_t)fb + 1) * sizeof(uint32_t));
-    pgt_sqrt3_options o = {k, threads, prot, r->prot, r->parent, r->opp};
+    pgt_sqrt3_options o = {k, threads, prot, r->prot, r->parent, r->opp, NULL};
     pgt_error err = {0};
     if (pgt_sqrt3_subdivide(&r->out, in, &o, &err) != PGT_OK) {
         fprintf(stderr, "  sqrt3 failed: %s\n", err.message);
@@ -139,7 +139,7 @@ static void closed_fast_path_equals_general(void) {
         /* Without any optional output the last step reads the level before it implicitly (no
          * stored connectivity): still the same bytes, labels included. */
         pgt_mesh c;
-        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL};
+        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL, NULL};
         REQUIRE(pgt_sqrt3_subdivide(&c, &without, &o, NULL) == PGT_OK);
         CHECK(c.vertex_count == a.out.vertex_count && c.face_count == a.out.face_count);
         CHECK(!memcmp(a.out.positions, c.positions, (size_t)a.out.vertex_count * 12));
@@ -265,7 +265,7 @@ static void parity_restarts_per_call(void) {
         REQUIRE(pgt_mesh_copy(&cur, &m, NULL) == PGT_OK);
         for (int i = 0; i < 3; ++i) {
             pgt_mesh next;
-            pgt_sqrt3_options o = {1, 1, NULL, NULL, NULL, NULL};
+            pgt_sqrt3_options o = {1, 1, NULL, NULL, NULL, NULL, NULL};
             REQUIRE(pgt_sqrt3_subdivide(&next, &cur, &o, NULL) == PGT_OK);
             pgt_mesh_destroy(&cur);
             cur = next;
@@ -637,13 +637,13 @@ static void refuses_non_manifold(void) {
     pgt_mesh e = {8, 1, p, oob, NULL, NULL};
     pgt_error_clear(&err);
     CHECK(pgt_sqrt3_subdivide(&out, &e, NULL, &err) == PGT_ERROR_INDEX_RANGE);
-    pgt_sqrt3_options o = {PGT_SQRT3_MAX_ITERATIONS + 1, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options o = {PGT_SQRT3_MAX_ITERATIONS + 1, 1, NULL, NULL, NULL, NULL, NULL};
     pgt_error_clear(&err);
     CHECK(pgt_sqrt3_subdivide(&out, &m, &o, &err) == PGT_ERROR_LIMIT);
     /* an output that would overflow 32-bit indices is refused before any allocation */
     pgt_mesh big;
     REQUIRE(pgt_gen_bench_torus(&big, 10000, NULL) == PGT_OK); /* 10^4 x 3^12 faces > 2^30 */
-    pgt_sqrt3_options o12 = {12, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options o12 = {12, 1, NULL, NULL, NULL, NULL, NULL};
     pgt_error_clear(&err);
     CHECK(pgt_sqrt3_subdivide(&out, &big, &o12, &err) == PGT_ERROR_LIMIT);
     pgt_mesh_destroy(&big);
@@ -660,7 +660,7 @@ static void refuses_non_manifold(void) {
     CHECK_MSG(strstr(err.message, "beyond +-1e+18") != NULL, "%s", err.message);
     for (uint32_t i = 0; i < 3u * ico.vertex_count; ++i)
         ico.positions[i] *= PGT_SQRT3_MAX_COORD / 3e38f;
-    pgt_sqrt3_options o3 = {3, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options o3 = {3, 1, NULL, NULL, NULL, NULL, NULL};
     pgt_error_clear(&err);
     const pgt_result r3 = pgt_sqrt3_subdivide(&out, &ico, &o3, &err);
     CHECK_MSG(r3 == PGT_OK, "%s", err.message);
@@ -704,6 +704,33 @@ static void relaxation_weights(void) {
     pgt_mesh_destroy(&ico);
 }
 
+/* A pgt_progress only observes: the same bytes with one, and it ends on the sqrt(3) stage with
+ * every iteration counted (a border mesh, so that both rules run). */
+static void progress_counts_iterations(void) {
+    pgt_mesh m = gen("grid_16x16");
+    pgt_progress *p = pgt_progress_create();
+    REQUIRE(p);
+    for (uint32_t k = 0; k <= 4; ++k) {
+        pgt_mesh a, b;
+        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL, NULL};
+        REQUIRE(pgt_sqrt3_subdivide(&a, &m, &o, NULL) == PGT_OK);
+        o.progress = p;
+        REQUIRE(pgt_sqrt3_subdivide(&b, &m, &o, NULL) == PGT_OK);
+        CHECK(a.vertex_count == b.vertex_count && a.face_count == b.face_count);
+        CHECK(!memcmp(a.positions, b.positions, (size_t)a.vertex_count * 12));
+        CHECK(!memcmp(a.indices, b.indices, (size_t)a.face_count * 12));
+        pgt_progress_state st;
+        pgt_progress_read(p, &st);
+        CHECK_MSG(st.stages == k + 1 && !strcmp(st.stage, "sqrt(3)") &&
+                      !strcmp(st.unit, "iterations") && st.total == k && st.done == k,
+                  "k=%u: stage %u '%s', %llu of %llu %s", k, st.stages, st.stage,
+                  (unsigned long long)st.done, (unsigned long long)st.total, st.unit);
+        pgt_mesh_destroy(&a), pgt_mesh_destroy(&b);
+    }
+    pgt_progress_destroy(p);
+    pgt_mesh_destroy(&m);
+}
+
 static const pgt_test_case cases[] = {
     {"closed_counts_and_adjacency", closed_counts_and_adjacency},
     {"closed_fast_path_equals_general", closed_fast_path_equals_general},
@@ -719,6 +746,7 @@ static const pgt_test_case cases[] = {
     {"uvs_no_spikes_on_a_real_atlas", uvs_no_spikes_on_a_real_atlas},
     {"refuses_non_manifold", refuses_non_manifold},
     {"relaxation_weights", relaxation_weights},
+    {"progress_counts_iterations", progress_counts_iterations},
 };
 
 PGT_TEST_MAIN(cases)

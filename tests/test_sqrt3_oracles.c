@@ -103,7 +103,7 @@ static void check_mesh(const char *name) {
     REQUIRE(pgt_mesh_write(&m, in_off, &wo, NULL) == PGT_OK);
     for (uint32_t k = 1; k <= 3; ++k) {
         pgt_mesh ours;
-        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL};
+        pgt_sqrt3_options o = {k, 2, NULL, NULL, NULL, NULL, NULL};
         pgt_error err = {0};
         CHECK_MSG(pgt_sqrt3_subdivide(&ours, &m, &o, &err) == PGT_OK, "%s", err.message);
         if (err.code != PGT_OK) break;
@@ -140,7 +140,7 @@ static void meshlab_hausdorff_to_cgal(void) {
         pgt_mesh_write_options wo = {PGT_FORMAT_OFF, 1};
         REQUIRE(pgt_mesh_write(&m, in_off, &wo, NULL) == PGT_OK);
         uint8_t *none = calloc(m.face_count, 1);
-        pgt_sqrt3_options o = {2, 1, none, NULL, NULL, NULL};
+        pgt_sqrt3_options o = {2, 1, none, NULL, NULL, NULL, NULL};
         pgt_mesh ours;
         REQUIRE(pgt_sqrt3_subdivide(&ours, &m, &o, NULL) == PGT_OK);
         REQUIRE(pgt_mesh_write(&ours, ours_off, &wo, NULL) == PGT_OK);

@@ -195,7 +195,7 @@ cleanup:
 /* k = 0: the reference's copy, on the host, without UVs like every output of this backend. */
 pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
                         const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err) {
-    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL, NULL};
     if (!opts) opts = &defaults;
     if (times) memset(times, 0, sizeof(*times));
     if (!cl || !out) return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "sqrt3: no context");

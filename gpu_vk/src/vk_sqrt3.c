@@ -413,7 +413,7 @@ cleanup:
 
 pgt_result pgt_vk_sqrt3(pgt_vk *ctx, pgt_mesh *out, const pgt_mesh *in_mesh,
                         const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err) {
-    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL, NULL};
     if (!opts) opts = &defaults;
     if (times) memset(times, 0, sizeof(*times));
     memset(out, 0, sizeof(*out));

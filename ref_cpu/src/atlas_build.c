@@ -104,6 +104,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     int32_t *dest_chart = NULL; /* per outer-boundary texel: its pointer's chart */
     float *normals = NULL;
     uint32_t *crack = NULL; /* texels filled in seam cracks (atlas_fill_cracks) */
+    pgt_progress *const pr = opt->progress;
+    pgt_progress_stage(pr, "charts", 0, "");
     double t = pgt_now_ms();
     pgt_result r = atlas_charts_build(&charts, mesh, threads, what, err);
     if (r != PGT_OK) return r;
@@ -121,6 +123,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
                           H);
         goto done;
     }
+    pgt_progress_stage(pr, "layout", 0, "");
     t = pgt_now_ms();
     r = atlas_layout_build(&layout, mesh, &charts, W, H, band, opt->force_repack, threads, what,
                            err);
@@ -141,6 +144,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     }
     st.ms_layout = pgt_now_ms() - t;
 
+    pgt_progress_stage(pr, "raster", 0, "");
     t = pgt_now_ms();
     static const char *const names[] = PGT_ATLAS_CHANNEL_NAMES;
     /* every value is written below: channels P, N, chart and kind by atlas_raster (background
@@ -195,6 +199,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     }
     st.ms_raster = pgt_now_ms() - t;
 
+    pgt_progress_stage(pr, "pointers", 0, "");
     t = pgt_now_ms();
     atlas_pointer_counts pc;
     const atlas_border border = {layout.tex, charts.border_half_edges, charts.border_count};
@@ -208,6 +213,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.texel_size = pc.texel_size;
     st.ms_pointers = pgt_now_ms() - t;
 
+    pgt_progress_stage(pr, "angles", 0, "");
     t = pgt_now_ms();
     r = atlas_angles(out, texel_chart, kind, dest_chart, k, threads, err);
     if (r != PGT_OK) goto done;

@@ -839,7 +839,7 @@ pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_er
 
 pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
                                const pgt_sqrt3_options *opts, pgt_error *err) {
-    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL};
+    pgt_sqrt3_options defaults = {1, 1, NULL, NULL, NULL, NULL, NULL};
     if (!opts) opts = &defaults;
     memset(out, 0, sizeof(*out));
     pgt_result r = pgt_sqrt3_check_input(in_mesh, opts->iterations, err);
@@ -886,6 +886,7 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
     alpha[0] = 0.0f;
     for (uint32_t n = 1; n < S3_ALPHA_TABLE; ++n) alpha[n] = pgt_sqrt3_alpha(n);
 
+    pgt_progress_stage(opts->progress, "sqrt(3)", k, "iterations");
     for (uint32_t it = 0; it < k; ++it) {
         s3_step s = {0};
         s3_level nx = {0};
@@ -975,6 +976,7 @@ pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,
         if (s.even) border *= 3; /* every border edge was trisected */
         cur = nx;
         owned = 1;
+        pgt_progress_add(opts->progress, 1);
     }
 
     if (!owned) { /* k = 0: a copy */

@@ -48,6 +48,7 @@
 #include "atlas.h"
 #include "image.h"
 #include "mesh.h"
+#include "progress.h"
 #include "result.h"
 
 #ifdef __cplusplus
@@ -123,6 +124,7 @@ typedef struct pgt_atlas_options {
     uint32_t threads;       /* worker threads; 0: 1 (--threads) */
     int force_repack;       /* nonzero: repack even when the input UVs would do */
     const char *what;       /* names the input in messages (a file name); NULL: "mesh" */
+    pgt_progress *progress; /* optional: names each step as a stage (pgt/progress.h) */
 } pgt_atlas_options;
 
 typedef struct pgt_atlas_stats {

@@ -24,6 +24,7 @@
 #include <stdint.h>
 
 #include "mesh.h"
+#include "progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,6 +47,8 @@ typedef struct pgt_sqrt3_options {
         *out_face_parent;   /* optional, caller-owned, >= bound faces: input face per output face */
     uint32_t *out_opposite; /* optional, caller-owned, >= 3 x bound faces: output adjacency,
                                derived from the input's (see pgt_adjacency_build) */
+    pgt_progress *progress; /* optional: the reference names a stage of k iterations and adds one
+                               as each ends (pgt/progress.h); the GPU backends ignore it */
 } pgt_sqrt3_options;
 
 /* The checks of an input that every backend makes before it builds the adjacency: arrays
