@@ -12,7 +12,8 @@
  * space). A candidate counts when it lies within dead_end texel sizes of p, measured in the
  * larger of the median texel size (pgt_atlas_texel_size) and the source's local one, or in the
  * candidate's own local size away from the mesh border (ATLAS_DEAD_END_FAR_REACHES,
- * ATLAS_BORDER_TEXELS); with none, the texel is a dead end (a mesh border).
+ * ATLAS_BORDER_TEXELS); with none, the texel is a dead end next to the mesh border, and away
+ * from it points to the nearest texel of its own chart but its starts (accept_own_chart).
  * Every query is independent: any thread count gives the same bytes. */
 #include <math.h>
 #include <stdlib.h>
@@ -286,6 +287,19 @@ static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
     return 0;
 }
 
+/* A texel of the source's own chart that is none of its starts: the fallback of an outer texel
+ * away from the mesh border that found nothing across (see pointer_rows). */
+static int accept_own_chart(const void *vctx, uint32_t id, uint32_t slot) {
+    const accept_ctx *a = vctx;
+    const ptr_ctx *c = a->c;
+    if (c->leaf_chart[slot] != a->chart) return 0;
+    const uint32_t t = c->b_texel[id];
+    const int32_t qx = (int32_t)(t % c->W), qy = (int32_t)(t / c->W);
+    for (uint32_t i = 0; i < a->starts; ++i)
+        if (a->sx[i] == qx && a->sy[i] == qy) return 0;
+    return 1;
+}
+
 /* The reach counts on both sides of a seam: a candidate q beyond the source's reach is taken
  * when it lies within dead_end of q's own local texel sizes (pgt_kdtree_nearest_reach). A seam
  * whose two sides have texels of very different 3D size (spot's leg caps: 8-13 times) puts the
@@ -424,6 +438,15 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
                 hit = pgt_kdtree_nearest_reach(&c->tree, q, (float)(reach * reach),
                                                (float)(far * far), c->leaf_reach2, c->node_reach2,
                                                accept_candidate, &a, &d2);
+            }
+            if (hit == PGT_NONE && !c->near_border[idx]) {
+                /* Away from the mesh border the surface goes on: where a slit cut into a chart
+                 * closes (its two sides joined at its end, so that no texel near the end is
+                 * "across"), the outer texels at the end found nothing; they point to the
+                 * nearest texel of their own chart but their starts instead of stopping walkers
+                 * on a closed mesh (bob_tri at --res 48 to 384: 1-3 such dead ends) */
+                hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_own_chart, &a,
+                                         &d2);
             }
             chart_plane[idx] = (float)chart;
             for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
