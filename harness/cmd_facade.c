@@ -630,6 +630,7 @@ int pgt_cmd_facade(int argc, char **argv) {
         const double bare_ms = pgt_cli_median(ms, a.frames);
         pgt_facade_check chk;
         const int pass = pgt_facade_embree_compare(&mesh, &cam, &frame, &hits, &chk);
+        pgt_cli_progress_stop(&prog); /* the report's pixel lines (stderr) come last */
         const size_t ours = proc_bytes, theirs = eb.embree_bytes + eb.buffer_bytes;
         printf("embree: BVH build %.0f ms (%u threads), trace %.3f ms (%s), %.2f Mrays/s; ours "
                "with hits only %.3f ms, %.2f Mrays/s (%.2fx Embree's), shaded %.2f Mrays/s "

@@ -300,6 +300,7 @@ int pgt_cmd_render(int argc, char **argv) {
         goto done;
     }
     const double t3 = pgt_cli_now_ms();
+    pgt_cli_progress_stop(&prog); /* the timing line (stderr) comes last */
     char tris[32];
     if (triangles < 10000)
         snprintf(tris, sizeof tris, "%llu", (unsigned long long)triangles);

@@ -111,11 +111,7 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     pgt_result r = status(dev, m, "rtcNewScene", err);
     if (r != PGT_OK) return r;
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-    build_progress bp = {progress, mesh->triangle_count};
-    if (progress) {
-        pgt_progress_stage(progress, "Embree's BVH", mesh->triangle_count, "triangles");
-        rtcSetSceneProgressMonitorFunction(scene, on_build_progress, &bp);
-    }
+    pgt_progress_stage(progress, "Embree's BVH", mesh->triangle_count, "triangles");
     if (mesh->triangle_count == 0) {
         rtcCommitScene(scene);
         if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
@@ -133,8 +129,11 @@ pgt_result pgt_facade_embree_create(pgt_facade_embree *e, const pgt_facade_mesh 
     rtcAttachGeometryByID(scene, g, 0);
     rtcReleaseGeometry(g);
     if ((r = status(dev, m, "geometry", err)) != PGT_OK) return r;
+    /* the build's progress, set around the commit only: bp is this call's */
+    build_progress bp = {progress, mesh->triangle_count};
+    if (progress) rtcSetSceneProgressMonitorFunction(scene, on_build_progress, &bp);
     rtcCommitScene(scene);
-    rtcSetSceneProgressMonitorFunction(scene, NULL, NULL); /* bp is this call's */
+    if (progress) rtcSetSceneProgressMonitorFunction(scene, NULL, NULL);
     if ((r = status(dev, m, "rtcCommitScene", err)) != PGT_OK) return r;
     e->build_ms = pgt_cli_now_ms() - t0;
     e->embree_bytes = (size_t)atomic_load(&m->peak);

@@ -19,6 +19,7 @@ static void print_line(const pgt_cli_progress *p) {
     pgt_progress_read(p->progress, &s);
     const double secs = (pgt_cli_now_ms() - p->start_ms) * 1e-3;
     const char *stage = s.stage[0] ? s.stage : "starting";
+    if (s.total && s.done > s.total) s.done = s.total; /* see pgt_progress_read */
     if (s.total)
         fprintf(stderr, "pgt %s: %s: %llu of %llu %s (%.0f %%), %.0f s\n", p->verb, stage,
                 (unsigned long long)s.done, (unsigned long long)s.total, s.unit,

@@ -62,7 +62,8 @@ static void city_teardown(void) {
     memset(&city, 0, sizeof city);
 }
 
-/* Renders the city from cam and checks it against Embree in both modes. */
+/* Renders the city from cam and checks it against Embree in every mode: the two timed ones and
+ * the incoherent rays pgt facade --embree-check compares. */
 static void check_camera(const char *name, const float eye[3], const float at[3], float fov) {
     REQUIRE(city_setup());
     const float up[3] = {0.0f, 1.0f, 0.0f};
@@ -78,7 +79,8 @@ static void check_camera(const char *name, const float eye[3], const float at[3]
     CHECK(pgt_facade_render(&city.file.scene, city.facades, city.facade_count, &cam, &sh, THREADS,
                             &frame, &st, &err) == PGT_OK);
     CHECK(st.rays.errors == 0);
-    for (uint32_t m = 0; m < 2; ++m) {
+    static const char *const mode_names[3] = {"packets", "streams", "check rays"};
+    for (uint32_t m = 0; m <= PGT_FACADE_EMBREE_CHECK_RAYS; ++m) {
         double ms = 0.0;
         CHECK(pgt_facade_embree_trace(&city.eb, &cam, (pgt_facade_embree_mode)m, &hits, &ms,
                                       &err) == PGT_OK);
@@ -87,7 +89,7 @@ static void check_camera(const char *name, const float eye[3], const float at[3]
         const uint64_t hit = chk.pixels - chk.both_miss;
         printf("  %s (%s): %llu pixels hit, agreement %.4f %%, %llu disagreements (%llu ties, "
                "%llu near an edge), max depth error %.3g (relative %.3g)\n",
-               name, m ? "streams" : "packets", (unsigned long long)hit, chk.agreement_pct,
+               name, mode_names[m], (unsigned long long)hit, chk.agreement_pct,
                (unsigned long long)chk.disagree, (unsigned long long)chk.ties,
                (unsigned long long)chk.near_edge, chk.max_abs_dt, chk.max_rel_dt);
         /* a camera that sees nothing would pass trivially */
@@ -319,6 +321,11 @@ static void test_ties(void) {
     traced_view_close(&v);
 }
 
+/* How far from the square's diagonal (x = y on z = 0, coordinates about 1) the ray of the pixel
+ * chosen on it may pass: its float32 ray meets the plane within rounding (a few 1e-8) of the
+ * diagonal, while the next pixel along a row is 0.02 away. */
+#define DIAGONAL_EPS 1e-6
+
 /* Cracks (facade_embree.h): a unit square of two triangles (diagonal from (-1, -1) to (1, 1))
  * seen head on, ours hitting it at every pixel. Embree's hits are made to miss at one pixel:
  * on the diagonal (pixel (k, side - 1 - k): its ray meets the plane at x = y) that is a ray
@@ -347,7 +354,7 @@ static void test_cracks(void) {
     float o[3], d[3];
     pgt_facade_camera_ray(&v.cam, side - 1u - 40u, 40u, o, d);
     const double tz = -(double)o[2] / d[2];
-    CHECK(fabs(o[0] + tz * d[0] - (o[1] + tz * d[1])) < 1e-6); /* on the diagonal */
+    CHECK(fabs(o[0] + tz * d[0] - (o[1] + tz * d[1])) < DIAGONAL_EPS); /* on the diagonal */
     const uint32_t keep_tri = v.hits.tri[on];
     const float keep_t = v.hits.t[on];
     v.hits.tri[on] = PGT_NONE, v.hits.t[on] = INFINITY;

@@ -67,6 +67,4 @@ void pgt_progress_read(pgt_progress *p, pgt_progress_state *s) {
     s->stages = p->stages;
     s->done = atomic_load_explicit(&p->done, memory_order_relaxed);
     pthread_mutex_unlock(&p->lock);
-    /* work added to the stage before a reset can still land after it: never over the total */
-    if (s->total && s->done > s->total) s->done = s->total;
 }

@@ -51,7 +51,9 @@ void pgt_progress_add(pgt_progress *p, uint64_t n);
  * may report fractions out of order). */
 void pgt_progress_raise(pgt_progress *p, uint64_t done);
 
-/* Reads a snapshot (zeroed with a NULL p). */
+/* Reads a snapshot (zeroed with a NULL p). done is the count as added, never capped at total,
+ * so that a test sees work counted twice; a display caps it itself (harness/progress_line.c):
+ * work a thread adds to a stage just as the next one starts can land in the next. */
 void pgt_progress_read(pgt_progress *p, pgt_progress_state *s);
 
 #ifdef __cplusplus
