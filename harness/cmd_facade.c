@@ -658,11 +658,11 @@ int pgt_cmd_facade(int argc, char **argv) {
             const pgt_facade_check_pixel *p = &chk.far[k];
             fprintf(stderr,
                     "pgt facade: pixel %u,%u: ours facade %d node %u kind %u surface %u t %.7g "
-                    "(edge %.3g t); Embree facade %d node %u kind %u surface %u t %.7g (edge "
-                    "%.3g t)\n",
+                    "(edge %.3g t, inner edge %.3g t); Embree facade %d node %u kind %u surface "
+                    "%u t %.7g (edge %.3g t)\n",
                     p->x, p->y, (int)p->facade[0], p->node[0], p->kind[0], p->surface[0],
-                    (double)p->t[0], (double)p->edge[0], (int)p->facade[1], p->node[1], p->kind[1],
-                    p->surface[1], (double)p->t[1], (double)p->edge[1]);
+                    (double)p->t[0], (double)p->edge[0], (double)p->inner, (int)p->facade[1],
+                    p->node[1], p->kind[1], p->surface[1], (double)p->t[1], (double)p->edge[1]);
         }
         rc = pass ? PGT_EXIT_OK : PGT_EXIT_FAIL;
     }
