@@ -53,9 +53,11 @@ plt.rcParams.update({
 
 
 def footnote(fig, text):
-    """The machine / commit / date line at the bottom left, marked for check_text.py."""
-    return fig.text(0.005, 0.005, text, fontsize=FOOTNOTE_PT, color="0.3", ha="left",
-                    va="bottom", gid=FOOTNOTE_GID)
+    """The machine / commit / date line at the bottom left, marked for check_text.py; broken
+    into lines that fit the figure's width (a long machine name ran off the page)."""
+    return fig.text(0.005, 0.005, wrap(text, 0.99 * fig.get_figwidth(), FOOTNOTE_PT),
+                    fontsize=FOOTNOTE_PT, color="0.3", ha="left", va="bottom",
+                    gid=FOOTNOTE_GID)
 
 
 def suptitle(fig, text):
