@@ -978,6 +978,75 @@ static void test_open_sheets(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* Quads per side of the sheets of test_gaps_keep_dead_ends. */
+#define GAP_SHEET_QUADS 16u
+
+/* An open sheet [0,1]^2 of GAP_SHEET_QUADS^2 quads in one chart (UVs 0.05 + 0.9 (x, y)) whose top
+ * row of quads is, with strip = 0, degenerate in UV (the top corners' UVs moved onto the row
+ * below) or, with strip = 1, a chart of its own far too thin for a texel (0.002 high in 3D,
+ * 1e-4 in UV, at v = 0.97). */
+static pgt_result make_gap_sheet(pgt_mesh *m, int strip, pgt_error *err) {
+    const uint32_t N = GAP_SHEET_QUADS;
+    pgt_result r = pgt_mesh_create(m, (N + 1u) * (N + 1u), 2u * N * N, 1, 0, err);
+    if (r != PGT_OK) return r;
+    for (uint32_t j = 0; j <= N; ++j)
+        for (uint32_t i = 0; i <= N; ++i) {
+            float *p = &m->positions[3u * (j * (N + 1u) + i)];
+            p[0] = (float)i / (float)N;
+            p[1] = strip && j == N ? (float)(N - 1u) / (float)N + 0.002f : (float)j / (float)N;
+            p[2] = 0.0f;
+        }
+    static const uint32_t tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (uint32_t j = 0; j < N; ++j)
+        for (uint32_t i = 0; i < N; ++i) {
+            const uint32_t cx[4] = {i, i + 1u, i + 1u, i}, cy[4] = {j, j, j + 1u, j + 1u};
+            for (uint32_t t = 0; t < 2; ++t) {
+                const uint32_t f = 2u * (j * N + i) + t;
+                for (uint32_t c = 0; c < 3; ++c) {
+                    const uint32_t k = tri[t][c];
+                    m->indices[3u * f + c] = cy[k] * (N + 1u) + cx[k];
+                    float u = 0.05f + 0.9f * (float)cx[k] / (float)N;
+                    float v = 0.05f + 0.9f * (float)cy[k] / (float)N;
+                    if (j == N - 1u && !strip && cy[k] == N)
+                        v = 0.05f + 0.9f * (float)(N - 1u) / (float)N;
+                    if (j == N - 1u && strip) v = cy[k] == N ? 0.9701f : 0.97f;
+                    m->uvs[6u * f + 2u * c] = u, m->uvs[6u * f + 2u * c + 1u] = v;
+                }
+            }
+        }
+    return PGT_OK;
+}
+
+/* An open sheet in one chart has nothing across anywhere: every outer texel is a dead end, also
+ * along an edge whose other side is rasterized by nothing (a row of degenerate UV triangles, or
+ * a chart without texels, between the chart and the mesh border). There, away from the mesh
+ * border's own edges, the own-chart fallback of atlas_pointers.c must not apply (before these
+ * edges counted as gaps it turned a quarter of the dead ends into pointers that sent walkers
+ * back the way they came). */
+static void test_gaps_keep_dead_ends(void) {
+    for (int strip = 0; strip < 2; ++strip) {
+        pgt_mesh m = {0};
+        pgt_error err = {0};
+        REQUIRE(make_gap_sheet(&m, strip, &err) == PGT_OK);
+        static const uint32_t res[] = {48, 64, 96, 128};
+        for (size_t r = 0; r < sizeof res / sizeof res[0]; ++r) {
+            pgt_image img = {0};
+            pgt_atlas_stats st;
+            REQUIRE(build(&m, res[r], 2, 0, &img, &st, &err) == PGT_OK);
+            /* the scenario: the degenerate row skipped, or the strip chart without texels */
+            CHECK_MSG(strip ? st.empty_charts == 1 : st.degenerate_faces == 2u * GAP_SHEET_QUADS,
+                      "%s at %u^2: %u empty charts, %u degenerate faces",
+                      strip ? "strip" : "degenerate row", res[r], st.empty_charts,
+                      st.degenerate_faces);
+            CHECK_MSG(st.indirection_texels == 0 && st.dead_end_texels > 0,
+                      "%s at %u^2: %u pointers, %u dead ends", strip ? "strip" : "degenerate row",
+                      res[r], st.indirection_texels, st.dead_end_texels);
+            pgt_image_destroy(&img);
+        }
+        pgt_mesh_destroy(&m);
+    }
+}
+
 /* A plane sheet [0,1]^2 of SLIT_QUADS^2 quads (two triangles each) in ONE chart, cut along
  * x = 1/2 from the bottom border (y = 0) to the centre: a vertex on the cut has one 3D position
  * and two UVs, the left faces' shifted by -d(y) in u and the right faces' by +d(y), d(y) =
@@ -1587,6 +1656,7 @@ static const pgt_test_case cases[] = {
     {"kdtree_reach", test_kdtree_reach},
     {"coarse_seam_side", test_coarse_seam_side},
     {"open_sheets", test_open_sheets},
+    {"gaps_keep_dead_ends", test_gaps_keep_dead_ends},
     {"cube_sphere", test_cube_sphere},
     {"closed_meshes", test_closed_meshes},
     {"slit_crack", test_slit_crack},

@@ -82,6 +82,9 @@ static void check_camera(const char *name, const float eye[3], const float at[3]
     static const char *const mode_names[3] = {"packets", "streams", "check rays"};
     for (uint32_t m = 0; m <= PGT_FACADE_EMBREE_CHECK_RAYS; ++m) {
         double ms = 0.0;
+        /* every pixel a miss first: a mode that wrote nothing sees nothing (checked below),
+         * instead of the previous mode's hits */
+        for (uint32_t i = 0; i < SIDE * SIDE; ++i) hits.tri[i] = PGT_NONE, hits.t[i] = INFINITY;
         CHECK(pgt_facade_embree_trace(&city.eb, &cam, (pgt_facade_embree_mode)m, &hits, &ms,
                                       &err) == PGT_OK);
         pgt_facade_check chk;

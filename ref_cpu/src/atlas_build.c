@@ -104,6 +104,8 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     int32_t *dest_chart = NULL; /* per outer-boundary texel: its pointer's chart */
     float *normals = NULL;
     uint32_t *crack = NULL; /* texels filled in seam cracks (atlas_fill_cracks) */
+    uint8_t *seen = NULL;   /* per worker and chart: the chart has a texel in its rows */
+    uint32_t *gaps = NULL;  /* half-edges with nothing rasterized across (atlas_border) */
     pgt_progress *const pr = opt->progress;
     pgt_progress_stage(pr, "charts", 0, "");
     double t = pgt_now_ms();
@@ -182,29 +184,49 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     {
         /* charts without texels: each worker marks the charts of its rows in its own array */
         const uint32_t workers = pgt_parallel_workers(threads);
-        seen_ctx sc = {texel_chart, W, charts.chart_count,
-                       calloc((size_t)workers * charts.chart_count, 1)};
-        if (!sc.seen) {
+        seen = calloc((size_t)workers * charts.chart_count + 1, 1);
+        if (!seen) {
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
             goto done;
         }
+        seen_ctx sc = {texel_chart, W, charts.chart_count, seen};
         atlas_parallel_rows(H, W, workers, seen_rows, &sc);
-        for (uint32_t c = 0; c < charts.chart_count; ++c) {
-            uint8_t any = 0;
-            for (uint32_t w = 0; w < workers; ++w)
-                any |= sc.seen[(size_t)w * charts.chart_count + c];
-            st.empty_charts += !any;
+        for (uint32_t c = 0; c < charts.chart_count; ++c) { /* into seen[c] */
+            for (uint32_t w = 1; w < workers; ++w)
+                seen[c] |= seen[(size_t)w * charts.chart_count + c];
+            st.empty_charts += !seen[c];
         }
-        free(sc.seen);
     }
     st.ms_raster = pgt_now_ms() - t;
 
     pgt_progress_stage(pr, "pointers", 0, "");
     t = pgt_now_ms();
     atlas_pointer_counts pc;
-    const atlas_border border = {layout.tex, charts.border_half_edges, charts.border_count};
+    /* The gaps: seams with nothing rasterized across, a degenerate UV triangle's or a chart's
+     * that got no texel (smaller than a texel at this resolution). atlas_pointers keeps the
+     * dead ends next to them as next to the mesh border. */
+    uint32_t gap_count = 0;
+    for (uint32_t i = 0; i < charts.cross_count; ++i) {
+        const uint32_t other = charts.cross_half_edges[2u * i + 1u];
+        gap_count += other == PGT_NONE || !seen[other];
+    }
+    if (gap_count) {
+        gaps = malloc(sizeof(uint32_t) * gap_count);
+        if (!gaps) {
+            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
+            goto done;
+        }
+        gap_count = 0;
+        for (uint32_t i = 0; i < charts.cross_count; ++i) {
+            const uint32_t other = charts.cross_half_edges[2u * i + 1u];
+            if (other == PGT_NONE || !seen[other])
+                gaps[gap_count++] = charts.cross_half_edges[2u * i];
+        }
+    }
+    const atlas_border bd = {layout.tex, charts.border_half_edges, charts.border_count, gaps,
+                             gap_count};
     r = atlas_pointers(out, texel_chart, st.crack_texels ? crack : NULL, kind, dest_chart, dead_end,
-                       &border, threads, &pc, err);
+                       &bd, threads, &pc, err);
     if (r != PGT_OK) goto done;
     st.inner_boundary_texels = pc.inner_boundary;
     st.indirection_texels = pc.indirection;
@@ -225,6 +247,8 @@ done:
     free(dest_chart);
     free(normals);
     free(crack);
+    free(seen);
+    free(gaps);
     atlas_layout_destroy(&layout);
     atlas_charts_destroy(&charts);
     if (r != PGT_OK) {

@@ -26,12 +26,21 @@ void atlas_charts_destroy(atlas_charts *c) {
     free(c->chart_area_3d);
     free(c->border_half_edges);
     free(c->seam_half_edges);
+    free(c->cross_half_edges);
     memset(c, 0, sizeof(*c));
 }
 
 /* Half-edge h lies on the mesh border (no opposite half-edge) and its face is rasterized. */
 static int on_border(const pgt_adjacency *adj, const uint32_t *face_chart, uint32_t h) {
     return adj->opposite[h] == PGT_NONE && face_chart[h / 3u] != PGT_NONE;
+}
+
+/* Half-edge h of a rasterized face has a face of another chart across, or a degenerate UV
+ * triangle (in no chart): a gap when nothing of that side is rasterized (atlas_build). */
+static int between_charts(const pgt_adjacency *adj, const uint32_t *face_chart, uint32_t h) {
+    const uint32_t o = adj->opposite[h];
+    return face_chart[h / 3u] != PGT_NONE && o != PGT_NONE &&
+           face_chart[o / 3u] != face_chart[h / 3u];
 }
 
 /* The corners of half-edge h and of its opposite o carry the same UVs on both sides: h runs
@@ -188,14 +197,16 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
         if (signed_area[c] < 0.0) out->chart_mirrored[c] = 1, out->mirrored++;
     {
         /* the mesh border and the seams inside a chart: counted, then listed */
-        uint32_t nb = 0, ns = 0;
+        uint32_t nb = 0, ns = 0, nc = 0;
         for (uint32_t h = 0; h < 3u * F; ++h) {
             nb += on_border(&adj, out->face_chart, h);
             ns += inside_seam(&adj, out->face_chart, uv_cut, h);
+            nc += between_charts(&adj, out->face_chart, h);
         }
         out->border_half_edges = malloc(sizeof(uint32_t) * (nb ? nb : 1u));
         out->seam_half_edges = malloc(sizeof(uint32_t) * 2u * (ns ? ns : 1u));
-        if (!out->border_half_edges || !out->seam_half_edges) {
+        out->cross_half_edges = malloc(sizeof(uint32_t) * 2u * (nc ? nc : 1u));
+        if (!out->border_half_edges || !out->seam_half_edges || !out->cross_half_edges) {
             free(signed_area);
             free(box);
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory (charts)", what);
@@ -207,6 +218,11 @@ pgt_result atlas_charts_build(atlas_charts *out, const pgt_mesh *m, uint32_t thr
             if (inside_seam(&adj, out->face_chart, uv_cut, h)) {
                 out->seam_half_edges[2u * out->seam_count] = h;
                 out->seam_half_edges[2u * out->seam_count++ + 1u] = adj.opposite[h];
+            }
+            if (between_charts(&adj, out->face_chart, h)) {
+                out->cross_half_edges[2u * out->cross_count] = h;
+                out->cross_half_edges[2u * out->cross_count++ + 1u] =
+                    out->face_chart[adj.opposite[h] / 3u];
             }
         }
     }

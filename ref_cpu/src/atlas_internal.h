@@ -26,6 +26,10 @@ typedef struct atlas_charts {
     /* the mesh border: half-edges h = 3 f + c of rasterized faces (face_chart != PGT_NONE)
      * without an opposite half-edge (pgt_adjacency; non-manifold edges count too) */
     uint32_t *border_half_edges, border_count;
+    /* seams between charts: pairs (h, chart of the opposite face, PGT_NONE for a degenerate UV
+     * triangle) for every half-edge h of a rasterized face whose opposite face lies in another
+     * chart or in none; 2 * cross_count entries (atlas_build makes the gaps of them) */
+    uint32_t *cross_half_edges, cross_count;
     /* seams inside one chart: pairs of opposite half-edges (h, o), both faces rasterized and in
      * the same chart, whose corners carry other UVs on the two sides (a slit or a cylinder cut
      * inside the chart); 2 * seam_count entries */
@@ -135,11 +139,14 @@ typedef struct atlas_pointer_counts {
 #define ATLAS_KIND_BOUNDARY_BIT 0x80u
 
 /* The mesh border in texel space, for atlas_pointers: tex as atlas_layout gives it (6 floats per
- * face), and the border half-edges of atlas_charts. */
+ * face), the border half-edges of atlas_charts, and the gaps: half-edges with nothing
+ * rasterized across (a degenerate UV triangle, a chart without texels at this resolution). */
 typedef struct atlas_border {
     const float *tex;
     const uint32_t *half_edges;
     uint32_t count;
+    const uint32_t *gap_half_edges;
+    uint32_t gap_count;
 } atlas_border;
 
 pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const uint32_t *crack,

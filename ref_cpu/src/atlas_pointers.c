@@ -12,8 +12,9 @@
  * space). A candidate counts when it lies within dead_end texel sizes of p, measured in the
  * larger of the median texel size (pgt_atlas_texel_size) and the source's local one, or in the
  * candidate's own local size away from the mesh border (ATLAS_DEAD_END_FAR_REACHES,
- * ATLAS_BORDER_TEXELS); with none, the texel is a dead end next to the mesh border, and away
- * from it points to the nearest texel of its own chart but its starts (accept_own_chart).
+ * ATLAS_BORDER_TEXELS); with none, the texel is a dead end next to the mesh border or a gap
+ * (an edge with nothing rasterized across: atlas_border), and away from them points to the
+ * nearest texel of its own chart beyond the 3 x 3 texels around it (accept_own_chart).
  * Every query is independent: any thread count gives the same bytes. */
 #include <math.h>
 #include <stdlib.h>
@@ -49,7 +50,8 @@ typedef struct ptr_ctx {
     /* per texel, set on inner-boundary texels only: local_step in its chart (8 bytes a texel,
      * 8 MiB at 1024^2; double, the precision the reach has always been computed in) */
     double *local;
-    uint8_t *near_border;   /* per texel: 1 within ATLAS_BORDER_TEXELS of a mesh-border edge */
+    uint8_t *near_border;   /* per texel: NEAR_MESH_BORDER within ATLAS_BORDER_TEXELS of a
+                               mesh-border edge, | NEAR_GAP of a gap's (atlas_border) */
     int32_t *classify_cols; /* per worker: 2 W (classify_rows) */
 } ptr_ctx;
 
@@ -287,17 +289,16 @@ static int accept_candidate(const void *vctx, uint32_t id, uint32_t slot) {
     return 0;
 }
 
-/* A texel of the source's own chart that is none of its starts: the fallback of an outer texel
- * away from the mesh border that found nothing across (see pointer_rows). */
+/* A texel of the source's own chart outside the 3 x 3 texels around it (its starts, and the
+ * crack's filled texels next to it, which are no starts): the fallback of an outer texel away
+ * from the mesh border that found nothing across (see pointer_rows). */
 static int accept_own_chart(const void *vctx, uint32_t id, uint32_t slot) {
     const accept_ctx *a = vctx;
     const ptr_ctx *c = a->c;
     if (c->leaf_chart[slot] != a->chart) return 0;
     const uint32_t t = c->b_texel[id];
     const int32_t qx = (int32_t)(t % c->W), qy = (int32_t)(t / c->W);
-    for (uint32_t i = 0; i < a->starts; ++i)
-        if (a->sx[i] == qx && a->sy[i] == qy) return 0;
-    return 1;
+    return abs(qx - a->x) > 1 || abs(qy - a->y) > 1;
 }
 
 /* The reach counts on both sides of a seam: a candidate q beyond the source's reach is taken
@@ -321,15 +322,22 @@ static int accept_own_chart(const void *vctx, uint32_t id, uint32_t slot) {
  * charts 6 source reaches away through stretched texels). */
 #define ATLAS_BORDER_TEXELS 1.5
 
-/* Marks the texels whose centre lies within ATLAS_BORDER_TEXELS of a mesh-border edge: the
- * edge is walked in half-texel samples, each testing the 5 x 5 texels around it (the exact
- * distance to the edge decides). Serial: a mesh has few border edges against its texels. */
-static void mark_border(ptr_ctx *c, const atlas_border *b) {
+/* near_border's bits: next to the mesh border (the far reach is not used there), next to a gap
+ * (nothing rasterized across: no own-chart fallback there either). */
+#define NEAR_MESH_BORDER 1u
+#define NEAR_GAP 2u
+
+/* Sets `bit` in near_border on the texels whose centre lies within ATLAS_BORDER_TEXELS of one
+ * of the half-edges: each is walked in half-texel samples, each testing the 5 x 5 texels around
+ * it (the exact distance to the edge decides). Serial: a mesh has few border edges against its
+ * texels. */
+static void mark_edges(ptr_ctx *c, const float *tex, const uint32_t *half_edges, uint32_t count,
+                       uint8_t bit) {
     const int32_t W = (int32_t)c->W, H = (int32_t)c->H;
-    for (uint32_t i = 0; b && i < b->count; ++i) {
-        const uint32_t h = b->half_edges[i], f = h / 3u, k0 = h % 3u, k1 = (k0 + 1u) % 3u;
-        const double ax = b->tex[6u * f + 2u * k0], ay = b->tex[6u * f + 2u * k0 + 1u];
-        const double ex = b->tex[6u * f + 2u * k1] - ax, ey = b->tex[6u * f + 2u * k1 + 1u] - ay;
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t h = half_edges[i], f = h / 3u, k0 = h % 3u, k1 = (k0 + 1u) % 3u;
+        const double ax = tex[6u * f + 2u * k0], ay = tex[6u * f + 2u * k0 + 1u];
+        const double ex = tex[6u * f + 2u * k1] - ax, ey = tex[6u * f + 2u * k1 + 1u] - ay;
         const double len2 = ex * ex + ey * ey;
         const uint32_t samples = 1u + (uint32_t)ceil(2.0 * sqrt(len2));
         for (uint32_t s = 0; s <= samples; ++s) {
@@ -343,7 +351,7 @@ static void mark_border(ptr_ctx *c, const atlas_border *b) {
                     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
                     const double dx = cx - t * ex, dy = cy - t * ey;
                     if (dx * dx + dy * dy <= ATLAS_BORDER_TEXELS * ATLAS_BORDER_TEXELS)
-                        c->near_border[(size_t)y * c->W + (size_t)x] = 1;
+                        c->near_border[(size_t)y * c->W + (size_t)x] |= bit;
                 }
         }
     }
@@ -434,7 +442,9 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
             uint32_t hit =
                 pgt_kdtree_nearest(&c->tree, q, (float)(near * near), accept_candidate, &a, &d2);
             if (hit == PGT_NONE) { /* next to the mesh border, the source's reach alone */
-                const double far = c->near_border[idx] ? reach : ATLAS_DEAD_END_FAR_REACHES * reach;
+                const double far = (c->near_border[idx] & NEAR_MESH_BORDER)
+                                       ? reach
+                                       : ATLAS_DEAD_END_FAR_REACHES * reach;
                 hit = pgt_kdtree_nearest_reach(&c->tree, q, (float)(reach * reach),
                                                (float)(far * far), c->leaf_reach2, c->node_reach2,
                                                accept_candidate, &a, &d2);
@@ -443,8 +453,10 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
                 /* Away from the mesh border the surface goes on: where a slit cut into a chart
                  * closes (its two sides joined at its end, so that no texel near the end is
                  * "across"), the outer texels at the end found nothing; they point to the
-                 * nearest texel of their own chart but their starts instead of stopping walkers
-                 * on a closed mesh (bob_tri at --res 48 to 384: 1-3 such dead ends) */
+                 * nearest texel of their own chart beyond the texels around them instead of
+                 * stopping walkers on a closed mesh (bob_tri at --res 48 to 384: 1-3 such dead
+                 * ends). The border here is every edge with nothing rasterized across (the mesh
+                 * border, degenerate UV triangles, charts without texels: atlas_build.c). */
                 hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_own_chart, &a,
                                          &d2);
             }
@@ -654,7 +666,10 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const ui
     const pgt_atlas_channels order = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
     out->texel_size = texel_size(atlas, &order, threads, texel_chart);
     c.texel_size = out->texel_size;
-    mark_border(&c, border);
+    if (border) {
+        mark_edges(&c, border->tex, border->half_edges, border->count, NEAR_MESH_BORDER);
+        mark_edges(&c, border->tex, border->gap_half_edges, border->gap_count, NEAR_GAP);
+    }
     atlas_parallel_rows(H, W, threads, pointer_rows, &c);
     out->inner_boundary = nb;
     for (uint32_t y = 0; y < H; ++y) {
