@@ -54,10 +54,18 @@ plt.rcParams.update({
 
 def footnote(fig, text):
     """The machine / commit / date line at the bottom left, marked for check_text.py; broken
-    into lines that fit the figure's width (a long machine name ran off the page)."""
-    return fig.text(0.005, 0.005, wrap(text, 0.99 * fig.get_figwidth(), FOOTNOTE_PT),
-                    fontsize=FOOTNOTE_PT, color="0.3", ha="left", va="bottom",
-                    gid=FOOTNOTE_GID)
+    into lines that fit the figure's width (a long machine name ran off the page): first at
+    wrap()'s estimate of characters per line, then, measured as drawn, at fewer until the
+    widest line fits (capitals and digits are wider than the estimate's average)."""
+    room = 0.99 * fig.get_figwidth()
+    chars = max(int(room * 72 / (0.55 * FOOTNOTE_PT)), 16)
+    t = fig.text(0.005, 0.005, textwrap.fill(text, chars, break_on_hyphens=False),
+                 fontsize=FOOTNOTE_PT, color="0.3", ha="left", va="bottom", gid=FOOTNOTE_GID)
+    renderer = fig.canvas.get_renderer()
+    while chars > 16 and t.get_window_extent(renderer).width > (room - 0.005) * fig.dpi:
+        chars = max(int(chars * 0.9), 16)
+        t.set_text(textwrap.fill(text, chars, break_on_hyphens=False))
+    return t
 
 
 def suptitle(fig, text):
