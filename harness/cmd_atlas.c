@@ -171,9 +171,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     int rc = PGT_EXIT_USAGE;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
-    char stage_text[PGT_PROGRESS_STAGE_MAX + 1];
-    snprintf(stage_text, sizeof stage_text, "reading %s", in_path);
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
+    pgt_cli_progress_stagef(prog.progress, "reading %s", in_path);
     const double t0 = pgt_cli_now_ms();
     if (pgt_cli_load_named(in_path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
@@ -205,8 +203,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     {
         /* both files under staging names first, renamed only when both are written: a failed
          * -o or --png leaves no new file behind (nor replaces an old one) */
-        snprintf(stage_text, sizeof stage_text, "writing %s", out_path);
-        pgt_progress_stage(prog.progress, stage_text, 0, "");
+        pgt_cli_progress_stagef(prog.progress, "writing %s", out_path);
         pgt_cli_stage stage;
         stage.count = stage.dir_count = 0;
         const char *exr_tmp = pgt_cli_stage_add(&stage, out_path);

@@ -676,13 +676,12 @@ int pgt_cmd_ivy(int argc, char **argv) {
     const pgt_terminals_output *m = &out.mesh;
     const pgt_vertex_mesh soup = {m->vertex_count, m->triangle_count, m->positions, m->normals,
                                   m->uvs,          m->triangles};
-    char stage_text[PGT_PROGRESS_STAGE_MAX + 1], size_text[32];
+    char size_text[32];
     /* binary PLY: 8 floats a vertex, a count byte and 3 indices a triangle */
-    snprintf(
-        stage_text, sizeof stage_text, "writing %s (%s)", out_path,
+    pgt_cli_progress_stagef(
+        prog.progress, "writing %s (%s)", out_path,
         pgt_cli_bytes_text(size_text, sizeof size_text,
                            32u * (uint64_t)m->vertex_count + 13u * (uint64_t)m->triangle_count));
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
     if (pgt_mesh_write_ply_soup(&soup, pgt_cli_stage_add(&stage, out_path), &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         goto done;

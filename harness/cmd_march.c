@@ -275,11 +275,7 @@ int pgt_cmd_march(int argc, char **argv) {
     int rc = PGT_EXIT_USAGE;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
-    {
-        char stage_text[PGT_PROGRESS_STAGE_MAX + 1];
-        snprintf(stage_text, sizeof stage_text, "reading %s", in_path);
-        pgt_progress_stage(prog.progress, stage_text, 0, "");
-    }
+    pgt_cli_progress_stagef(prog.progress, "reading %s", in_path);
     const double t0 = pgt_cli_now_ms();
     /* the march is one walker; the atlas decodes on every CPU */
     if (pgt_image_read_exr_threads(&img, in_path, pgt_cli_cpu_count(), &err) != PGT_OK ||

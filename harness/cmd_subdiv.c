@@ -126,17 +126,14 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     int rc = PGT_EXIT_USAGE;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
-    char stage_text[PGT_PROGRESS_STAGE_MAX + 1];
-    snprintf(stage_text, sizeof stage_text, "opening the %s backend", pgt_backend_kind_name(kind));
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
+    pgt_cli_progress_stagef(prog.progress, "opening the %s backend", pgt_backend_kind_name(kind));
     pgt_backend backend;
     if (pgt_backend_open(&backend, kind, device, profile, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);
         pgt_cli_progress_stop(&prog);
         return PGT_EXIT_USAGE;
     }
-    snprintf(stage_text, sizeof stage_text, "reading %s", in_path);
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
+    pgt_cli_progress_stagef(prog.progress, "reading %s", in_path);
     double t0 = pgt_cli_now_ms();
     const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 0, &origin};
     if (pgt_mesh_read(&in, in_path, &ro, &err) != PGT_OK) {
@@ -174,8 +171,7 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     opts.threads = threads;
     opts.protected_faces = prot;
     opts.progress = prog.progress; /* the reference's iterations (a GPU backend: the stage) */
-    snprintf(stage_text, sizeof stage_text, "sqrt(3) on %s", pgt_backend_kind_name(kind));
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
+    pgt_cli_progress_stagef(prog.progress, "sqrt(3) on %s", pgt_backend_kind_name(kind));
     if (kind != PGT_BACKEND_CPU && in.uvs)
         fprintf(stderr,
                 "pgt subdiv: note: the %s backend does not carry UVs; %s is written "
@@ -189,9 +185,8 @@ int pgt_cmd_subdiv(int argc, char **argv) {
         goto done;
     }
     double t2 = pgt_cli_now_ms();
-    snprintf(stage_text, sizeof stage_text, "writing %s (%u vertices, %u faces)", out_path,
-             out.vertex_count, out.face_count);
-    pgt_progress_stage(prog.progress, stage_text, 0, "");
+    pgt_cli_progress_stagef(prog.progress, "writing %s (%u vertices, %u faces)", out_path,
+                            out.vertex_count, out.face_count);
     pgt_mesh_write_options wo = {PGT_FORMAT_AUTO, precise};
     if (pgt_mesh_write(&out, out_path, &wo, &err) != PGT_OK) {
         pgt_cli_fail(verb, "%s", err.message);

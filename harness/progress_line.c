@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -105,6 +106,16 @@ int pgt_cli_progress_start(pgt_cli_progress *p, const char *verb) {
     p->running = 1;
     active_progress = p;
     return 0;
+}
+
+void pgt_cli_progress_stagef(pgt_progress *p, const char *format, ...) {
+    if (!p) return;
+    char stage[PGT_PROGRESS_STAGE_MAX + 1];
+    va_list ap;
+    va_start(ap, format);
+    vsnprintf(stage, sizeof stage, format, ap);
+    va_end(ap);
+    pgt_progress_stage(p, stage, 0, "");
 }
 
 /* Tells the thread to stop; once this returns it prints nothing more (it prints holding the

@@ -40,6 +40,14 @@ typedef struct pgt_cli_progress {
  * (one line naming it, returns PGT_EXIT_USAGE; 0 otherwise). */
 int pgt_cli_progress_start(pgt_cli_progress *p, const char *verb);
 
+/* Starts a stage of unknown size named by printf's format (cut to PGT_PROGRESS_STAGE_MAX):
+ * "reading %s", "writing %s (%u vertices)". Nothing is formatted when p is NULL (lines off). */
+void pgt_cli_progress_stagef(pgt_progress *p, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* Stops the thread (at once, without a last line) and frees the tracker; a p that never
  * started (zeroed) is a no-op. */
 void pgt_cli_progress_stop(pgt_cli_progress *p);

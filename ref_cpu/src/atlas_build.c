@@ -105,7 +105,6 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     float *normals = NULL;
     uint32_t *crack = NULL; /* texels filled in seam cracks (atlas_fill_cracks) */
     uint8_t *seen = NULL;   /* per worker and chart: the chart has a texel in its rows */
-    uint32_t *gaps = NULL;  /* half-edges with nothing rasterized across (atlas_border) */
     pgt_progress *const pr = opt->progress;
     pgt_progress_stage(pr, "charts", 0, "");
     double t = pgt_now_ms();
@@ -205,23 +204,11 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     /* The gaps: seams with nothing rasterized across, a degenerate UV triangle's or a chart's
      * that got no texel (smaller than a texel at this resolution). atlas_pointers keeps the
      * dead ends next to them as next to the mesh border. */
+    uint32_t *const gaps = charts.cross_half_edges; /* compacted in place: entry n <= 2 i */
     uint32_t gap_count = 0;
     for (uint32_t i = 0; i < charts.cross_count; ++i) {
-        const uint32_t other = charts.cross_half_edges[2u * i + 1u];
-        gap_count += other == PGT_NONE || !seen[other];
-    }
-    if (gap_count) {
-        gaps = malloc(sizeof(uint32_t) * gap_count);
-        if (!gaps) {
-            r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", what);
-            goto done;
-        }
-        gap_count = 0;
-        for (uint32_t i = 0; i < charts.cross_count; ++i) {
-            const uint32_t other = charts.cross_half_edges[2u * i + 1u];
-            if (other == PGT_NONE || !seen[other])
-                gaps[gap_count++] = charts.cross_half_edges[2u * i];
-        }
+        const uint32_t h = gaps[2u * i], other = gaps[2u * i + 1u];
+        if (other == PGT_NONE || !seen[other]) gaps[gap_count++] = h;
     }
     const atlas_border bd = {layout.tex, charts.border_half_edges, charts.border_count, gaps,
                              gap_count};
@@ -248,7 +235,6 @@ done:
     free(normals);
     free(crack);
     free(seen);
-    free(gaps);
     atlas_layout_destroy(&layout);
     atlas_charts_destroy(&charts);
     if (r != PGT_OK) {

@@ -28,7 +28,8 @@ typedef struct atlas_charts {
     uint32_t *border_half_edges, border_count;
     /* seams between charts: pairs (h, chart of the opposite face, PGT_NONE for a degenerate UV
      * triangle) for every half-edge h of a rasterized face whose opposite face lies in another
-     * chart or in none; 2 * cross_count entries (atlas_build makes the gaps of them) */
+     * chart or in none; 2 * cross_count entries (atlas_build compacts them in place into the
+     * gaps' half-edges) */
     uint32_t *cross_half_edges, cross_count;
     /* seams inside one chart: pairs of opposite half-edges (h, o), both faces rasterized and in
      * the same chart, whose corners carry other UVs on the two sides (a slit or a cylinder cut
