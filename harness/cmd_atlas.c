@@ -228,7 +228,8 @@ int pgt_cmd_atlas(int argc, char **argv) {
                "\"crack_texels\":%u,"
                "\"input_overlap_texels\":%u,\"layout\":\"%s\",\"packing_efficiency\":%.4f,"
                "\"inner_texels\":%u,\"inner_boundary_texels\":%u,\"indirection_texels\":%u,"
-               "\"dead_end_texels\":%u,\"self_seam_pointers\":%u,\"texel_size\":%.6g,"
+               "\"dead_end_texels\":%u,\"self_seam_pointers\":%u,\"own_chart_pointers\":%u,"
+               "\"texel_size\":%.6g,"
                "\"read_ms\":%.3f,\"charts_ms\":%.3f,\"layout_ms\":%.3f,\"raster_ms\":%.3f,"
                "\"pointers_ms\":%.3f,\"angles_ms\":%.3f,\"total_ms\":%.3f,\"write_ms\":%.3f}\n",
                st.faces, st.width, st.height, st.band, st.k, (double)dead_end, threads, st.charts,
@@ -236,8 +237,8 @@ int pgt_cmd_atlas(int argc, char **argv) {
                st.fold_over_texels, st.crack_texels, st.overlap_texels,
                st.repacked ? "repacked" : "kept", st.packing_efficiency, st.inner_texels,
                st.inner_boundary_texels, st.indirection_texels, st.dead_end_texels,
-               st.self_seam_pointers, st.texel_size, t1 - t0, st.ms_charts, st.ms_layout,
-               st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total, t3 - t2);
+               st.self_seam_pointers, st.own_chart_pointers, st.texel_size, t1 - t0, st.ms_charts,
+               st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total, t3 - t2);
     } else {
         printf("atlas: %s (%u faces) -> %s (%ux%u, band %u, %u threads)\n", in_path, st.faces,
                out_path, st.width, st.height, st.band, threads);
@@ -252,9 +253,12 @@ int pgt_cmd_atlas(int argc, char **argv) {
         if (st.crack_texels)
             printf(", %u texels filled in the cracks of seams inside a chart", st.crack_texels);
         printf("\n  texels: %u inner (%u inner-boundary), %u indirection (%u into their own "
-               "chart), %u dead end; texel size %.4g\n",
+               "chart",
                st.inner_texels, st.inner_boundary_texels, st.indirection_texels,
-               st.self_seam_pointers, st.dead_end_texels, st.texel_size);
+               st.self_seam_pointers);
+        if (st.own_chart_pointers)
+            printf(", %u of them with nothing across", st.own_chart_pointers);
+        printf("), %u dead end; texel size %.4g\n", st.dead_end_texels, st.texel_size);
         printf("  ms: charts %.2f, layout %.2f, raster %.2f, pointers %.2f, angles %.2f, total "
                "%.2f (read %.2f, write %.2f)\n",
                st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total,

@@ -116,6 +116,20 @@ expect atlas_bad_res 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --re
 one_line atlas_bad_res_one_line "\-\-res"
 expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr --res 128 --png cs.png
 [ -s cs.exr ] && [ -s cs.png ] && ok atlas_writes_exr_and_png || bad atlas_writes_exr_and_png "missing outputs"
+# the own-chart fallback's pointers (bob_tri at 128: the closed end of a slit) are printed and in
+# the JSON alike, as a part of the pointers into their own chart
+bob="$src/../shared/datasets/meshes/bob_tri.obj"
+if [ -f "$bob" ]; then
+  expect atlas_own_chart_text 0 "$pgt" atlas "$bob" -o bob.exr --res 128
+  text_own=$(sed -n 's/.*(\([0-9]*\) into their own chart, \([0-9]*\) of them with nothing across).*/\1 \2/p' out.txt)
+  expect atlas_own_chart_json 0 "$pgt" atlas "$bob" -o bob.exr --res 128 --json
+  json_own=$(sed -n 's/.*"self_seam_pointers":\([0-9]*\),"own_chart_pointers":\([0-9]*\),.*/\1 \2/p' out.txt)
+  if [ -n "$text_own" ] && [ "$text_own" = "$json_own" ] && [ "${text_own#* }" -gt 0 ] &&
+     [ "${text_own#* }" -le "${text_own% *}" ]; then ok atlas_own_chart_reported
+  else bad atlas_own_chart_reported "text '$text_own', json '$json_own'"; fi
+else
+  bad atlas_own_chart_reported "no $bob"
+fi
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv

@@ -219,6 +219,7 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     st.indirection_texels = pc.indirection;
     st.dead_end_texels = pc.dead_end;
     st.self_seam_pointers = pc.self_seam;
+    st.own_chart_pointers = pc.own_chart;
     st.texel_size = pc.texel_size;
     st.ms_pointers = pgt_now_ms() - t;
 

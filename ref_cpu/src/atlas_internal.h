@@ -134,6 +134,7 @@ uint32_t atlas_band_violations(const int32_t *texel_chart, uint32_t width, uint3
  * other texels are left as they are. */
 typedef struct atlas_pointer_counts {
     uint32_t inner_boundary, indirection, dead_end, self_seam;
+    uint32_t own_chart; /* of self_seam: the own-chart fallback's (atlas_pointers.c) */
     double texel_size;
 } atlas_pointer_counts;
 

@@ -28,6 +28,10 @@
 static const int32_t nb8[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                   {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
 
+/* Counts per row of pointer_rows (summed in atlas_pointers): indirection texels, dead ends,
+ * pointers into their own chart, and those of them the own-chart fallback made. */
+#define ROW_COUNTS 4u
+
 typedef struct ptr_ctx {
     pgt_image *atlas;
     const int32_t *chart;
@@ -46,7 +50,8 @@ typedef struct ptr_ctx {
     int32_t *leaf_chart; /* b_chart in the tree's leaf order */
     const float *P[3];   /* the position planes */
     double texel_size, dead_end;
-    uint32_t *row_counts;   /* 4 per row: indirection, dead end, self seam, outer */
+    uint32_t *row_counts; /* ROW_COUNTS per row: indirection, dead end, self seam, own-chart
+                             fallback */
     /* per texel, set on inner-boundary texels only: local_step in its chart (8 bytes a texel,
      * 8 MiB at 1024^2; double, the precision the reach has always been computed in) */
     double *local;
@@ -398,13 +403,12 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
     float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9),
           *rot = pgt_image_plane(c->atlas, 10);
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
-        uint32_t *cnt = &c->row_counts[4u * (uint32_t)y];
+        uint32_t *cnt = &c->row_counts[ROW_COUNTS * (uint32_t)y];
         cnt[0] = cnt[1] = cnt[2] = cnt[3] = 0;
         for (int32_t x = 0; x < W; ++x) {
             const size_t idx = (size_t)y * (size_t)W + (size_t)x;
             pu[idx] = -1.0f, pv[idx] = -1.0f, rot[idx] = 0.0f;
             if (c->kind[idx] != PGT_TEXEL_INDIRECTION) continue;
-            cnt[3]++;
             /* the chart, and p: the mean of the adjacent inner-boundary texels */
             int32_t chart = -1;
             double p[3] = {0.0, 0.0, 0.0};
@@ -459,6 +463,7 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
                  * border, degenerate UV triangles, charts without texels: atlas_build.c). */
                 hit = pgt_kdtree_nearest(&c->tree, q, (float)(reach * reach), accept_own_chart, &a,
                                          &d2);
+                cnt[3] += hit != PGT_NONE;
             }
             chart_plane[idx] = (float)chart;
             for (uint32_t k = 0; k < 3; ++k) N[k][idx] = 0.0f;
@@ -628,7 +633,7 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const ui
     c.dest_chart = dest_chart, c.W = W, c.H = H;
     for (uint32_t k = 0; k < 3; ++k) c.P[k] = pgt_image_plane(atlas, k);
     c.row_boundary = calloc((size_t)H + 1u, sizeof(uint32_t));
-    c.row_counts = calloc(4u * (size_t)H, sizeof(uint32_t));
+    c.row_counts = calloc(ROW_COUNTS * (size_t)H, sizeof(uint32_t));
     const uint32_t workers = pgt_parallel_workers(threads);
     /* written at the inner-boundary texels only, read at random: on huge pages */
     c.local = pgt_alloc_huge(sizeof(double) * (size_t)W * H);
@@ -673,9 +678,11 @@ pgt_result atlas_pointers(pgt_image *atlas, const int32_t *texel_chart, const ui
     atlas_parallel_rows(H, W, threads, pointer_rows, &c);
     out->inner_boundary = nb;
     for (uint32_t y = 0; y < H; ++y) {
-        out->indirection += c.row_counts[4u * y];
-        out->dead_end += c.row_counts[4u * y + 1u];
-        out->self_seam += c.row_counts[4u * y + 2u];
+        const uint32_t *cnt = &c.row_counts[ROW_COUNTS * y];
+        out->indirection += cnt[0];
+        out->dead_end += cnt[1];
+        out->self_seam += cnt[2];
+        out->own_chart += cnt[3];
     }
 done:
     free(c.row_boundary);

@@ -146,6 +146,10 @@ typedef struct pgt_atlas_stats {
     uint32_t inner_texels, inner_boundary_texels;
     uint32_t indirection_texels, dead_end_texels;
     uint32_t self_seam_pointers; /* indirection texels pointing into their own chart */
+    /* of those, the outer texels that found nothing across away from the mesh border and any
+     * gap and point into their own chart instead of being dead ends (a slit's closed end, where
+     * its two sides are joined: not the paper's rule, which would stop there) */
+    uint32_t own_chart_pointers;
     double texel_size;           /* median 3D distance of 4-adjacent inner texels (one chart) */
     double ms_charts, ms_layout, ms_raster, ms_pointers, ms_angles, ms_total;
 } pgt_atlas_stats;
