@@ -102,6 +102,17 @@ static void test_rich_grammar_vs_explicit(void) { check_city("facade_rich.gramma
 /* Geometry-image terminals (6.2.2): the oculus windows, triangles tested brute force. */
 static void test_gimage_grammar_vs_explicit(void) { check_city("facade_gimage.grammar", 2, 2); }
 
+/* Whether a Window's or Door's opening (the glass, the door leaf) has an area in a w x h scope,
+ * from the documented layout (facade.h, Fig. 7): inside the margin m and the frame f, and for a
+ * window above the sill (height sh). Other kinds always fit. */
+static int opening_fits(uint32_t kind, const float *args, float w, float h) {
+    const float m = args[0], f = args[1];
+    if (kind == PGT_FACADE_WINDOW)
+        return w - 2.0f * (m + f) > 0.0f && h - 2.0f * (m + f) - args[4] > 0.0f;
+    if (kind == PGT_FACADE_DOOR) return w - 2.0f * (m + f) > 0.0f && h - m - f > 0.0f;
+    return 1;
+}
+
 /* Every rectangle lies in its scope (x, y) and the terminal's stated depth range. */
 static void test_terminals_in_scope(void) {
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
@@ -121,8 +132,9 @@ static void test_terminals_in_scope(void) {
             const float w = 0.5f + 3.0f * pgt_rng_float(1, 1, counter++);
             const float h = 0.5f + 3.0f * pgt_rng_float(1, 1, counter++);
             const uint32_t n = pgt_facade_terminal_quads(kinds[k], args, 6, x0, y0, w, h, q);
-            CHECK(n == expect[k] ||
-                  (n == 1 && (kinds[k] == PGT_FACADE_WINDOW || kinds[k] == PGT_FACADE_DOOR)));
+            /* the layout degrades to a wall exactly when the opening has no area (facade.h) */
+            CHECK_MSG(n == (opening_fits(kinds[k], args, w, h) ? expect[k] : 1u),
+                      "kind %u in %g x %g: %u rectangles", kinds[k], (double)w, (double)h, n);
             for (uint32_t i = 0; i < n; ++i) {
                 float lo[3], hi[3];
                 const uint32_t ax = q[i].axis, o0 = ax == 0 ? 1u : 0u, o1 = ax == 2 ? 1u : 2u;
@@ -140,6 +152,81 @@ static void test_terminals_in_scope(void) {
     CHECK(q[0].axis == 2 && q[0].c == 0.0f);
 }
 
+/* The depth a Window or Door shows a viewer in front of it at (x, y) of its scope, from the
+ * documented layout (facade.h, Fig. 7), not from facade_terminals.c: the wall (z = 0) outside
+ * the margin m; for a window the sill box over the margin's inner width from m to m + sh,
+ * protruding by sd; the frame, protruding by fd, a band f wide around the opening; the opening
+ * (glass, door leaf) recessed to -r. A door's frame and opening reach the scope's bottom. */
+static float front_depth(uint32_t kind, const float *args, float w, float h, float x, float y) {
+    const float m = args[0], f = args[1], fd = args[2], r = args[3];
+    const float sh = kind == PGT_FACADE_WINDOW ? args[4] : 0.0f, sd = args[5];
+    const float bottom = kind == PGT_FACADE_WINDOW ? m : 0.0f; /* of the sill, or the frame */
+    if (x < m || x > w - m || y < bottom || y > h - m) return 0.0f;
+    if (y < bottom + sh) return sd;
+    const float fy0 = bottom + sh; /* the frame's bottom */
+    const int in_opening =
+        x > m + f && x < w - m - f && y < h - m - f && (kind == PGT_FACADE_DOOR || y > fy0 + f);
+    return in_opening ? -r : fd;
+}
+
+/* How far from every edge of the layout a probe of test_window_and_door_depths stays (scope
+ * units): the probes are a grid offset from the edges' values, so that "inside" never hinges on
+ * float rounding at an edge. */
+#define PROBE_EDGE_CLEARANCE 1e-3f
+
+/* Windows and doors seen from the front: at a grid of points of the scope, the nearest
+ * rectangle facing the viewer (the largest z among the z-facing ones covering the point) is at
+ * the depth the documented layout gives (front_depth). The rectangles are also what the ray
+ * test and the explicit twin use, so this is the only check of their shape against the
+ * terminal's definition. */
+static void test_window_and_door_depths(void) {
+    static const float args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
+                                     {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
+    const uint32_t kinds[2] = {PGT_FACADE_WINDOW, PGT_FACADE_DOOR};
+    const float sizes[3][2] = {{1.6f, 2.4f}, {3.1f, 1.7f}, {1.25f, 1.33f}};
+    pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
+    uint32_t probes = 0, opening = 0, frame = 0, sill = 0, wall = 0;
+    for (int k = 0; k < 2; ++k)
+        for (int a = 0; a < 2; ++a)
+            for (int sz = 0; sz < 3; ++sz) {
+                const float w = sizes[sz][0], h = sizes[sz][1], x0 = 2.0f, y0 = 5.0f;
+                REQUIRE(opening_fits(kinds[k], args[a], w, h));
+                const uint32_t n = pgt_facade_terminal_quads(kinds[k], args[a], 6, x0, y0, w, h, q);
+                const uint32_t G = 97; /* probes per side, offset by a third of a cell */
+                for (uint32_t i = 0; i < G; ++i)
+                    for (uint32_t j = 0; j < G; ++j) {
+                        const float x = w * ((float)i + 1.0f / 3.0f) / G,
+                                    y = h * ((float)j + 2.0f / 3.0f) / G;
+                        /* skip probes next to an edge of the layout */
+                        const float m = args[a][0], f = args[a][1], sh = args[a][4];
+                        const float ex[4] = {m, m + f, w - m - f, w - m};
+                        const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
+                        int near = 0;
+                        for (int e = 0; e < 4; ++e) near |= fabsf(x - ex[e]) < PROBE_EDGE_CLEARANCE;
+                        for (int e = 0; e < 6; ++e) near |= fabsf(y - ey[e]) < PROBE_EDGE_CLEARANCE;
+                        if (near) continue;
+                        float best = -INFINITY;
+                        for (uint32_t t = 0; t < n; ++t)
+                            if (q[t].axis == 2 && q[t].lo[0] <= x0 + x && x0 + x <= q[t].hi[0] &&
+                                q[t].lo[1] <= y0 + y && y0 + y <= q[t].hi[1] && q[t].c > best)
+                                best = q[t].c;
+                        const float want = front_depth(kinds[k], args[a], w, h, x, y);
+                        probes++;
+                        opening += want < 0.0f, frame += want == args[a][2];
+                        sill += kinds[k] == PGT_FACADE_WINDOW && want == args[a][5];
+                        wall += want == 0.0f;
+                        CHECK_MSG(best == want,
+                                  "kind %u, args %d, %g x %g at (%g, %g): depth %g, "
+                                  "the layout says %g",
+                                  kinds[k], a, (double)w, (double)h, (double)x, (double)y,
+                                  (double)best, (double)want);
+                    }
+            }
+    printf("  %u probes: %u on openings, %u on frames, %u on sills, %u on the wall\n", probes,
+           opening, frame, sill, wall);
+    CHECK(opening > 0 && frame > 0 && sill > 0 && wall > 0);
+}
+
 static void make_one(pgt_facade_scene *s, const pgt_grammar *g, float *corners, float *params,
                      pgt_facade_building *b) {
     memset(s, 0, sizeof *s);
@@ -154,6 +241,9 @@ static void make_one(pgt_facade_scene *s, const pgt_grammar *g, float *corners, 
     memset(b, 0, sizeof *b);
     b->corner_count = 4, b->height = 16.0f, b->seed = 3, b->colour = 0xC0B090;
 }
+
+/* Float rounding of a hit distance of a few metres (the ray test's t in float: some ulps of 5). */
+#define HIT_T_ABS 1e-5f
 
 /* A ray that misses a facade's volume develops nothing; one that enters develops nodes. */
 static void test_miss_develops_nothing(void) {
@@ -183,10 +273,19 @@ static void test_miss_develops_nothing(void) {
     const float towards[3] = {1.0f, 0.0f, 0.0f};
     CHECK(pgt_facade_intersect(&s, &fa[0], 0, o1, towards, &h, &st) == 1);
     CHECK(st.volume_hits == 1 && st.nodes > 0 && st.terminals > 0);
-    CHECK(h.facade == 0 && h.kind != PGT_FACADE_MISS && h.t > 4.0f && h.t < 5.5f);
+    /* the wall plane is 5 m away; terminals lie within [-recess, protrusion] of it */
+    CHECK_MSG(h.facade == 0 && h.kind != PGT_FACADE_MISS &&
+                  h.t >= 5.0f - fa[0].protrusion - HIT_T_ABS &&
+                  h.t <= 5.0f + fa[0].recess + HIT_T_ABS,
+              "hit at t = %g, protrusion %g, recess %g", (double)h.t, (double)fa[0].protrusion,
+              (double)fa[0].recess);
     free(fa);
     pgt_grammar_destroy(&g);
 }
+
+/* Slack of the coverage test (metres, a 12 x 9 m facade): the polygon's corners are float, the
+ * crossing is computed in double from them; 1e-4 m is some hundred ulps of 12. */
+#define COVERAGE_ABS 1e-4
 
 /* Every ray from the eye that meets the volume crosses the coverage polygon. */
 static void test_coverage_polygon(void) {
@@ -221,7 +320,7 @@ static void test_coverage_polygon(void) {
             for (int k = 0; k < 3; ++k) {
                 if ((uint32_t)k == axis) continue;
                 const double x = eye[k] + s * d[k];
-                if (x < lo[k] - 1e-4 || x > hi[k] + 1e-4) in = 0;
+                if (x < lo[k] - COVERAGE_ABS || x > hi[k] + COVERAGE_ABS) in = 0;
             }
             tested++, crossed += (uint32_t)in;
         }
@@ -552,6 +651,15 @@ static int wall_scene(pgt_grammar *g, pgt_facade_scene *s, float *corners, float
     return pgt_facade_prepare(s, fa, fc, &err) == PGT_OK;
 }
 
+/* The relief search's resolution: RELIEF_LINEAR (24) linear steps then RELIEF_BINARY (6)
+ * bisections (facade_shade.c) locate the height field's crossing within 24 x 2^6 = 1536ths of
+ * the depth range along the ray. */
+#define RELIEF_SEARCH_CELLS 1536.0
+
+/* Float rounding of a depth (t) of the renderer against its double re-derivation: some float
+ * epsilons (1.2e-7) of t over the rays' set-up and the plane intersection. */
+#define DEPTH_REL 4e-6
+
 /* Relief mapping (6.3): a ray goes on into the relief until it meets the height field; the
  * distance it goes on is checked against a double-precision search (fine sampling then
  * bisection of s |v_z| = D (1 - h(u + s v_u, v + s v_v))) over the same height field. */
@@ -622,7 +730,7 @@ static void test_relief_depth(void) {
             const double got = (double)rel.depth[p] - geo.depth[p];
             /* the reference searches in 24 linear steps and 6 bisections: a 1536th of the
              * depth range along the ray, plus float rounding of the two depths */
-            const double tol = smax / 1536.0 + 4e-6 * geo.depth[p];
+            const double tol = smax / RELIEF_SEARCH_CELLS + DEPTH_REL * geo.depth[p];
             worst = fmax(worst, fabs(got - s1));
             CHECK_MSG(fabs(got - s1) <= tol, "pixel (%u, %u): relief %.6g, expected %.6g", x, y,
                       got, s1);
@@ -636,6 +744,12 @@ static void test_relief_depth(void) {
     free(fa);
     pgt_grammar_destroy(&g);
 }
+
+/* LOD level 0 flattens every terminal to this share of the facade's thickness
+ * (facade_render.c LOD_ZSCALE_MIN), and its hit's rounding (as DEPTH_REL, halved: one
+ * intersection, no relief). */
+#define FLAT_THICKNESS 1e-3
+#define FLAT_DEPTH_REL 2e-6
 
 /* LOD (sec. 7): level 0 lays every terminal into the wall plane; with the thickness ramp beyond
  * the scene and the detail ramps before the camera, LOD is the geometry level exactly. */
@@ -674,8 +788,10 @@ static void test_lod_levels(void) {
         double z = 0.0;
         for (int k = 0; k < 3; ++k)
             z += ((double)o[k] + flat.depth[p] * (double)d[k] - f->origin[k]) * f->n[k];
-        /* level 0 keeps a thousandth of the thickness, plus float rounding of the hit */
-        CHECK_MSG(fabs(z) <= 1e-3 * fmax(f->protrusion, f->recess) + 2e-6 * flat.depth[p],
+        /* level 0 keeps a thousandth of the thickness (facade_render.c LOD_ZSCALE_MIN), plus
+         * float rounding of the hit */
+        CHECK_MSG(fabs(z) <= FLAT_THICKNESS * fmax(f->protrusion, f->recess) +
+                                 FLAT_DEPTH_REL * flat.depth[p],
                   "pixel %zu: z %.3g", p, z);
         hits++, differ += flat.node[p] != geo.node[p];
     }
@@ -694,6 +810,14 @@ static void test_lod_levels(void) {
  * roof plane: the float ray-plane intersection rounds to a few float epsilons (1.2e-7) of t,
  * while a roof at a wrong height (the base, 2 m, left out: 9 m for 11) is off by percents. */
 #define ROOF_DEPTH_REL 1e-4
+
+/* The roof's triangles have integer corners (exact in float) and their area is summed in
+ * double: exact but for a few double ulps of 76. */
+#define ROOF_AREA_ABS 1e-9
+
+/* A straight-down ray's hit on the roof 19 m below the eye: float rounding of t (ulp of 19 is
+ * 1.9e-6) through the camera's ray set-up; a roof at a wrong height is off by metres. */
+#define ROOF_DEPTH_ABS 1e-4f
 
 /* Roofs: an L-shaped (concave) footprint's roof triangles cover exactly its area, lie at base +
  * height, a ray down through the notch of the L misses the roof, and from an eye standing on
@@ -733,7 +857,8 @@ static void test_roof_concave(void) {
         CHECK(m.facade[t] == fc + 0u);
     }
     CHECK(roofs == 4);
-    CHECK_MSG(fabs(area - 76.0) < 1e-9, "roof area %.9g, footprint 10 x 10 - 6 x 4 = 76", area);
+    CHECK_MSG(fabs(area - 76.0) < ROOF_AREA_ABS, "roof area %.9g, footprint 10 x 10 - 6 x 4 = 76",
+              area);
     /* straight down onto the notch (7, 2) and onto the L (2, 7) */
     const float eye[3] = {7.0f, 30.0f, 2.0f}, at[3] = {7.0f, 0.0f, 2.001f}, up[3] = {1, 0, 0};
     pgt_facade_camera cam;
@@ -747,7 +872,7 @@ static void test_roof_concave(void) {
     REQUIRE(pgt_facade_camera_init(&cam, eye2, at2, up, 1, 1, 1, &err) == PGT_OK);
     REQUIRE(pgt_facade_render(&s, fa, fc, &cam, &sh, 1, &fr, NULL, &err) == PGT_OK);
     CHECK(fr.facade[0] == fc && fr.terminal[0] == (float)PGT_FACADE_ROOF);
-    CHECK(fabsf(fr.depth[0] - 19.0f) < 1e-3f);
+    CHECK(fabsf(fr.depth[0] - 19.0f) < ROOF_DEPTH_ABS);
     pgt_facade_frame_destroy(&fr);
     /* standing on the roof, its corners at z = 0 behind the eye (the roof's coverage is the
      * footprint clipped against the near plane): every pixel whose ray meets the roof's plane
@@ -847,6 +972,7 @@ static void test_explicit_limit(void) {
 
 static const pgt_test_case cases[] = {
     {"terminals_in_scope", test_terminals_in_scope},
+    {"window_and_door_depths", test_window_and_door_depths},
     {"miss_develops_nothing", test_miss_develops_nothing},
     {"coverage_polygon", test_coverage_polygon},
     {"paper_grammar_vs_explicit", test_paper_grammar_vs_explicit},
