@@ -73,10 +73,16 @@ typedef struct ohit {
     uint32_t tri;     /* PGT_NONE: miss */
 } ohit;
 
+/* A facade's triangle box is flat along the facade's normal, and the slab test's (lo - o) / d
+ * rounds in double (ulp 1.4e-14 at coordinates of 100 m): the box is grown by this many metres so
+ * that rounding cannot cull a ray through the plane. It only lets more triangles reach the exact
+ * test, so it cannot make a miss a hit. */
+#define BOX_PAD 1e-9
+
 static int box_hit(const double *bx, const double o[3], const double d[3]) {
     double t0 = 0.0, t1 = INFINITY;
     for (int k = 0; k < 3; ++k) {
-        const double lo = bx[k] - 1e-9, hi = bx[3 + k] + 1e-9;
+        const double lo = bx[k] - BOX_PAD, hi = bx[3 + k] + BOX_PAD;
         if (d[k] == 0.0) {
             if (o[k] < lo || o[k] > hi) return 0;
             continue;

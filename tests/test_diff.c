@@ -31,6 +31,10 @@ static void ulp_known_answers(void) {
     CHECK(pgt_ulp_distance(NAN, 1.0f) == UINT64_MAX);
 }
 
+/* Both floats lie in [64, 128), so their difference (40 ulp of 2^-17) is exact in double and
+ * the diff's max_abs must equal it; the bound is 8 orders of magnitude below that difference. */
+#define MAX_ABS_TOL 1e-12
+
 /* Equal arrays: nothing outside. One element 3 ulp off and one 40 ulp off: max_ulp 40 at that
  * element; with a 16-ulp bound exactly one element is outside, unless the absolute floor
  * covers it. */
@@ -48,7 +52,7 @@ static void floats_find_the_worst(void) {
     pgt_diff_floats_run(&d, ref, got, 6, 16, 0.0);
     CHECK(d.max_ulp == 40 && d.worst == 4 && d.worst_ref == ref[4] && d.worst_got == got[4]);
     CHECK(d.outside == 1);
-    CHECK(fabs(d.max_abs - ((double)ref[4] - (double)got[4])) < 1e-12);
+    CHECK(fabs(d.max_abs - ((double)ref[4] - (double)got[4])) < MAX_ABS_TOL);
     /* an absolute floor above the error forgives it */
     pgt_diff_floats_run(&d, ref, got, 6, 16, 1e-3);
     CHECK(d.outside == 0 && d.max_ulp == 40);
@@ -133,15 +137,21 @@ static void free_output(pgt_diff_sqrt3_output *o) {
 
 /* Every output the diff compares, changed in one element, fails the case and is counted where
  * it belongs (a diff that skipped one array would pass these): a triangle's corner, an
- * adjacency entry, a parent, a protected flag, a position beyond the tolerance, a NaN, and a
- * vertex count. */
+ * adjacency entry, a parent, a protected flag, a position beyond the tolerance, a NaN, a
+ * vertex count, and a face label. The generated hemisphere has no labels, so the input gets
+ * one per face (its index mod 5) and the subdivision carries them to its output. */
 static void compare_catches_each_output(void) {
     pgt_mesh m;
     REQUIRE(pgt_cli_load_named("hemisphere_jagged_12x32", ".", &m, NULL) == PGT_OK);
+    REQUIRE(m.labels == NULL);
+    m.labels = malloc((size_t)m.face_count * sizeof(int32_t));
+    REQUIRE(m.labels != NULL);
+    for (uint32_t f = 0; f < m.face_count; ++f) m.labels[f] = (int32_t)(f % 5u);
     pgt_diff_sqrt3_output ref, got;
     REQUIRE(reference_output(&m, &ref));
+    REQUIRE(ref.out.labels != NULL);
     pgt_diff_sqrt3 d;
-    for (int kind = -1; kind < 7; ++kind) {
+    for (int kind = -1; kind < 8; ++kind) {
         REQUIRE(copy_output(&ref, &got));
         const uint32_t t = got.out.face_count / 2u, v = got.out.vertex_count / 2u;
         switch (kind) {
@@ -166,20 +176,24 @@ static void compare_catches_each_output(void) {
         case 6:
             got.out.vertex_count -= 1u;
             break;
+        case 7:
+            got.out.labels[t] ^= 1;
+            break;
         default:
             break; /* -1: the copy itself */
         }
         memset(&d, 0, sizeof d);
         pgt_diff_sqrt3_compare(&d, &ref, &got);
-        const uint64_t counts[7] = {d.triangles,
+        const uint64_t counts[8] = {d.triangles,
                                     d.opposite,
                                     d.parents,
                                     d.protected_flags,
                                     d.positions.outside,
                                     d.positions.outside,
-                                    d.ref_vertices != d.got_vertices};
+                                    d.ref_vertices != d.got_vertices,
+                                    d.labels};
         CHECK_MSG(d.pass == (kind < 0), "kind %d: pass %d", kind, d.pass);
-        for (int k = 0; k < 7; ++k)
+        for (int k = 0; k < 8; ++k)
             CHECK_MSG(counts[k] ==
                           (uint64_t)(k == kind || (kind == 4 && k == 5) || (kind == 5 && k == 4)),
                       "kind %d: count %d is %llu", kind, k, (unsigned long long)counts[k]);

@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cli.h>
 #include <pgt/grammar.h>
@@ -1000,11 +1001,56 @@ static void test_load_errors(void) {
 }
 
 /* pgt grammar, through its C function (the CLI test script belongs to the lead). */
+/* pgt_cmd_grammar(argc, argv) with stdout captured into a temporary file: its exit code in *rc
+ * and what it printed (malloc'd; NULL when the capture could not be set up). */
+static char *cmd_grammar_output(int argc, char **argv, int *rc) {
+    fflush(stdout);
+    FILE *captured = tmpfile();
+    const int saved = captured ? dup(1) : -1;
+    if (saved < 0 || dup2(fileno(captured), 1) < 0) {
+        if (saved >= 0) close(saved);
+        if (captured) fclose(captured);
+        return NULL;
+    }
+    *rc = pgt_cmd_grammar(argc, argv);
+    fflush(stdout);
+    dup2(saved, 1);
+    close(saved);
+    const long n = ftell(captured);
+    char *text = calloc((size_t)(n > 0 ? n : 0) + 1u, 1);
+    rewind(captured);
+    if (text && n > 0 && fread(text, 1, (size_t)n, captured) != (size_t)n) text[0] = '\0';
+    fclose(captured);
+    return text;
+}
+
+/* Exit codes of the verb, and what it prints for ivy.grammar: the summary lists the params with
+ * their values (stepLength = 4 in the file), and --dump --param stepLength=2 lists the param at
+ * its new value, marked overridden (grammar_dump.c's "param NAME = VALUE;  # ... (overridden;
+ * was OLD)"), where the dump without the override has the file's value. */
 static void test_cli(void) {
     char *ok[] = {"grammar", IVY_PATH, NULL};
-    CHECK(pgt_cmd_grammar(2, ok) == PGT_EXIT_OK);
+    int rc = -1;
+    char *text = cmd_grammar_output(2, ok, &rc);
+    REQUIRE(text != NULL);
+    CHECK(rc == PGT_EXIT_OK);
+    CHECK_MSG(strstr(text, " 8 params (stepLength=4, ") != NULL, "summary: %s", text);
+    free(text);
     char *dump[] = {"grammar", IVY_PATH, "--dump", "--param", "stepLength=2", NULL};
-    CHECK(pgt_cmd_grammar(5, dump) == PGT_EXIT_OK);
+    text = cmd_grammar_output(5, dump, &rc);
+    REQUIRE(text != NULL);
+    CHECK(rc == PGT_EXIT_OK);
+    CHECK_MSG(strstr(text, "\nparam stepLength = 2;  # param 0 = 2 (overridden; was 4)") != NULL,
+              "dump with stepLength=2 does not list it:\n%s", text);
+    CHECK(strstr(text, "param stepLength = 4;") == NULL);
+    free(text);
+    char *plain[] = {"grammar", IVY_PATH, "--dump", NULL};
+    text = cmd_grammar_output(3, plain, &rc);
+    REQUIRE(text != NULL);
+    CHECK(rc == PGT_EXIT_OK);
+    CHECK_MSG(strstr(text, "\nparam stepLength = 4;") != NULL && !strstr(text, "overridden"),
+              "dump without overrides:\n%s", text);
+    free(text);
     char *help[] = {"grammar", "--help", NULL};
     CHECK(pgt_cmd_grammar(2, help) == PGT_EXIT_OK);
     char *bad_file[] = {"grammar", BAD_DIR "/marching_one_sequence.grammar", NULL};

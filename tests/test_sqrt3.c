@@ -1,7 +1,8 @@
 /* Tests of sqrt(3) subdivision (ref_cpu/src/sqrt3.c) with known answers: counts per step,
- * Euler characteristic, border counts per Kobbelt's rule, the derived adjacency against one
- * rebuilt from scratch, determinism across thread counts, the per-call parity, protected faces,
- * UVs, and refusal of non-manifold input. Agreement with CGAL/OpenMesh is test_sqrt3_oracles.c. */
+ * Euler characteristic, border counts and positions per Kobbelt's rule, the derived adjacency
+ * against one rebuilt from scratch, determinism across thread counts, the per-call parity,
+ * protected faces, UVs, and refusal of non-manifold input. Agreement with CGAL/OpenMesh is
+ * test_sqrt3_oracles.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -189,44 +190,124 @@ static void border_counts_per_rule(void) {
     }
 }
 
-/* Border vertices stay on odd iterations and move by the (4, 19, 4)/27 mask on even ones; a
- * trisection point of a straight border is at 1/3 or 2/3 of its edge plus the mask's pull. On a
- * flat grid the border stays on the square's sides (every mask is a convex combination of
- * collinear points except at the corners). */
-static void border_stays_on_its_line(void) {
-    pgt_mesh m = gen("grid_16x16");
-    REQUIRE(m.face_count > 0);
-    run r;
-    REQUIRE(run_sqrt3(&r, &m, 2, 1, NULL));
+/* Kobbelt's border rule re-derived in double (float32 roundings of sums up to 27 x |coordinate|
+ * <= 1 on these meshes: three of at most half an ulp of 27 (1.9e-6 / 2) before the division by
+ * 27, one of half an ulp of 1 after it, 1.7e-7 in all). */
+#define BORDER_RULE_TOL 3e-7
+
+/* The input's border ring: for each vertex on the border, the one before and after it along the
+ * border half-edges (prev[v] -> v -> next[v]), PGT_NONE elsewhere. Returns the border edges. */
+static uint32_t border_ring(const pgt_mesh *m, uint32_t *prev, uint32_t *next) {
     pgt_adjacency a;
-    REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
-    uint32_t off_plane = 0;
-    for (uint32_t v = 0; v < r.out.vertex_count; ++v)
-        off_plane += r.out.positions[3 * (size_t)v + 2] != 0.0f;
-    CHECK(off_plane == 0);
-    /* odd iteration: k = 1 leaves every original vertex where it was */
-    run r1;
-    REQUIRE(run_sqrt3(&r1, &m, 1, 1, NULL));
-    uint32_t moved_border = 0;
-    pgt_adjacency a0;
-    REQUIRE(pgt_adjacency_build(&a0, &m, 1, NULL) == PGT_OK);
-    for (uint32_t h = 0; h < a0.half_edge_count; ++h)
-        if (a0.opposite[h] == PGT_NONE) {
-            uint32_t v = m.indices[h];
-            moved_border +=
-                memcmp(m.positions + 3 * (size_t)v, r1.out.positions + 3 * (size_t)v, 12) != 0;
+    if (pgt_adjacency_build(&a, m, 1, NULL) != PGT_OK) return 0;
+    for (uint32_t v = 0; v < m->vertex_count; ++v) prev[v] = next[v] = PGT_NONE;
+    uint32_t edges = 0;
+    for (uint32_t h = 0; h < a.half_edge_count; ++h)
+        if (a.opposite[h] == PGT_NONE) {
+            const uint32_t u = m->indices[h], w = m->indices[pgt_half_edge_next(h)];
+            next[u] = w, prev[w] = u;
+            edges++;
         }
-    CHECK(moved_border == 0);
-    /* even iteration, a border vertex in the middle of the bottom side (y = 0): x moves by the
-     * (4, 19, 4)/27 mask of equally spaced neighbours, i.e. not at all; y stays 0 */
-    uint32_t mid = 8; /* vertex (8, 0) */
-    const float *p = r.out.positions + 3 * mid;
-    CHECK(fabsf(p[0] - 0.5f) < 1e-7f && p[1] == 0.0f);
     pgt_adjacency_destroy(&a);
-    pgt_adjacency_destroy(&a0);
-    run_free(&r);
-    run_free(&r1);
-    pgt_mesh_destroy(&m);
+    return edges;
+}
+
+/* (wa a + wb b + wc c) / 27 in double from the input's float positions. */
+static void mask27(const pgt_mesh *m, uint32_t a, uint32_t b, uint32_t c, double wa, double wb,
+                   double wc, double out[3]) {
+    for (int k = 0; k < 3; ++k)
+        out[k] = (wa * m->positions[3 * (size_t)a + k] + wb * m->positions[3 * (size_t)b + k] +
+                  wc * m->positions[3 * (size_t)c + k]) /
+                 27.0;
+}
+
+static double max_diff3(const double want[3], const float *got) {
+    double d = 0.0;
+    for (int k = 0; k < 3; ++k) d = fmax(d, fabs(want[k] - (double)got[k]));
+    return d;
+}
+
+/* Iteration 1 (odd) keeps every border vertex and edge; iteration 2 (even) applies Kobbelt's
+ * border rule to that unchanged ring (sqrt3.h, after CGAL Sqrt3_1step and OpenMesh Sqrt3T): each
+ * old border vertex p_i goes to (4 p_{i-1} + 19 p_i + 4 p_{i+1}) / 27, and each border edge
+ * p_i -> p_{i+1} becomes p_i -> (p_{i-1} + 16 p_i + 10 p_{i+1}) / 27 -> (10 p_i + 16 p_{i+1} +
+ * p_{i+2}) / 27 -> p_{i+1}. Checked on the jagged hemisphere (an uneven, non-planar border) by
+ * walking the output's border half-edges from each old border vertex and re-deriving every point
+ * in double from the input's ring. On the flat grid the masks of collinear points keep every
+ * border point on the square's sides exactly (the weights sum to 27 and 27 / 27 = 1 in float),
+ * except the 4 corners and the 8 trisection points next to them, whose masks mix two sides. */
+static void border_rule_per_iteration(void) {
+    const char *names[] = {"hemisphere_jagged_12x32", "grid_16x16"};
+    for (size_t n = 0; n < sizeof names / sizeof *names; ++n) {
+        pgt_mesh m = gen(names[n]);
+        REQUIRE(m.face_count > 0);
+        const uint32_t V = m.vertex_count;
+        uint32_t *prev = malloc(V * sizeof(uint32_t)), *next = malloc(V * sizeof(uint32_t));
+        REQUIRE(prev && next);
+        const uint32_t B = border_ring(&m, prev, next);
+        REQUIRE(B > 0);
+        /* odd iteration: every input border vertex keeps its position bytes */
+        run r1;
+        REQUIRE(run_sqrt3(&r1, &m, 1, 1, NULL));
+        uint32_t moved = 0;
+        for (uint32_t v = 0; v < V; ++v)
+            moved += next[v] != PGT_NONE &&
+                     memcmp(m.positions + 3 * (size_t)v, r1.out.positions + 3 * (size_t)v, 12);
+        CHECK_MSG(moved == 0, "%s k=1: %u border vertices moved", names[n], moved);
+        run_free(&r1);
+        /* even iteration */
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, 2, 1, NULL));
+        pgt_adjacency a;
+        REQUIRE(pgt_adjacency_build(&a, &r.out, 1, NULL) == PGT_OK);
+        uint32_t *out_next = malloc(r.out.vertex_count * sizeof(uint32_t));
+        REQUIRE(out_next);
+        for (uint32_t v = 0; v < r.out.vertex_count; ++v) out_next[v] = PGT_NONE;
+        for (uint32_t h = 0; h < a.half_edge_count; ++h)
+            if (a.opposite[h] == PGT_NONE)
+                out_next[r.out.indices[h]] = r.out.indices[pgt_half_edge_next(h)];
+        double worst = 0.0;
+        uint32_t old_checked = 0, new_checked = 0, bad_chain = 0, off_sides = 0;
+        for (uint32_t v = 0; v < V; ++v) {
+            if (next[v] == PGT_NONE) continue;
+            const uint32_t p = prev[v], w = next[v], ww = next[w];
+            double want[3];
+            mask27(&m, p, v, w, 4.0, 19.0, 4.0, want);
+            worst = fmax(worst, max_diff3(want, r.out.positions + 3 * (size_t)v));
+            old_checked++;
+            /* the output border from v: v -> E_a -> E_b -> w, E_a and E_b new vertices */
+            const uint32_t ea = out_next[v], eb = ea == PGT_NONE ? PGT_NONE : out_next[ea];
+            if (ea == PGT_NONE || eb == PGT_NONE || ea < V || eb < V || out_next[eb] != w) {
+                bad_chain++;
+                continue;
+            }
+            mask27(&m, p, v, w, 1.0, 16.0, 10.0, want);
+            worst = fmax(worst, max_diff3(want, r.out.positions + 3 * (size_t)ea));
+            mask27(&m, v, w, ww, 10.0, 16.0, 1.0, want);
+            worst = fmax(worst, max_diff3(want, r.out.positions + 3 * (size_t)eb));
+            new_checked += 2;
+            if (n == 1) {
+                const uint32_t pts[3] = {v, ea, eb};
+                for (int q = 0; q < 3; ++q) {
+                    const float *x = r.out.positions + 3 * (size_t)pts[q];
+                    off_sides += !(x[0] == 0.0f || x[0] == 1.0f || x[1] == 0.0f || x[1] == 1.0f);
+                }
+            }
+        }
+        printf("  %s: %u old and %u new border vertices, worst %.3g from the double rule\n",
+               names[n], old_checked, new_checked, worst);
+        CHECK_MSG(old_checked == B && new_checked == 2 * B && bad_chain == 0,
+                  "%s: %u old, %u new of %u border edges, %u broken chains", names[n], old_checked,
+                  new_checked, B, bad_chain);
+        CHECK_MSG(worst <= BORDER_RULE_TOL, "%s: border point %.3g from the rule", names[n], worst);
+        if (n == 1)
+            CHECK_MSG(off_sides == 12, "grid: %u border points off the sides, want 12", off_sides);
+        free(out_next);
+        pgt_adjacency_destroy(&a);
+        run_free(&r);
+        free(prev), free(next);
+        pgt_mesh_destroy(&m);
+    }
 }
 
 /* Same input, same bytes, whatever the thread count. */
@@ -248,6 +329,9 @@ static void deterministic_across_threads(void) {
         pgt_mesh_destroy(&m);
     }
 }
+
+/* Unit sphere: a few float ulps of 1 (6e-8 each) from reordered sums of 6 terms, over 3 levels. */
+#define REORDERED_SUM_TOL 1e-6f
 
 /* The parity restarts at every call: three calls of k = 1 never trisect a border (so differ from
  * one call of k = 3 on a mesh with border), while on a closed mesh they give the same triangles
@@ -278,8 +362,7 @@ static void parity_restarts_per_call(void) {
             float worst = 0.0f;
             for (uint32_t i = 0; i < 3 * cur.vertex_count; ++i)
                 worst = fmaxf(worst, fabsf(once.out.positions[i] - cur.positions[i]));
-            /* unit sphere: a few float ulps of 1 from reordered sums of 6 terms, over 3 levels */
-            CHECK_MSG(worst < 1e-6f, "max difference %g", worst);
+            CHECK_MSG(worst < REORDERED_SUM_TOL, "max difference %g", worst);
         } else {
             CHECK(topo_of(&cur).border_edges == topo_of(&m).border_edges); /* never trisected */
             CHECK(topo_of(&once.out).border_edges == 3 * topo_of(&m).border_edges);
@@ -672,36 +755,95 @@ static void refuses_non_manifold(void) {
     pgt_mesh_destroy(&ico);
 }
 
-/* eq. 4.1-4.2 on one interior vertex, re-derived in double: the regular valence-6 vertex of a
- * flat grid does not move; a valence-5 icosahedron vertex moves towards its neighbours' mean by
- * alpha_5. */
-static void relaxation_weights(void) {
-    pgt_mesh ico = gen("icosphere_l0");
-    REQUIRE(ico.face_count == 20);
-    run r;
-    REQUIRE(run_sqrt3(&r, &ico, 1, 1, NULL));
-    const double pi = 3.14159265358979323846;
-    double a5 = (4.0 - 2.0 * cos(2.0 * pi / 5.0)) / 9.0;
-    /* neighbours of vertex 0 */
+/* eq. 4.1 in float32 against double: the neighbour sum of n <= 8 coordinates of magnitude
+ * <= 1.5 (the meshes below) rounds n times by at most half an ulp of 12 (9.5e-7 / 2), scaled by
+ * alpha_n / n <= 0.14; alpha_n rounded to float and the two products and the sum add a few
+ * 6e-8 roundings of |p| <= 1.5. That is below 6e-7; 1e-6 leaves room. */
+#define RELAX_TOL 1e-6
+
+/* A closed bipyramid over an n-gon (apexes of valence n, equator vertices of valence 4), every
+ * vertex moved by up to 0.1 at random (seeded) so that no vertex is its neighbours' mean. */
+static int noisy_bipyramid(pgt_mesh *m, uint32_t n, uint32_t seed) {
+    if (pgt_mesh_create(m, n + 2, 2 * n, 0, 0, NULL) != PGT_OK) return 0;
+    const double two_pi = 6.283185307179586;
+    for (uint32_t v = 0; v < n + 2; ++v) {
+        double p[3] = {0.0, 0.0, v == n ? 1.0 : -1.0};
+        if (v < n) p[0] = cos(two_pi * v / n), p[1] = sin(two_pi * v / n), p[2] = 0.0;
+        for (int k = 0; k < 3; ++k)
+            m->positions[3 * v + (uint32_t)k] =
+                (float)(p[k] + 0.2 * pgt_rng_double(seed, n, 3u * v + (uint32_t)k) - 0.1);
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t j = (i + 1) % n;
+        uint32_t *top = m->indices + 6 * i, *bottom = top + 3;
+        top[0] = i, top[1] = j, top[2] = n;
+        bottom[0] = j, bottom[1] = i, bottom[2] = n + 1;
+    }
+    return 1;
+}
+
+/* eq. 4.1-4.2 re-derived in double for every interior vertex of `in` of valence 3 to 8:
+ * alpha_n = (4 - 2 cos(2 pi / n)) / 9 with a double cos (not pgt_sqrt3_alpha), then
+ * p' = (1 - alpha_n) p + alpha_n / n sum p_i over its one ring, against `out` (one iteration).
+ * Returns the worst coordinate difference; marks the valences seen. */
+static double relax_worst(const pgt_mesh *in, const pgt_mesh *out, uint32_t *seen) {
     pgt_adjacency a;
-    REQUIRE(pgt_adjacency_build(&a, &ico, 1, NULL) == PGT_OK);
-    double mean[3] = {0, 0, 0};
-    uint32_t n = 0;
-    for (uint32_t h = 0; h < a.half_edge_count; ++h)
-        if (ico.indices[h] == 0) {
-            uint32_t w = ico.indices[pgt_half_edge_next(h)];
-            for (int k = 0; k < 3; ++k) mean[k] += ico.positions[3 * w + k];
-            n++;
+    if (pgt_adjacency_build(&a, in, 1, NULL) != PGT_OK) return INFINITY;
+    const double pi = 3.14159265358979323846;
+    double worst = 0.0;
+    for (uint32_t v = 0; v < in->vertex_count; ++v) {
+        double sum[3] = {0.0, 0.0, 0.0};
+        uint32_t n = 0, border = 0;
+        for (uint32_t h = 0; h < a.half_edge_count; ++h)
+            if (in->indices[h] == v) {
+                const uint32_t w = in->indices[pgt_half_edge_next(h)];
+                for (int k = 0; k < 3; ++k) sum[k] += in->positions[3 * (size_t)w + k];
+                n++;
+                border +=
+                    a.opposite[h] == PGT_NONE || a.opposite[pgt_half_edge_prev(h)] == PGT_NONE;
+            }
+        if (n < 3 || n > 8 || border) continue;
+        seen[n] = 1;
+        const double alpha = (4.0 - 2.0 * cos(2.0 * pi / n)) / 9.0;
+        for (int k = 0; k < 3; ++k) {
+            const double p = in->positions[3 * (size_t)v + k];
+            const double want = (1.0 - alpha) * p + alpha / n * sum[k];
+            worst = fmax(worst, fabs(want - (double)out->positions[3 * (size_t)v + k]));
         }
-    CHECK(n == 5);
-    for (int k = 0; k < 3; ++k) {
-        double want = (1.0 - a5) * ico.positions[k] + a5 * mean[k] / 5.0;
-        CHECK_MSG(fabs(want - r.out.positions[k]) < 1e-6, "axis %d: %g vs %g", k, want,
-                  r.out.positions[k]);
     }
     pgt_adjacency_destroy(&a);
-    run_free(&r);
-    pgt_mesh_destroy(&ico);
+    return worst;
+}
+
+/* Every interior vertex after one iteration against the double formula: noisy bipyramids over
+ * 3- to 8-gons (apexes of valence 3 to 8, equator vertices of valence 4), the noisy torus
+ * (valence 6, moved by the noise) and the icosahedron (valence 5). */
+static void relaxation_weights(void) {
+    uint32_t seen[9] = {0};
+    double worst = 0.0;
+    for (uint32_t n = 3; n <= 8; ++n) {
+        pgt_mesh m;
+        REQUIRE(noisy_bipyramid(&m, n, 29));
+        REQUIRE(topo_of(&m).manifold);
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, 1, 1, NULL));
+        worst = fmax(worst, relax_worst(&m, &r.out, seen));
+        run_free(&r);
+        pgt_mesh_destroy(&m);
+    }
+    const char *names[] = {"noisy_torus_48x24", "icosphere_l0"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+        pgt_mesh m = gen(names[i]);
+        REQUIRE(m.face_count > 0);
+        run r;
+        REQUIRE(run_sqrt3(&r, &m, 1, 2, NULL));
+        worst = fmax(worst, relax_worst(&m, &r.out, seen));
+        run_free(&r);
+        pgt_mesh_destroy(&m);
+    }
+    printf("  relaxed vertices of valence 3 to 8: worst %.3g from the double formula\n", worst);
+    for (uint32_t n = 3; n <= 8; ++n) CHECK_MSG(seen[n], "no interior vertex of valence %u", n);
+    CHECK(worst <= RELAX_TOL);
 }
 
 /* A pgt_progress only observes: the same bytes with one, and it ends on the sqrt(3) stage with
@@ -735,7 +877,7 @@ static const pgt_test_case cases[] = {
     {"closed_counts_and_adjacency", closed_counts_and_adjacency},
     {"closed_fast_path_equals_general", closed_fast_path_equals_general},
     {"border_counts_per_rule", border_counts_per_rule},
-    {"border_stays_on_its_line", border_stays_on_its_line},
+    {"border_rule_per_iteration", border_rule_per_iteration},
     {"deterministic_across_threads", deterministic_across_threads},
     {"parity_restarts_per_call", parity_restarts_per_call},
     {"zero_iterations_and_empty_protection", zero_iterations_and_empty_protection},

@@ -308,12 +308,13 @@ static void test_counts(void) {
         const uint32_t rings = c < 2 ? N * RINGS + 1u : N * (RINGS + 1u);
         CHECK(o.vertex_count == rings * (SIDES + 1u));
         CHECK(o.triangle_count == N * 2u * SIDES * RINGS);
-        CHECK(o.bark_quads == (uint64_t)N * 216u && o.bark_segments == N && o.leaf_count == 0);
+        CHECK(o.bark_quads == (uint64_t)N * SIDES * RINGS && o.bark_segments == N &&
+              o.leaf_count == 0);
         CHECK(o.bark_triangle_count == o.triangle_count && o.bark_vertex_count == o.vertex_count);
         uint32_t per[8] = {0};
         for (uint32_t t = 0; t < o.triangle_count; ++t)
             if (o.triangle_segment[t] <= N) per[o.triangle_segment[t]]++;
-        for (uint32_t i = 1; i <= N; ++i) CHECK(per[i] == 432u);
+        for (uint32_t i = 1; i <= N; ++i) CHECK(per[i] == 2u * SIDES * RINGS);
         CHECK(per[0] == 0);
         int in_range = 1;
         for (size_t q = 0; q < 3u * (size_t)o.triangle_count; ++q)
@@ -753,6 +754,9 @@ static void test_errors(void) {
 /* A leaf's corners lie in the plane of its normal: float rounding of offsets of ~0.02 from
  * coordinates of magnitude ~1 (a few 1e-7). */
 #define IVY_LEAF_PLANE_TOL 1e-5
+/* A bark normal is cos(a) N + sin(a) B with N and B normalised and perpendicular in float32: its
+ * length is 1 within a few roundings of 1 (6e-8 each). */
+#define IVY_NORMAL_UNIT_TOL 1e-6
 static void test_ivy_end_to_end(void) {
     static ivy_scene scene;
     REQUIRE(ivy_scene_make(&scene));
@@ -792,7 +796,7 @@ static void test_ivy_end_to_end(void) {
     REQUIRE(build(&one, &in, 1, 0));
     CHECK(same_bytes(&o, &one));
     pgt_terminals_destroy(&one);
-    CHECK(o.bark_segments > 0 && o.bark_quads == 216u * (uint64_t)o.bark_segments);
+    CHECK(o.bark_segments > 0 && o.bark_quads == (uint64_t)SIDES * RINGS * o.bark_segments);
     /* watertight per branch */
     uint8_t *mask = bark_mask(&o, &in);
     REQUIRE(mask);
@@ -838,6 +842,16 @@ static void test_ivy_end_to_end(void) {
      * curve (sampled) and in their tangent plane */
     uint32_t bad = 0;
     for (size_t q = 0; q < 3u * (size_t)o.vertex_count; ++q) bad += !isfinite(o.positions[q]);
+    double worst_unit = 0.0;
+    for (uint32_t t = 0; t < o.triangle_count; ++t)
+        for (uint32_t c = 0; mask[t] && c < 3u; ++c) {
+            const float *nv = &o.normals[3u * (size_t)o.triangles[3u * (size_t)t + c]];
+            const double len =
+                sqrt((double)nv[0] * nv[0] + (double)nv[1] * nv[1] + (double)nv[2] * nv[2]);
+            worst_unit = fmax(worst_unit, fabs(len - 1.0));
+        }
+    printf("  ivy bark normals: unit within %.3g\n", worst_unit);
+    CHECK(worst_unit <= IVY_NORMAL_UNIT_TOL);
     double worst_leaf = 0.0;
     for (uint32_t t = 0; t < o.triangle_count; ++t) {
         if (mask[t]) continue;
