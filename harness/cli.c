@@ -16,6 +16,7 @@
 #include "pgt/mesh_io.h"
 #include "png_io.h"
 #include "progress_line.h"
+#include "signal_cleanup.h"
 
 /* The stage whose names pgt_cli_fail turns back into the outputs' paths (pgt_cli_stage_add
  * sets it; a verb stages its outputs in one place). */
@@ -258,6 +259,7 @@ int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
     for (int k = 0; k < n; ++k) {
         const char *path = paths[k];
         if (!path) continue;
+        pgt_cli_cleanup_add(path, PGT_CLI_CLEANUP_TMP_OF); /* its writer's PATH.tmp.PID */
         struct stat st;
         if (stat(path, &st) == 0) {
             if (S_ISREG(st.st_mode)) continue;
@@ -396,6 +398,7 @@ int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint
 }
 
 FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size) {
+    pgt_cli_cleanup_add(path, PGT_CLI_CLEANUP_TMP_OF);
     snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
     return fopen(tmp, "w");
 }
@@ -461,10 +464,12 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
         /* only a folder made here is removed at the end; when it cannot be made (the output's
          * folder is missing or read-only) the writer fails on the name below and says why */
         s->made[d] = mkdir(dir, 0700) == 0;
+        if (s->made[d]) pgt_cli_cleanup_add(dir, PGT_CLI_CLEANUP_DIR);
         s->dir_count++;
     }
     char *tmp = s->tmp[s->count];
     snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, slash ? slash + 1 : path);
+    pgt_cli_cleanup_add(tmp, PGT_CLI_CLEANUP_FILE);
     s->path[s->count++] = path;
     cli_active_stage = s;
     return tmp;

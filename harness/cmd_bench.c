@@ -16,6 +16,7 @@
 
 #include "backend.h"
 #include "cli.h"
+#include "signal_cleanup.h"
 #include "gen.h"
 #include "oracle.h"
 #include "pgt/mesh_io.h"
@@ -60,8 +61,8 @@ typedef struct bench_cfg {
     const char *meshes[BENCH_MAX_LIST];
     uint32_t n_meshes;
     int oracles, quick;
-    int gpu_asked[2]; /* cl, vk: timed when a device opens (asked explicitly: must open) */
-    int gpu_explicit; /* --backends given */
+    int gpu_asked[2];    /* cl, vk: timed when a device opens (asked explicitly: must open) */
+    int gpu_explicit;    /* --backends given */
     int device_explicit; /* --device given: a missing device is an error, not a skipped column */
     uint32_t device;
     pgt_backend gpu[2]; /* open backends (kind CPU = not open) */
@@ -142,6 +143,7 @@ static double bench_peak_mib(const pgt_mesh *m, const pgt_sqrt3_options *opts) {
     }
     if (pid == 0) {
         close(fds[0]);
+        pgt_cli_signals_default(); /* the parent's signal thread is not in the child */
         double mib = -1.0;
         /* glibc's default policy here, so blocks freed during the call leave the resident set
          * as they would in a program of the user's, then return what the parent kept */

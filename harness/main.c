@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "signal_cleanup.h"
 
 static const char *usage =
     "usage: pgt <verb> [flags]   (pgt <verb> --help for the verb's flags)\n"
@@ -35,6 +36,9 @@ static const char *usage =
     "Meshes: OBJ, OFF, PLY (ascii or binary little-endian) in; OFF, OBJ, binary PLY out.\n";
 
 int main(int argc, char **argv) {
+    /* a run stopped by Ctrl-C, kill or timeout removes its temporary outputs (signal_cleanup.h);
+     * without the thread it stops as before */
+    (void)pgt_cli_signals_start();
     if (argc < 2) {
         fputs(usage, stderr);
         return PGT_EXIT_USAGE;

@@ -1122,5 +1122,31 @@ fields_match bench_rows_match_header res/subdiv.csv
 rows=$(grep -vc '^#' res/subdiv.csv)
 [ "$rows" -eq $((1 + 2 * 2 * 2)) ] && ok bench_rows || bad bench_rows "$rows lines"
 
+# A run stopped by SIGTERM (timeout, kill) while it writes leaves no temporary file or staging
+# folder and the old output as it was, and ends by the signal (exit 143): subdiv writes
+# PATH.tmp.PID beside its output, atlas stages its EXR and PNG in .pgt-stage.PID. Killed as soon
+# as the temporary name exists (polled every 10 ms, for at most 30 s).
+killed_while_writing() { # NAME PATTERN OUTPUT COMMAND...
+  local name=$1 pattern=$2 output=$3; shift 3
+  rm -rf sig && mkdir sig && (
+    cd sig && echo old > "$output" || exit 1
+    "$@" > /dev/null 2>&1 & pid=$!
+    n=0
+    until compgen -G "$pattern" > /dev/null; do
+      sleep 0.01; n=$((n + 1))
+      if [ $n -gt 3000 ] || ! kill -0 $pid 2> /dev/null; then echo "no $pattern while it ran"; exit 1; fi
+    done
+    kill -TERM $pid; wait $pid; rc=$?
+    left=$(ls -A | grep -E '\.tmp\.|\.pgt-stage\.' | tr '\n' ' ')
+    [ $rc -eq 143 ] && [ -z "$left" ] && [ "$(cat "$output")" = old ] ||
+      { echo "exit $rc, left: '$left', $output: $(head -c 20 "$output")"; exit 1; }
+  ) > sig.txt 2>&1 && ok "$name" || bad "$name" "$(cat sig.txt)"
+}
+"$gen" sig_data --only icosphere_l1 > /dev/null
+killed_while_writing subdiv_killed_while_writing 's.ply.tmp.*' s.ply \
+  "$pgt" subdiv ../sig_data/icosphere_l1.off --iters 10 -o s.ply
+killed_while_writing atlas_killed_while_writing '.pgt-stage.*' a.exr \
+  "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 2048 --png a.png
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
