@@ -36,11 +36,12 @@ static const char *atlas_usage =
     "  --k K          boundary texels followed per tangent for the rotation angles, 1 to 64\n"
     "                 (default 4)\n"
     "  --dead-end T   an outer-boundary texel whose nearest candidate is farther than T texel\n"
-    "                 sizes is a dead end (default 4; texel size = the larger of the median\n"
-    "                 3D distance of 4-adjacent inner texels and the local one, the largest\n"
-    "                 3D step from the adjacent inner-boundary texels to their neighbours;\n"
-    "                 away from the mesh border a farther candidate, up to 8 times as far,\n"
-    "                 counts when it lies within T of its own local texel sizes)\n"
+    "                 sizes is a dead end (default 4, at most 64; texel size = the larger of\n"
+    "                 the median 3D distance of 4-adjacent inner texels and the local one,\n"
+    "                 the largest 3D step from the adjacent inner-boundary texels to their\n"
+    "                 neighbours; away from the mesh border a farther candidate, up to 8\n"
+    "                 times as far, counts when it lies within T of its own local texel\n"
+    "                 sizes)\n"
     "  --png PIC.png  also a picture: charts coloured (shaded by the normal), indirection\n"
     "                 texels white, dead ends red, background black\n"
     "  --repack       repack the charts even when the input UVs would do\n"
@@ -126,11 +127,12 @@ int pgt_cmd_atlas(int argc, char **argv) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             char *end = NULL;
             const double t = strtod(v, &end);
-            if (end == v || *end != '\0' || !isfinite(t) || !(t > 0.0) || t > 1e6)
+            if (end == v || *end != '\0' || !isfinite(t) || !(t > 0.0) ||
+                t > PGT_ATLAS_MAX_DEAD_END)
                 return pgt_cli_fail(verb,
                                     "--dead-end: '%s' is not a number of texel sizes in "
-                                    "(0, 1e6]",
-                                    v);
+                                    "(0, %g]",
+                                    v, (double)PGT_ATLAS_MAX_DEAD_END);
             dead_end = (float)t;
         } else if (!strcmp(a, "--threads")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||

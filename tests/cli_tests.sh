@@ -112,6 +112,11 @@ for flag in --from --dir --step --steps --mask --density --seed --no-best-pointe
 done
 expect atlas_no_uvs 2 "$pgt" atlas "$ico" -o a.exr
 one_line atlas_no_uvs_one_line "UV"
+# --dead-end beyond 64 texel sizes is refused: the search grows as its square (1000 on a grid
+# sheet took 17.7 s at --res 512, 1e6 did not end)
+expect atlas_dead_end_too_far 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --dead-end 65
+one_line atlas_dead_end_too_far_one_line "dead-end: '65' .*(0, 64]"
+expect atlas_dead_end_largest 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 64 --dead-end 64
 expect atlas_bad_res 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 1
 one_line atlas_bad_res_one_line "\-\-res"
 expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr --res 128 --png cs.png

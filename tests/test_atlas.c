@@ -1622,6 +1622,10 @@ static void test_hostile_inputs(void) {
     pgt_error_clear(&err);
     CHECK(pgt_atlas_build(&img, &m, &o, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err.message, "--dead-end") != NULL);
+    o.dead_end = nextafterf(PGT_ATLAS_MAX_DEAD_END, INFINITY); /* its search grows as its square */
+    pgt_error_clear(&err);
+    CHECK(pgt_atlas_build(&img, &m, &o, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(err.message, "--dead-end") != NULL);
     /* the smallest atlas works: one texel of one chart at most */
     CHECK(build(&m, PGT_ATLAS_MIN_RES, 1, 0, &img, &st, &err) == PGT_ERROR_LIMIT ||
           (err.code == PGT_OK && check_contract(&img, st.band) == 0));

@@ -73,10 +73,10 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     if (k > PGT_ATLAS_MAX_K)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "--k: %u is not in 1..%u", k,
                              PGT_ATLAS_MAX_K);
-    if (!isfinite(dead_end) || !(dead_end > 0.0f))
+    if (!isfinite(dead_end) || !(dead_end > 0.0f) || dead_end > PGT_ATLAS_MAX_DEAD_END)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                             "--dead-end: %g is not a positive number of texel sizes",
-                             (double)dead_end);
+                             "--dead-end: %g is not a number of texel sizes in (0, %g]",
+                             (double)dead_end, (double)PGT_ATLAS_MAX_DEAD_END);
     for (uint64_t i = 0; i < 3ull * mesh->vertex_count; ++i) {
         if (!isfinite(mesh->positions[i]))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,

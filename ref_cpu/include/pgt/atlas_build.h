@@ -87,6 +87,13 @@ extern "C" {
  * texels of a mesh-border edge, where nothing lies across. */
 #define PGT_ATLAS_DEFAULT_DEAD_END 4.0f
 
+/* Largest dead-end threshold (texel sizes; --dead-end). A seam's partner lies within 1.5 of the
+ * coarser side's texel sizes, and the far reach above takes sides 8 times apart; 64 takes 40
+ * times. Beyond it the search only grows: every outer texel of an open border tests every texel
+ * of its own chart within the reach, each along its texel line (cost ~ reach^2 per texel):
+ * --dead-end 1000 on a 16 x 16 grid sheet took 17.7 s at --res 512 (64 at 4096: 1.4 s). */
+#define PGT_ATLAS_MAX_DEAD_END 64.0f
+
 /* A chart seamed to itself: a candidate texel of the source texel's own chart is allowed only
  * when the way to it THROUGH the chart is more than twice the way through space (a cylinder cut
  * open inside one chart; a slit cut inside a chart whose sides are glued), measured along the
@@ -160,7 +167,8 @@ typedef struct pgt_atlas_stats {
  * - PGT_ERROR_UNSUPPORTED: the mesh has no UVs ("no UVs: ...");
  * - PGT_ERROR_EMPTY: no faces, or every UV triangle is degenerate;
  * - PGT_ERROR_INVALID_ARGUMENT: a size below PGT_ATLAS_MIN_RES, a band above
- *   PGT_ATLAS_MAX_BAND, k outside 1..PGT_ATLAS_MAX_K, a dead-end threshold not finite or <= 0
+ *   PGT_ATLAS_MAX_BAND, k outside 1..PGT_ATLAS_MAX_K, a dead-end threshold not finite, <= 0
+ *   or above PGT_ATLAS_MAX_DEAD_END
  *   (each message names the flag: --res, --band, --k, --dead-end), non-finite positions/UVs,
  *   a coordinate beyond +-PGT_ATLAS_MAX_COORD;
  * - PGT_ERROR_LIMIT: a size above PGT_ATLAS_MAX_RES (--res), charts that cannot be packed with
