@@ -136,6 +136,12 @@ else
   bad atlas_own_chart_reported "no $bob"
 fi
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
+# an atlas that is a fifo without a writer is refused at once (its open() blocked before the
+# regular-file check); timeout's 124 would fail the check
+rm -f fifo.exr && mkfifo fifo.exr
+expect march_fifo_atlas 2 timeout 20 "$pgt" march fifo.exr --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
+one_line march_fifo_atlas_one_line "fifo.exr: cannot read: not a regular file"
+rm -f fifo.exr
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
 # progress lines of pgt atlas (its steps by name, then the EXR), pgt march (steps counted) and

@@ -829,7 +829,9 @@ pgt_result pgt_image_read_exr_threads(pgt_image *out, const char *path, uint32_t
     exr_stream s;
     memset(&s, 0, sizeof(s));
     s.name = path;
-    s.fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: a fifo without a writer would block the open itself, before the check
+     * below refuses it (reads of a regular file are not affected) */
+    s.fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (s.fd < 0)
         return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;
