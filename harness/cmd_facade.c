@@ -22,6 +22,9 @@
 /* Most buildings of --city (pgt_gen_city's limit). */
 #define PGT_FACADE_MAX_CITY (1u << 22)
 
+/* Channels of the frame's EXR (write_exr). */
+#define FACADE_EXR_CHANNELS 10u
+
 static const char *facade_usage =
     "usage: pgt facade (--city N | --scene FILE | --mesh MESH.obj) -o FRAME.exr [--width W]\n"
     "                  [--height H]\n"
@@ -264,6 +267,14 @@ static int parse_args(int argc, char **argv, facade_args *a) {
         for (int k = 0; k < o; ++k)
             if (outs[o] && outs[k] && pgt_cli_same_output(outs[o], outs[k]))
                 return pgt_cli_fail(verb, "%s %s is also %s's output", flags[o], outs[o], flags[k]);
+    /* the frame's EXR must fit the image limit: said before the render, not after it */
+    if ((uint64_t)a->width * a->height * FACADE_EXR_CHANNELS > PGT_IMAGE_MAX_VALUES)
+        return pgt_cli_fail(verb,
+                            "--width %u --height %u: the frame's %u EXR channels would hold %llu "
+                            "values, more than the image limit of %u (%u pixels)",
+                            a->width, a->height, FACADE_EXR_CHANNELS,
+                            (unsigned long long)a->width * a->height * FACADE_EXR_CHANNELS,
+                            PGT_IMAGE_MAX_VALUES, PGT_IMAGE_MAX_VALUES / FACADE_EXR_CHANNELS);
     if (pgt_cli_check_outputs(verb, outs, FACADE_OUTPUTS)) return PGT_EXIT_USAGE;
     if (!a->grammar_path) a->grammar_path = PGT_FACADE_DEFAULT_GRAMMAR;
     return 0;
@@ -288,14 +299,14 @@ static void ray_errors(uint32_t bits, char *buf, size_t size) {
 
 static pgt_result write_exr(const pgt_facade_frame *fr, const char *path, uint32_t threads,
                             pgt_error *err) {
-    static const char *names[10] = {"R",   "G",   "B",   "depth",  "terminal",
-                                    "N.x", "N.y", "N.z", "facade", "developed"};
+    static const char *names[FACADE_EXR_CHANNELS] = {"R",   "G",   "B",   "depth",  "terminal",
+                                                     "N.x", "N.y", "N.z", "facade", "developed"};
     pgt_image img;
-    pgt_result r = pgt_image_create(&img, fr->width, fr->height, 10, names, err);
+    pgt_result r = pgt_image_create(&img, fr->width, fr->height, FACADE_EXR_CHANNELS, names, err);
     if (r != PGT_OK) return r;
     const size_t n = (size_t)fr->width * fr->height;
-    float *p[10];
-    for (uint32_t c = 0; c < 10; ++c) p[c] = pgt_image_plane(&img, c);
+    float *p[FACADE_EXR_CHANNELS];
+    for (uint32_t c = 0; c < FACADE_EXR_CHANNELS; ++c) p[c] = pgt_image_plane(&img, c);
     for (size_t i = 0; i < n; ++i) {
         for (int k = 0; k < 3; ++k)
             p[k][i] = fr->rgb[3u * i + k], p[5 + k][i] = fr->normal[3u * i + k];

@@ -653,6 +653,11 @@ for r in rows:
 fields_match bench_woven_fields res/woven.csv
 
 # pgt facade, pgt bench facade (the algorithms are test_facade, the Embree check test_facade_embree)
+# a frame whose EXR exceeds the image limit is refused before the render (it rendered 20 s and
+# 12.6 GB first); the largest that fits (16384 x 1638 x 10 channels <= 2^28) is accepted by it
+expect facade_frame_too_large 2 timeout 20 "$pgt" facade --city 2 -o big.exr --width 16384 --height 2000
+one_line facade_frame_too_large_one_line "^pgt facade: --width 16384 --height 2000: .*image limit"
+[ ! -e big.exr ] && ok facade_frame_too_large_no_output || bad facade_frame_too_large_no_output "big.exr written"
 expect facade_help 0 "$pgt" facade --help
 for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene --single-rays --max-triangles PGT_MEMORY_AVAILABLE; do
   grep -q -- "$flag" out.txt && ok "facade_help_documents_$flag" || bad "facade_help_documents_$flag" "missing"
