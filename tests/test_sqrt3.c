@@ -310,6 +310,93 @@ static void border_rule_per_iteration(void) {
     }
 }
 
+/* A directed half-edge for the reference pairing of adjacency_high_valence. */
+typedef struct dir_edge {
+    uint32_t a, b, h;
+} dir_edge;
+
+static int dir_edge_cmp(const void *pa, const void *pb) {
+    const dir_edge *x = pa, *y = pb;
+    if (x->a != y->a) return x->a < y->a ? -1 : 1;
+    if (x->b != y->b) return x->b < y->b ? -1 : 1;
+    return x->h < y->h ? -1 : x->h > y->h;
+}
+
+/* The directed half-edges a->b of a sorted array: how many, and the first's index. */
+static uint32_t dir_edge_count(const dir_edge *e, uint32_t n, uint32_t a, uint32_t b,
+                               uint32_t *first) {
+    uint32_t l = 0, r = n;
+    while (l < r) {
+        const uint32_t m = l + (r - l) / 2u;
+        if (e[m].a < a || (e[m].a == a && e[m].b < b))
+            l = m + 1u;
+        else
+            r = m;
+    }
+    *first = l;
+    uint32_t k = 0;
+    while (l + k < n && e[l + k].a == a && e[l + k].b == b) ++k;
+    return k;
+}
+
+/* pgt_adjacency_build against a pairing made another way (one global sort of the directed
+ * half-edges) on fans whose centre has valence 3000 (its buckets go through the sorted path):
+ * an open disc, a closed double cone (its apexes 3000 each) and the cone with one face repeated
+ * (non-manifold). The opposite of each half-edge, the border count and the non-manifold count
+ * must agree. (The old linear scans made a 300,000-gon take 38 s.) */
+static void adjacency_high_valence(void) {
+    const uint32_t N = 3000;
+    for (int variant = 0; variant < 3; ++variant) {
+        const uint32_t F = variant == 0 ? N : 2u * N + (variant == 2);
+        pgt_mesh m;
+        REQUIRE(pgt_mesh_create(&m, N + 2u, F, 0, 0, NULL) == PGT_OK);
+        for (uint32_t v = 0; v < N + 2u; ++v) {
+            const double t = 6.283185307179586 * v / N;
+            m.positions[3 * v] = v < N ? (float)cos(t) : 0.0f;
+            m.positions[3 * v + 1] = v < N ? (float)sin(t) : 0.0f;
+            m.positions[3 * v + 2] = v < N ? 0.0f : v == N ? 1.0f : -1.0f;
+        }
+        for (uint32_t i = 0; i < N; ++i) {
+            uint32_t *top = m.indices + 3 * i;
+            top[0] = i, top[1] = (i + 1) % N, top[2] = N;
+            if (variant == 0) continue;
+            uint32_t *bottom = m.indices + 3 * (N + i);
+            bottom[0] = (i + 1) % N, bottom[1] = i, bottom[2] = N + 1u;
+        }
+        if (variant == 2) memcpy(m.indices + 3 * (2 * N), m.indices, 3 * sizeof(uint32_t));
+        pgt_adjacency a;
+        REQUIRE(pgt_adjacency_build(&a, &m, 2, NULL) == PGT_OK);
+        const uint32_t H = 3 * F;
+        dir_edge *e = malloc(H * sizeof *e);
+        REQUIRE(e != NULL);
+        for (uint32_t h = 0; h < H; ++h)
+            e[h] = (dir_edge){m.indices[h], m.indices[pgt_half_edge_next(h)], h};
+        qsort(e, H, sizeof *e, dir_edge_cmp);
+        uint32_t wrong = 0, border = 0, bad_half_edges = 0;
+        for (uint32_t h = 0; h < H; ++h) {
+            const uint32_t u = m.indices[h], w = m.indices[pgt_half_edge_next(h)];
+            uint32_t f_same, f_opp;
+            const uint32_t same = dir_edge_count(e, H, u, w, &f_same);
+            const uint32_t opp = dir_edge_count(e, H, w, u, &f_opp);
+            const int bad = !(same == 1 && opp <= 1);
+            const uint32_t want = bad || opp == 0 ? PGT_NONE : e[f_opp].h;
+            wrong += a.opposite[h] != want;
+            border += !bad && opp == 0;
+            bad_half_edges += (uint32_t)bad;
+        }
+        printf("  fan variant %d: %u half-edges, %u border, %u on non-manifold edges, %u differ\n",
+               variant, H, border, bad_half_edges, wrong);
+        CHECK(wrong == 0 && a.border_half_edges == border);
+        CHECK(variant == 0 ? border == N : border == 0);
+        /* the repeated face makes its three edges non-manifold (3 faces or a repeated direction) */
+        CHECK(a.non_manifold_edges == (variant == 2 ? 3u : 0u));
+        CHECK(bad_half_edges == (variant == 2 ? 9u : 0u));
+        free(e);
+        pgt_adjacency_destroy(&a);
+        pgt_mesh_destroy(&m);
+    }
+}
+
 /* Same input, same bytes, whatever the thread count. */
 static void deterministic_across_threads(void) {
     const char *names[] = {"noisy_torus_48x24", "hemisphere_jagged_12x32", "cube_sphere_8"};
@@ -878,6 +965,7 @@ static const pgt_test_case cases[] = {
     {"closed_fast_path_equals_general", closed_fast_path_equals_general},
     {"border_counts_per_rule", border_counts_per_rule},
     {"border_rule_per_iteration", border_rule_per_iteration},
+    {"adjacency_high_valence", adjacency_high_valence},
     {"deterministic_across_threads", deterministic_across_threads},
     {"parity_restarts_per_call", parity_restarts_per_call},
     {"zero_iterations_and_empty_protection", zero_iterations_and_empty_protection},

@@ -42,8 +42,8 @@ typedef struct pgt_adjacency {
 static inline uint32_t pgt_half_edge_next(uint32_t h) { return h % 3u == 2u ? h - 2u : h + 1u; }
 static inline uint32_t pgt_half_edge_prev(uint32_t h) { return h % 3u == 0u ? h + 2u : h - 1u; }
 
-/* Builds the opposite array (O(half-edges x valence), no hashing). Fails only on bad arguments or
- * memory; manifold problems are counted, see above. */
+/* Builds the opposite array (O(half-edges x log valence), no hashing). Fails only on bad arguments
+ * or memory; manifold problems are counted, see above. */
 pgt_result pgt_adjacency_build(pgt_adjacency *out, const pgt_mesh *mesh, uint32_t threads,
                                pgt_error *err);
 
