@@ -111,9 +111,9 @@ int pgt_cmd_atlas(int argc, char **argv) {
         } else if (!strcmp(a, "--png")) {
             if (!(png_path = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--res")) {
-            /* the builder names --res in its own errors (too small, beyond the image limit) */
+            /* the range --help gives (the builder checks it too, for its other callers) */
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
-                pgt_cli_uint(verb, a, v, 1, 1000000000u, &res))
+                pgt_cli_uint(verb, a, v, PGT_ATLAS_MIN_RES, PGT_ATLAS_MAX_SQUARE_RES, &res))
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--band")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||

@@ -119,6 +119,11 @@ one_line atlas_dead_end_too_far_one_line "dead-end: '65' .*(0, 64]"
 expect atlas_dead_end_largest 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 64 --dead-end 64
 expect atlas_bad_res 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 1
 one_line atlas_bad_res_one_line "\-\-res"
+# the range named is the one --help gives
+for r in 0 4 4940; do
+  expect "atlas_res_$r" 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res $r
+  one_line "atlas_res_${r}_one_line" "\-\-res: expected a whole number from 5 to 4939, got '$r'"
+done
 expect atlas_cube_sphere 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o cs.exr --res 128 --png cs.png
 [ -s cs.exr ] && [ -s cs.png ] && ok atlas_writes_exr_and_png || bad atlas_writes_exr_and_png "missing outputs"
 # the own-chart fallback's pointers (bob_tri at 128: the closed end of a slit) are printed and in
