@@ -641,3 +641,26 @@ void pgt_cli_print_float(float x) {
     }
     fputs(buf, stdout);
 }
+
+int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out) {
+    pgt_error err = {0};
+    if (pgt_cli_load_named(path, PGT_CLI_SHARED_MESH_DIR, out, &err) != PGT_OK)
+        return pgt_cli_fail(verb, "%s", err.message);
+    if (!out->uvs) {
+        pgt_mesh_destroy(out);
+        return pgt_cli_fail(verb,
+                            "%s: no UVs: run a parametrization first (datasets_gen gives UV-less "
+                            "meshes an atlas with MeshLab's Voronoi Atlas)%s",
+                            path, hint ? hint : "");
+    }
+    uint32_t first = 0, face = 0;
+    const uint32_t n = pgt_mesh_repeated_faces(out, &first, &face);
+    if (n) {
+        pgt_mesh_destroy(out);
+        return pgt_cli_fail(verb,
+                            "%s: face %u (0-based) repeats face %u, the same three vertices in "
+                            "the same order (%u such faces): their charts would lie at one place",
+                            path, face, first, n);
+    }
+    return 0;
+}

@@ -162,6 +162,13 @@ const char *pgt_cli_mesh_label(const char *name);
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err);
 
+/* Loads the mesh an atlas is built of (pgt atlas, pgt ivy): pgt_cli_load_named, then refuses a
+ * mesh without UVs (`hint` ends that message) and one with repeated faces
+ * (pgt_mesh_repeated_faces: their charts lie at one place in 3D, and every pointer search
+ * tests them all; 150,000 copies of one triangle, a 2 MB OBJ, ran for minutes). 0, or
+ * PGT_EXIT_USAGE after one error line (*out then zeroed). */
+int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out);
+
 /* 0 unless out (given by `flag`) is the file of one of the n mesh names (pgt_cli_load_named's
  * rule); else prints "pgt VERB: FLAG OUT is the input mesh NAME; ..." and returns
  * PGT_EXIT_USAGE (a benchmark's table or pgt ivy's outputs must not replace their input). */

@@ -175,17 +175,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
     pgt_cli_progress_stagef(prog.progress, "reading %s", in_path);
     const double t0 = pgt_cli_now_ms();
-    if (pgt_cli_load_named(in_path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) {
-        pgt_cli_fail(verb, "%s", err.message);
-        goto done;
-    }
-    if (!mesh.uvs) {
-        pgt_cli_fail(verb,
-                     "%s: no UVs: run a parametrization first (datasets_gen gives UV-less "
-                     "meshes an atlas with MeshLab's Voronoi Atlas)",
-                     in_path);
-        goto done;
-    }
+    if (pgt_cli_load_atlas_mesh(verb, in_path, NULL, &mesh)) goto done;
     const double t1 = pgt_cli_now_ms();
     pgt_atlas_options opt = {0};
     opt.width = opt.height = res;

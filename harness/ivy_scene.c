@@ -20,13 +20,7 @@ int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, ui
         if (pgt_image_read_exr_threads(&s->img, path, threads, &err) != PGT_OK) goto fail;
     } else {
         pgt_mesh mesh = {0};
-        if (pgt_cli_load_named(path, PGT_CLI_SHARED_MESH_DIR, &mesh, &err) != PGT_OK) goto fail;
-        if (!mesh.uvs) {
-            pgt_mesh_destroy(&mesh);
-            pgt_cli_fail(verb,
-                         "%s: no UVs: run a parametrization first (datasets_gen gives UV-less "
-                         "meshes an atlas with MeshLab's Voronoi Atlas), or give an atlas .exr",
-                         path);
+        if (pgt_cli_load_atlas_mesh(verb, path, ", or give an atlas .exr", &mesh)) {
             pgt_ivy_scene_free(s);
             return -1;
         }

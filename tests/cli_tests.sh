@@ -140,6 +140,13 @@ if [ -f "$bob" ]; then
 else
   bad atlas_own_chart_reported "no $bob"
 fi
+# repeated faces (charts at one place: 150,000 copies of a triangle ran for minutes) are refused
+# by atlas and ivy at once, naming the faces
+{ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n'; for i in $(seq 2000); do echo 'f 1/1 2/2 3/3'; done; } > rep.obj
+expect atlas_repeated_faces 2 timeout 20 "$pgt" atlas rep.obj -o rep.exr --res 2048
+one_line atlas_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0.*(1999 such faces)"
+expect ivy_repeated_faces 2 timeout 20 "$pgt" ivy rep.obj --seeds 1 -o rep.ply
+one_line ivy_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 # an atlas that is a fifo without a writer is refused at once (its open() blocked before the
 # regular-file check); timeout's 124 would fail the check

@@ -995,8 +995,41 @@ static void test_replace_file(void) {
     scratch_remove();
 }
 
+/* pgt_mesh_repeated_faces: a rotation of a face's corners repeats it, the other orientation does
+ * not; the first repeat is reported with the face it repeats; the shared meshes have none. */
+static void test_repeated_faces(void) {
+    pgt_mesh m;
+    REQUIRE(pgt_mesh_create(&m, 4, 6, 0, 0, NULL) == PGT_OK);
+    static const uint32_t tri[6][3] = {{0, 1, 2}, {0, 2, 3}, {2, 1, 0},
+                                       {1, 2, 0}, {3, 0, 2}, {0, 1, 2}};
+    for (uint32_t f = 0; f < 6; ++f) memcpy(m.indices + 3 * f, tri[f], sizeof tri[f]);
+    for (uint32_t i = 0; i < 12; ++i) m.positions[i] = (float)i;
+    uint32_t first = 0, face = 0;
+    /* {1,2,0} and {0,1,2} repeat face 0, {3,0,2} repeats face 1; {2,1,0} is face 0 reversed */
+    CHECK(pgt_mesh_repeated_faces(&m, &first, &face) == 3u);
+    CHECK(first == 0u && face == 3u);
+    m.face_count = 3; /* {0,1,2}, {0,2,3}, {2,1,0}: none */
+    CHECK(pgt_mesh_repeated_faces(&m, &first, &face) == 0u);
+    CHECK(first == PGT_NONE && face == PGT_NONE);
+    pgt_mesh_destroy(&m);
+    static const char *const shared[] = {"spot.obj", "bob_tri.obj", "human_neutral.obj",
+                                         "pizza.obj"};
+    for (size_t k = 0; k < sizeof shared / sizeof shared[0]; ++k) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, shared[k]);
+        pgt_mesh r;
+        pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
+        pgt_error err = {0};
+        REQUIRE(pgt_mesh_read(&r, path, &ro, &err) == PGT_OK);
+        CHECK_MSG(pgt_mesh_repeated_faces(&r, &first, &face) == 0u, "%s: face %u repeats %u",
+                  shared[k], face, first);
+        pgt_mesh_destroy(&r);
+    }
+}
+
 static const pgt_test_case cases[] = {
     {"replace_file", test_replace_file},
+    {"repeated_faces", test_repeated_faces},
     {"malformed_corpus", test_malformed_corpus},
     {"truncated_binary_ply", test_truncated_binary_ply},
     {"truncated_off", test_truncated_off},

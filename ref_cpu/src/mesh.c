@@ -63,3 +63,40 @@ double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh) {
     for (int k = 0; k < 3; ++k) d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     return sqrt(d2);
 }
+
+/* A face's corners rotated so that the smallest index comes first (the cyclic order kept). */
+static void face_key(const uint32_t *t, uint32_t k[3]) {
+    const uint32_t r = t[0] <= t[1] && t[0] <= t[2] ? 0u : t[1] <= t[2] ? 1u : 2u;
+    k[0] = t[r], k[1] = t[(r + 1u) % 3u], k[2] = t[(r + 2u) % 3u];
+}
+
+uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face) {
+    *out_first = *out_face = PGT_NONE;
+    const uint32_t F = mesh ? mesh->face_count : 0u;
+    if (F < 2u || !mesh->indices) return 0;
+    size_t size = 1;
+    while (size < 2u * (size_t)F) size <<= 1;        /* at most half full */
+    uint32_t *slot = calloc(size, sizeof(uint32_t)); /* face + 1, 0: empty */
+    if (!slot) return 0;
+    uint32_t repeated = 0;
+    for (uint32_t f = 0; f < F; ++f) {
+        uint32_t k[3];
+        face_key(mesh->indices + 3 * (size_t)f, k);
+        uint64_t h = 1469598103934665603ull; /* FNV-1a over the three indices */
+        for (int i = 0; i < 3; ++i) h = (h ^ k[i]) * 1099511628211ull;
+        for (size_t i = (size_t)(h ^ (h >> 32)) & (size - 1u);; i = (i + 1u) & (size - 1u)) {
+            if (!slot[i]) {
+                slot[i] = f + 1u;
+                break;
+            }
+            uint32_t o[3];
+            face_key(mesh->indices + 3 * (size_t)(slot[i] - 1u), o);
+            if (o[0] == k[0] && o[1] == k[1] && o[2] == k[2]) {
+                if (repeated++ == 0) *out_first = slot[i] - 1u, *out_face = f;
+                break;
+            }
+        }
+    }
+    free(slot);
+    return repeated;
+}

@@ -39,6 +39,12 @@ void pgt_mesh_destroy(pgt_mesh *mesh);
 /* Deep copy. */
 pgt_result pgt_mesh_copy(pgt_mesh *out, const pgt_mesh *src, pgt_error *err);
 
+/* Faces that repeat an earlier face: the same three vertices in the same cyclic order (a copy
+ * with the other orientation is the sheet's other side, not counted). Returns how many; the
+ * first such face (in index order) in *out_face and the earlier face it repeats in *out_first
+ * (PGT_NONE when none). O(faces) with a hash table; 0 when the table cannot be allocated. */
+uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face);
+
 /* Axis-aligned bounding box diagonal length, in double (0 for an empty mesh). */
 double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh);
 
