@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "png_io.h"
@@ -91,6 +92,14 @@ static int split_mesh_arg(const char *verb, const char *a, mesh_arg *out) {
         len = (size_t)(at - a);
         out->has_rgb = 1;
         if (len == 0) return pgt_cli_fail(verb, "%s: no mesh before the colour", a);
+    } else if (at && access(a, F_OK) != 0) {
+        /* not a file of that name, but a mesh file's name before the '@': a colour was meant */
+        char head[4096];
+        snprintf(head, sizeof head, "%.*s", (int)(at - a), a);
+        if (pgt_cli_ends_with_ci(head, ".obj") || pgt_cli_ends_with_ci(head, ".off") ||
+            pgt_cli_ends_with_ci(head, ".ply"))
+            return pgt_cli_fail(verb, "%s: colour '%s': expected three numbers in [0,1], R,G,B", a,
+                                at + 1);
     }
     out->path = malloc(len + 1);
     if (!out->path) return pgt_cli_fail(verb, "out of memory");

@@ -490,6 +490,10 @@ for flag in -o --width --height --camera --view --up --spp --no-shadows --backgr
   grep -q -- "$flag" out.txt && ok "render_help_documents_$flag" || bad "render_help_documents_$flag" "missing"
 done
 grep -q "render" <("$pgt" --help) && ok help_lists_render || bad help_lists_render "no render in pgt --help"
+# a colour that is not three numbers after a mesh file's name is named as the colour (it was
+# "unknown mesh file extension" of the whole argument)
+expect render_colour_not_numbers 2 "$pgt" render "$ico@nan,0,0" -o rc.png --width 16 --height 16
+one_line render_colour_not_numbers_one_line "colour 'nan,0,0': expected three numbers in \[0,1\]"
 expect render_ok 0 "$pgt" render "$ico" -o r.png --width 64 --height 48 --spp 1 --threads 2
 /usr/bin/python3 -c 'import struct,sys; d=open("r.png","rb").read(24)
 sys.exit(0 if d[:8]==b"\x89PNG\r\n\x1a\n" and struct.unpack(">II",d[16:24])==(64,48) else 1)' \
