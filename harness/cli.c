@@ -436,7 +436,12 @@ int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *
                             "--quick without --out would replace %s, the committed table, with "
                             "a smoke run's numbers: give --out FILE",
                             def);
-    return 0;
+    /* its folder is made when missing (results/ may not exist yet), as pgt_cli_table_open does
+     * (one level: a missing parent of it is still refused) */
+    char dir[4096];
+    folder_of(out, dir, sizeof dir);
+    mkdir(dir, 0777);
+    return pgt_cli_check_outputs(verb, &out, 1);
 }
 
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb,

@@ -109,8 +109,11 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
  * cannot be written. */
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb, int failures);
 
-/* A bench's --quick with its default output (out == def, the same pointer: no --out given)
- * is refused: the default is results/NAME.csv, the committed table. 0 otherwise. */
+/* A bench's output, checked before the benchmark runs: --quick with its default output (out ==
+ * def, the same pointer: no --out given) is refused (the default is results/NAME.csv, the
+ * committed table), and so is an output that cannot be written (pgt_cli_check_outputs: a
+ * device, a folder; its folder is made when missing, one level, as pgt_cli_table_open does).
+ * 0 otherwise. */
 int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def);
 
 /* Outputs of one command that appear together or not at all: each output is written under its

@@ -653,6 +653,9 @@ for empty in "" ","; do
   one_line "bench_woven_empty_res_'$empty'_one_line" "\-\-res: empty list"
 done
 [ ! -e res/woven_empty.csv ] && ok bench_woven_empty_res_writes_nothing || bad bench_woven_empty_res_writes_nothing "written"
+# an --out that cannot be written is refused before the benchmark runs (it was after it)
+expect bench_woven_out_device 2 timeout 20 "$pgt" bench woven --out /dev/null
+one_line bench_woven_out_device_one_line "cannot write /dev/null: it is a device, fifo or socket"
 expect bench_woven 0 "$pgt" bench woven --res 5k,22k --frames 2 --threads 2 --out res/woven.csv
 grep -q "^# machine: " res/woven.csv && grep -q "^# commit: " res/woven.csv && grep -q "^# date: " res/woven.csv \
   && ok bench_woven_header || bad bench_woven_header "$(head -5 res/woven.csv)"
