@@ -227,6 +227,13 @@ int pgt_cmd_march(int argc, char **argv) {
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--dump")) {
             if (!(dump = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            /* PREFIX.atlas.png and PREFIX.texels.csv: an empty prefix, or a folder's path
+             * ending in '/', would write hidden files (.atlas.png) */
+            if (!*dump || dump[strlen(dump) - 1u] == '/')
+                return pgt_cli_fail(verb,
+                                    "--dump: '%s' is no file name prefix (PREFIX.atlas.png, "
+                                    "PREFIX.texels.csv)",
+                                    dump);
         } else if (!strcmp(a, "--with-start")) {
             with_start = 1;
         } else if (!strcmp(a, "--no-best-pointer")) {

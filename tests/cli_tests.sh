@@ -156,6 +156,12 @@ one_line march_fifo_atlas_one_line "fifo.exr: cannot read: not a regular file"
 rm -f fifo.exr
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
+# --dump needs a file name prefix: "" or "dir/" would write hidden .atlas.png / .texels.csv
+for d in "" "dumpdir/"; do
+  expect "march_dump_no_prefix_'$d'" 2 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 5 -o p.csv --dump "$d"
+  one_line "march_dump_no_prefix_'$d'_one_line" "\-\-dump: '$d' is no file name prefix"
+done
+
 # progress lines of pgt atlas (its steps by name, then the EXR), pgt march (steps counted) and
 # pgt subdiv (iterations counted): stderr holds them only, and the outputs are the same bytes
 PGT_PROGRESS_SECONDS=0.001 expect atlas_progress 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o csp1.exr --res 1024 --threads 1
