@@ -1069,8 +1069,36 @@ static void test_cli(void) {
     CHECK(pgt_cmd_grammar(2, missing) == PGT_EXIT_USAGE);
 }
 
+/* Line ends: LF, CRLF and CR alone (a file saved with old Mac line ends) count lines alike, and a
+ * '#' comment ends at any of them (with CR alone it swallowed the rest of the file, and every
+ * error was on line 1). */
+static void test_line_ends(void) {
+    static const char *const ends[3] = {"\n", "\r\n", "\r"};
+    for (int k = 0; k < 3; ++k) {
+        char text[256];
+        const char *e = ends[k];
+        snprintf(text, sizeof text, "param p = 3%s# a comment%sA --> B(p)%sB(n) --> Q%s", e, e, e,
+                 e);
+        pgt_grammar g;
+        pgt_error err = {0};
+        CHECK(pgt_grammar_compile(&g, text, strlen(text), "ends.grammar", &err) != PGT_OK);
+        CHECK_MSG(strstr(err.message, "ends.grammar:4:") != NULL, "line end %d: %s", k,
+                  err.message);
+        snprintf(text, sizeof text, "param p = 3%s# a comment%sA --> B(p)%sB(n) --> NIL%s", e, e, e,
+                 e);
+        pgt_error_clear(&err);
+        CHECK_MSG(pgt_grammar_compile(&g, text, strlen(text), "ends.grammar", &err) == PGT_OK,
+                  "line end %d: %s", k, err.message);
+        if (err.code == PGT_OK) {
+            CHECK(g.param_count == 1);
+            pgt_grammar_destroy(&g);
+        }
+    }
+}
+
 static const pgt_test_case cases[] = {
     {"good_grammars", test_good_grammars},
+    {"line_ends", test_line_ends},
     {"listing", test_listing},
     {"ivy_structure", test_ivy_structure},
     {"split_structure", test_split_structure},

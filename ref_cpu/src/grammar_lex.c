@@ -24,11 +24,18 @@ static int lex_at(const lexer *L, size_t k) {
     return L->pos + k < L->size ? (unsigned char)L->text[L->pos + k] : -1;
 }
 
+/* Whether the byte at pos ends a line: '\n', or a '\r' not followed by '\n' (a file saved
+ * with CR line ends; CRLF ends the line at its '\n'). */
+static int lex_line_end(const lexer *L, size_t pos) {
+    const char c = L->text[pos];
+    return c == '\n' || (c == '\r' && (pos + 1u >= L->size || L->text[pos + 1u] != '\n'));
+}
+
 /* Moves over n bytes, counting lines and code points. */
 static void lex_advance(lexer *L, size_t n) {
     for (; n > 0 && L->pos < L->size; --n, ++L->pos) {
         const unsigned char c = (unsigned char)L->text[L->pos];
-        if (c == '\n') {
+        if (lex_line_end(L, L->pos)) {
             L->line++;
             L->col = 1;
         } else if ((c & 0xC0u) != 0x80u) {
@@ -61,7 +68,7 @@ static pgt_result lex_skip(lexer *L) {
         if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') {
             lex_advance(L, 1);
         } else if (c == '#' || (c == '/' && d == '/')) {
-            while (L->pos < L->size && L->text[L->pos] != '\n') {
+            while (L->pos < L->size && !lex_line_end(L, L->pos)) {
                 if (L->text[L->pos] == '\0') return comment_nul(L);
                 lex_advance(L, 1);
             }
@@ -134,7 +141,7 @@ static pgt_result lex_string(lexer *L, gtoken *t) {
     size_t n = 1;
     for (;;) {
         const int c = lex_at(L, n);
-        if (c < 0 || c == '\n')
+        if (c < 0 || c == '\n' || c == '\r')
             return lex_fail(L, PGT_ERROR_PARSE, L->line, L->col,
                             "found a string that does not end on its line, expected a closing "
                             "'\"'");
