@@ -45,7 +45,7 @@ static const char usage[] =
     "--mesh FILE.obj renders it. (An OUT_DIR called tower: ./tower.)\n"
     "\n"
     "Exit status: 0 on success, 1 when a dataset cannot be generated or written, 2 on a bad\n"
-    "command line.\n";
+    "command line or a city's grammar that cannot be read or compiled.\n";
 
 /* One line on stderr, naming the flag or value; exit status 2. */
 static int bad_usage(const char *fmt, const char *arg) {
@@ -144,7 +144,8 @@ static int city_main(int argc, char **argv) {
     pgt_error_clear(&err);
     if (pgt_facade_file_city(&f, grammar, (uint32_t)v[0], (uint32_t)v[1], &err) != PGT_OK) {
         fprintf(stderr, "pgt_datasets: city: %s\n", err.message);
-        return 1;
+        /* the grammar (--grammar's file, or a city it cannot build) is input: 2, as pgt's */
+        return err.code == PGT_ERROR_OUT_OF_MEMORY ? 1 : 2;
     }
     char comment[128];
     snprintf(comment, sizeof comment, "pgt_datasets city %llu %llu (pgt_gen_city)", v[0], v[1]);

@@ -358,6 +358,8 @@ static const char *named_path(const char *name, const char *shared_dir, char *bu
 
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err) {
+    if (!name || !*name) /* not the shared folder's path, which an empty name would join to */
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "no mesh named (an empty name)");
     char buf[4096];
     const char *path = named_path(name, shared_dir, buf, sizeof buf);
     if (!path) return pgt_gen_default(pgt_gen_default_find(name), out, err);

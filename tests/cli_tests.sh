@@ -147,6 +147,20 @@ expect atlas_repeated_faces 2 timeout 20 "$pgt" atlas rep.obj -o rep.exr --res 2
 one_line atlas_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0.*(1999 such faces)"
 expect ivy_repeated_faces 2 timeout 20 "$pgt" ivy rep.obj --seeds 1 -o rep.ply
 one_line ivy_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0"
+# an empty mesh name is refused as such (it named the shared folder's path)
+expect atlas_empty_name 2 "$pgt" atlas "" -o e.exr
+one_line atlas_empty_name_one_line "no mesh named (an empty name)"
+# meshes without vertices whose faces name one say so (it was 'outside 0..-1')
+printf 'ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n' > nov.ply
+expect ply_no_vertices 2 "$pgt" subdiv nov.ply --iters 1 -o nov.off
+one_line ply_no_vertices_one_line "nov.ply:10: .*vertex index 0, but the file has no vertices"
+printf 'OFF\n0 1 0\n3 0 1 2\n' > nov.off
+expect off_no_vertices 2 "$pgt" subdiv nov.off --iters 1 -o nov2.off
+one_line off_no_vertices_one_line "nov.off:3: face 0: vertex index 0, but the file has no vertices"
+# a PLY element count beyond int64 is shown as written
+printf 'ply\nformat ascii 1.0\nelement vertex 1000000000000000000000000000000\nproperty float x\nend_header\n' > huge_count.ply
+expect ply_count_beyond_int64 2 "$pgt" subdiv huge_count.ply --iters 1 -o hc.off
+one_line ply_count_beyond_int64_one_line "huge_count.ply:3: element 'vertex' count 1000000000000000000000000000000 is above"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 # an atlas that is a fifo without a writer is refused at once (its open() blocked before the
 # regular-file check); timeout's 124 would fail the check
@@ -993,6 +1007,8 @@ one_line facade_mesh_save_scene_one_line "\-\-save-scene is for \-\-city and \-\
 expect facade_mesh_and_city 2 "$pgt" facade --mesh tower.obj --city 3 -o x.exr
 one_line facade_mesh_and_city_one_line "exactly one of"
 expect datasets_city_zero 2 "$gen" city 0 5 -o gen0.scene
+expect datasets_city_missing_grammar 2 "$gen" city 2 1 -o gm.scene --grammar nothere.grammar
+one_line datasets_city_missing_grammar_one_line "nothere.grammar: cannot open"
 # outputs never replace inputs or each other: a grammar the scene names, -o as --save-scene,
 # bench facade's --out as its --grammar; pgt_datasets tower writes through a temporary file
 printf 'grammar g own_fc.grammar\nbuilding g 0 19.2 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >own_fc.scene

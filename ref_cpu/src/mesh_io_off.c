@@ -210,9 +210,16 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
                 goto done;
             }
             if (idx < 0 || idx >= V) {
-                r = pgt_io_fail_line(err, PGT_ERROR_INDEX_RANGE, name, t.line,
-                                     "face %lld: vertex index %s is outside 0..%lld", (long long)f,
-                                     pgt_io_quote(tok, n, q, sizeof(q)), (long long)V - 1);
+                if (V == 0)
+                    r = pgt_io_fail_line(err, PGT_ERROR_INDEX_RANGE, name, t.line,
+                                         "face %lld: vertex index %s, but the file has no "
+                                         "vertices",
+                                         (long long)f, pgt_io_quote(tok, n, q, sizeof(q)));
+                else
+                    r = pgt_io_fail_line(err, PGT_ERROR_INDEX_RANGE, name, t.line,
+                                         "face %lld: vertex index %s is outside 0..%lld",
+                                         (long long)f, pgt_io_quote(tok, n, q, sizeof(q)),
+                                         (long long)V - 1);
                 goto done;
             }
             if (pgt_io_u32_reserve(&poly, poly.len + 1) != 0) {

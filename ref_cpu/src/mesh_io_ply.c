@@ -354,10 +354,11 @@ static pgt_result parse_header(ply_header *h, const char *data, size_t size, con
             if (pgt_io_parse_i64(a[1], an[1], &count) == 1 || count < 0)
                 return header_fail(err, PGT_ERROR_PARSE, name, t.line,
                                    "element count is not a non-negative integer:", a[1], an[1]);
-            if (count > PGT_MESH_MAX_ELEMENTS)
+            if (count > PGT_MESH_MAX_ELEMENTS) /* the count as written (one past int64 saturates) */
                 return pgt_io_fail_line(err, PGT_ERROR_LIMIT, name, t.line,
-                                        "element '%.*s' count %lld is above the pgt limit of %u",
-                                        (int)an[0], a[0], (long long)count, PGT_MESH_MAX_ELEMENTS);
+                                        "element '%.*s' count %.*s is above the pgt limit of %u",
+                                        (int)an[0], a[0], (int)(an[1] < 40 ? an[1] : 40), a[1],
+                                        PGT_MESH_MAX_ELEMENTS);
             if (h->nelems == PLY_MAX_ELEMENTS)
                 return pgt_io_fail_line(err, PGT_ERROR_LIMIT, name, t.line,
                                         "more than %d elements", PLY_MAX_ELEMENTS);
@@ -659,7 +660,11 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                     for (uint64_t c = 0; r == PGT_OK && c < count; ++c) {
                         at = in.pos;
                         r = ply_read_int(&in, pr->type, "vertex index", &value);
-                        if (r == PGT_OK && (value < 0 || (uint64_t)value >= V))
+                        if (r == PGT_OK && V == 0)
+                            r = ply_fail(&in, at, PGT_ERROR_INDEX_RANGE,
+                                         "vertex index %lld, but the file has no vertices",
+                                         (long long)value);
+                        else if (r == PGT_OK && (value < 0 || (uint64_t)value >= V))
                             r = ply_fail(&in, at, PGT_ERROR_INDEX_RANGE,
                                          "vertex index %lld is outside 0..%lld", (long long)value,
                                          (long long)V - 1);
