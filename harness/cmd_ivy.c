@@ -303,8 +303,8 @@ static int read_points(const char *verb, const char *flag, const char *path, int
             memcpy(&out->p3[3u * k], v, 3u * sizeof(float));
         }
     }
-    if (ferror(f)) {
-        pgt_cli_fail(verb, "%s %s: read error", flag, path);
+    if (ferror(f)) { /* errno: the failed read's (a folder: EISDIR) */
+        pgt_cli_fail(verb, "%s %s: read error: %s", flag, path, strerror(errno));
         goto done;
     }
     if (strokes) {

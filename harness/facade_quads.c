@@ -141,7 +141,8 @@ pgt_result pgt_facade_quads_read_obj(pgt_facade_quads *out, const char *path, pg
                 for (uint32_t k = 0; k < 4; ++k) memcpy(tri + 3u * ncorner++, c[k], sizeof c[k]);
         }
     }
-    if (r == PGT_OK && ferror(f)) r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error", path);
+    if (r == PGT_OK && ferror(f)) /* errno: the failed read's (a folder: EISDIR) */
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", path, strerror(errno));
     fclose(f);
     if (r == PGT_OK && ncorner == 0) r = pgt_error_set(err, PGT_ERROR_EMPTY, "%s: no faces", path);
     /* one vertex per distinct (v, vt, vn): open addressing over the corners */

@@ -409,8 +409,8 @@ pgt_result pgt_facade_file_read(pgt_facade_file *out, const char *path, pgt_erro
         }
         if (r != PGT_OK) goto done;
     }
-    if (ferror(fp)) {
-        r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error", path);
+    if (ferror(fp)) { /* errno: the failed read's (a folder: EISDIR) */
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", path, strerror(errno));
         goto done;
     }
     if (out->scene.building_count == 0) {

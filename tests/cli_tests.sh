@@ -161,6 +161,16 @@ one_line off_no_vertices_one_line "nov.off:3: face 0: vertex index 0, but the fi
 printf 'ply\nformat ascii 1.0\nelement vertex 1000000000000000000000000000000\nproperty float x\nend_header\n' > huge_count.ply
 expect ply_count_beyond_int64 2 "$pgt" subdiv huge_count.ply --iters 1 -o hc.off
 one_line ply_count_beyond_int64_one_line "huge_count.ply:3: element 'vertex' count 1000000000000000000000000000000 is above"
+# a folder given where a text file is read says so (it was 'read error' / 'cannot read')
+mkdir -p dir_in.grammar dir_in.txt dir_in.obj
+expect grammar_folder 2 "$pgt" grammar dir_in.grammar
+one_line grammar_folder_one_line "dir_in.grammar: cannot read: Is a directory"
+expect protect_folder 2 "$pgt" subdiv "$ico" --iters 1 --protect dir_in.txt -o pf.off
+one_line protect_folder_one_line "dir_in.txt: read error: Is a directory"
+expect scene_folder 2 "$pgt" facade --scene dir_in.txt -o sf.exr
+one_line scene_folder_one_line "dir_in.txt: read error: Is a directory"
+expect quad_mesh_folder 2 "$pgt" facade --mesh dir_in.obj -o qf.exr
+one_line quad_mesh_folder_one_line "dir_in.obj: read error: Is a directory"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 # an atlas that is a fifo without a writer is refused at once (its open() blocked before the
 # regular-file check); timeout's 124 would fail the check

@@ -1131,10 +1131,11 @@ pgt_result pgt_grammar_load(pgt_grammar *out, const char *path, pgt_error *err) 
         return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
     const size_t n = fread(text, 1, PGT_GRAMMAR_MAX_FILE_BYTES + 1, f);
-    const int bad = ferror(f);
+    const int bad = ferror(f), bad_errno = errno; /* a folder: EISDIR */
     fclose(f);
-    pgt_result r = bad ? pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read", path)
-                       : pgt_grammar_compile(out, text, n, path, err);
+    pgt_result r =
+        bad ? pgt_error_set(err, PGT_ERROR_IO, "%s: cannot read: %s", path, strerror(bad_errno))
+            : pgt_grammar_compile(out, text, n, path, err);
     free(text);
     return r;
 }

@@ -93,7 +93,8 @@ pgt_result pgt_selection_read(uint8_t *flags, uint32_t face_count, const char *p
         }
         tok[n++] = (char)c;
     } while (c != EOF);
-    if (r == PGT_OK && ferror(f)) r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error", path);
+    if (r == PGT_OK && ferror(f)) /* errno: the failed read's (a folder: EISDIR) */
+        r = pgt_error_set(err, PGT_ERROR_IO, "%s: read error: %s", path, strerror(errno));
     fclose(f);
     if (r != PGT_OK) memset(flags, 0, face_count);
     if (r == PGT_OK && out_count) *out_count = count;
