@@ -227,6 +227,107 @@ static void test_window_and_door_depths(void) {
     CHECK(opening > 0 && frame > 0 && sill > 0 && wall > 0);
 }
 
+/* The first side a ray parallel to axis 0 (x) or 1 (y), in direction dir (+1, -1), meets at
+ * (a, b) = (y, z) or (x, z) of a Window's or Door's scope, from the documented layout (facade.h,
+ * Fig. 7) as solids: the sill box [m, w-m] x [m, m+sh] x [0, sd], the frame [m, w-m] x
+ * [m+sh, h-m] x [0, fd] (a door's from 0) less the opening, and the opening's reveal from -r to
+ * 0 (the hole's sides, seen from inside the wall). NAN: nothing; INFINITY: a case the
+ * documentation does not settle, not probed (a door from below in front of the wall plane: its
+ * frame bars stand on the ground, open there). */
+static float side_hit(uint32_t kind, const float *args, float w, float h, int axis, int dir,
+                      float a, float b) {
+    const float m = args[0], f = args[1], fd = args[2], r = args[3];
+    const int window = kind == PGT_FACADE_WINDOW;
+    const float sh = window ? args[4] : 0.0f, sd = window ? args[5] : 0.0f;
+    const float fy0 = window ? m + sh : 0.0f; /* the frame's bottom */
+    const float ix0 = m + f, ix1 = w - m - f, iy0 = window ? fy0 + f : 0.0f, iy1 = h - m - f;
+    if (axis == 0) { /* a = y, b = z */
+        const float outer = dir > 0 ? m : w - m, inner = dir > 0 ? ix0 : ix1;
+        if (window && b > 0.0f && b < sd && a > m && a < fy0) return outer; /* sill side */
+        if (b > 0.0f && b < fd && a > fy0 && a < h - m) return outer;       /* frame side */
+        if (b > -r && b < 0.0f && a > iy0 && a < iy1) return inner;         /* reveal */
+        return NAN;
+    }
+    /* a = x, b = z */
+    const int frame_x = a > m && a<w - m, opening_x = a> ix0 && a < ix1;
+    if (dir > 0) { /* from below */
+        if (!window && b > 0.0f) return INFINITY;
+        if (!window) return b > -r && b < 0.0f && opening_x ? 0.0f : NAN; /* the threshold */
+        if (frame_x && b > 0.0f && b < sd) return m;                      /* the sill's bottom */
+        if (frame_x && b >= sd && b > 0.0f && b < fd) return fy0; /* the frame's underside */
+        if (opening_x && b > -r && b < 0.0f) return iy0;          /* the reveal's bottom */
+        return NAN;
+    }
+    if (frame_x && b > 0.0f && b < fd) return h - m;                    /* the frame's top */
+    if (window && frame_x && b >= fd && b > 0.0f && b < sd) return fy0; /* the sill's top */
+    if (opening_x && b > -r && b < 0.0f) return iy1;                    /* the reveal's top */
+    return NAN;
+}
+
+/* A side's coordinate in the scope: the rectangles hold it offset by the block's corner (float,
+ * up to ~7 here, ulp 4.8e-7) and the test takes the offset off again: two roundings. */
+#define SIDE_ABS 1e-6f
+
+/* Windows and doors seen from the four sides (rays along +-x and +-y at a grid of (y or x, z)):
+ * the first side rectangle met is where side_hit puts it, and nothing where it says nothing. */
+static void test_window_and_door_sides(void) {
+    static const float args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
+                                     {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
+    const uint32_t kinds[2] = {PGT_FACADE_WINDOW, PGT_FACADE_DOOR};
+    const float w = 1.6f, h = 2.4f, x0 = 2.0f, y0 = 5.0f;
+    pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
+    uint32_t probes = 0, hits = 0;
+    for (int k = 0; k < 2; ++k)
+        for (int ai = 0; ai < 2; ++ai) {
+            const float *A = args[ai];
+            const uint32_t n = pgt_facade_terminal_quads(kinds[k], A, 6, x0, y0, w, h, q);
+            const float m = A[0], f = A[1], fd = A[2], r = A[3], sh = A[4], sd = A[5];
+            const float ez[4] = {-r, 0.0f, fd, sd};
+            const float ex[4] = {m, m + f, w - m - f, w - m};
+            const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
+            for (int axis = 0; axis < 2; ++axis)
+                for (int dir = -1; dir <= 1; dir += 2) {
+                    const float span = axis == 0 ? h : w, off = axis == 0 ? y0 : x0;
+                    const uint32_t G = 61;
+                    for (uint32_t i = 0; i < G; ++i)
+                        for (uint32_t j = 0; j < G; ++j) {
+                            const float a = span * ((float)i + 1.0f / 3.0f) / G;
+                            const float b = -0.3f + 0.6f * ((float)j + 2.0f / 3.0f) / G;
+                            int near = 0;
+                            for (int e = 0; e < 4; ++e)
+                                near |= fabsf(b - ez[e]) < PROBE_EDGE_CLEARANCE;
+                            if (axis == 0)
+                                for (int e = 0; e < 6; ++e)
+                                    near |= fabsf(a - ey[e]) < PROBE_EDGE_CLEARANCE;
+                            else
+                                for (int e = 0; e < 4; ++e)
+                                    near |= fabsf(a - ex[e]) < PROBE_EDGE_CLEARANCE;
+                            if (near) continue;
+                            float got = NAN;
+                            for (uint32_t t = 0; t < n; ++t) {
+                                if (q[t].axis != (uint32_t)axis || !(q[t].hi[0] > q[t].lo[0]))
+                                    continue;
+                                if (!(q[t].lo[0] <= off + a && off + a <= q[t].hi[0] &&
+                                      q[t].lo[1] <= b && b <= q[t].hi[1]))
+                                    continue;
+                                const float c = q[t].c - (axis == 0 ? x0 : y0);
+                                if (isnan(got) || (dir > 0 ? c < got : c > got)) got = c;
+                            }
+                            const float want = side_hit(kinds[k], A, w, h, axis, dir, a, b);
+                            if (isinf(want)) continue;
+                            probes++, hits += !isnan(want);
+                            CHECK_MSG(isnan(want) ? isnan(got) : fabsf(got - want) <= SIDE_ABS,
+                                      "kind %u args %d axis %d dir %d at (%g, %g): side %g, the "
+                                      "layout says %g",
+                                      kinds[k], ai, axis, dir, (double)a, (double)b, (double)got,
+                                      (double)want);
+                        }
+                }
+        }
+    printf("  %u side probes, %u meeting a side\n", probes, hits);
+    CHECK(hits > probes / 10);
+}
+
 static void make_one(pgt_facade_scene *s, const pgt_grammar *g, float *corners, float *params,
                      pgt_facade_building *b) {
     memset(s, 0, sizeof *s);
@@ -973,6 +1074,7 @@ static void test_explicit_limit(void) {
 static const pgt_test_case cases[] = {
     {"terminals_in_scope", test_terminals_in_scope},
     {"window_and_door_depths", test_window_and_door_depths},
+    {"window_and_door_sides", test_window_and_door_sides},
     {"miss_develops_nothing", test_miss_develops_nothing},
     {"coverage_polygon", test_coverage_polygon},
     {"paper_grammar_vs_explicit", test_paper_grammar_vs_explicit},
