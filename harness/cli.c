@@ -158,14 +158,30 @@ static uint64_t file_number(const char *path, const char *key) {
     return v;
 }
 
-uint64_t pgt_cli_available_bytes(void) {
+/* PGT_MEMORY_AVAILABLE as a whole number of bytes > 0, or 0 (unset, empty or malformed). */
+static uint64_t memory_env(const char **text) {
     const char *env = getenv("PGT_MEMORY_AVAILABLE");
-    if (env && *env) { /* a whole number of bytes; anything else: read the machine's */
-        char *end = NULL;
-        errno = 0;
-        const unsigned long long v = strtoull(env, &end, 10);
-        if (!errno && *end == 0 && v > 0 && env[0] != '-') return (uint64_t)v;
-    }
+    *text = env;
+    if (!env || !(*env >= '0' && *env <= '9')) return 0; /* no blanks, no sign */
+    char *end = NULL;
+    errno = 0;
+    const unsigned long long v = strtoull(env, &end, 10);
+    return !errno && *end == 0 ? (uint64_t)v : 0;
+}
+
+int pgt_cli_memory_env_check(const char *verb) {
+    const char *env = NULL;
+    if (memory_env(&env) || !env || !*env) return 0;
+    return pgt_cli_fail(verb,
+                        "the environment variable PGT_MEMORY_AVAILABLE is '%s': give a whole "
+                        "number of bytes > 0, or unset it (the machine's reading)",
+                        env);
+}
+
+uint64_t pgt_cli_available_bytes(void) {
+    const char *env = NULL;
+    const uint64_t given = memory_env(&env);
+    if (given) return given; /* malformed: pgt_cli_memory_env_check refused it */
     uint64_t avail = file_number("/proc/meminfo", "MemAvailable:") * 1024u;
     if (avail == 0) avail = pgt_cli_memory_bytes();
     /* the cgroup's limit, usage and its page cache the kernel can drop (as docker stats counts) */

@@ -56,6 +56,11 @@ uint64_t pgt_cli_memory_bytes(void);
  * whole number of bytes) replaces the reading: a smaller budget on a shared machine, and the
  * tests' fixed one. */
 uint64_t pgt_cli_available_bytes(void);
+
+/* 0 unless PGT_MEMORY_AVAILABLE is set, not empty and not a whole number of bytes > 0 (it was
+ * ignored then, the machine's reading used instead); else one line naming it, PGT_EXIT_USAGE.
+ * The verbs that take a budget from it (ivy, woven, facade) call it with their flags. */
+int pgt_cli_memory_env_check(const char *verb);
 /* "95 MiB" below 1 GiB, else "22.4 GiB": a size for messages (buf of 32 bytes). */
 const char *pgt_cli_bytes_text(char *buf, size_t size, uint64_t bytes);
 void pgt_cli_commit(char *buf, size_t size);

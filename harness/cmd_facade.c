@@ -355,7 +355,8 @@ int pgt_cmd_facade(int argc, char **argv) {
     pgt_cli_stage stage;
     stage.count = stage.dir_count = 0;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
-    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    if (pgt_cli_memory_env_check(verb) || pgt_cli_progress_start(&prog, verb))
+        return PGT_EXIT_USAGE;
     pgt_progress *const pr = prog.progress;
     pgt_progress_stage(pr, "scene", 0, "");
     double *ms = calloc(2u * a.frames, sizeof(double));

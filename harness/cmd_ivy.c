@@ -562,7 +562,8 @@ int pgt_cmd_ivy(int argc, char **argv) {
     int rc = PGT_EXIT_USAGE;
     pgt_error err = {0};
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
-    if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
+    if (pgt_cli_memory_env_check(verb) || pgt_cli_progress_start(&prog, verb))
+        return PGT_EXIT_USAGE;
     pgt_progress_stage(prog.progress, "atlas", 0, "");
     if (pgt_ivy_scene_atlas(&s, verb, in_path, res, threads)) {
         pgt_cli_progress_stop(&prog);

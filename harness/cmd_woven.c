@@ -109,6 +109,7 @@ int pgt_cmd_woven(int argc, char **argv) {
             return pgt_cli_fail(verb, "--params %s: %s", params_text, bare(err.message));
         /* within 32-bit indices the arrays reach ~150 GB: with the kernel's overcommit the
          * allocation succeeds and the first frame gets the process killed */
+        if (pgt_cli_memory_env_check(verb)) return PGT_EXIT_USAGE;
         const uint64_t mem = pgt_cli_available_bytes();
         char need[32], have[32];
         if (mem && c.bytes > mem)

@@ -707,6 +707,10 @@ fields_match bench_woven_fields res/woven.csv
 expect facade_frame_too_large 2 timeout 20 "$pgt" facade --city 2 -o big.exr --width 16384 --height 2000
 one_line facade_frame_too_large_one_line "^pgt facade: --width 16384 --height 2000: .*image limit"
 [ ! -e big.exr ] && ok facade_frame_too_large_no_output || bad facade_frame_too_large_no_output "big.exr written"
+# PGT_MEMORY_AVAILABLE that is not a whole number of bytes is refused (it was ignored silently)
+PGT_MEMORY_AVAILABLE=abc expect memory_env_malformed 2 "$pgt" facade --city 2 -o me.exr --width 16 --height 16
+one_line memory_env_malformed_one_line "PGT_MEMORY_AVAILABLE is 'abc': give a whole number of bytes"
+PGT_MEMORY_AVAILABLE=1000000000 expect memory_env_given 0 "$pgt" facade --city 2 -o me.exr --width 16 --height 16
 expect facade_help 0 "$pgt" facade --help
 for flag in --city --scene --camera --width --height -o --png --threads --explicit --embree-check --grammar --seed --light --save-scene --single-rays --max-triangles PGT_MEMORY_AVAILABLE; do
   grep -q -- "$flag" out.txt && ok "facade_help_documents_$flag" || bad "facade_help_documents_$flag" "missing"
