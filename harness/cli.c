@@ -637,6 +637,25 @@ int pgt_cli_read_context(const char *verb, const char *flag, const char *path, c
     return 0;
 }
 
+/* Whether s is a decimal number as a grammar file writes one: an optional sign, digits with an
+ * optional fraction (or a fraction alone), an optional exponent; no blanks, hex, inf or nan
+ * (which strtof would take). */
+static int decimal_number(const char *s) {
+    if (*s == '+' || *s == '-') ++s;
+    int digits = 0;
+    while (*s >= '0' && *s <= '9') ++s, ++digits;
+    if (*s == '.')
+        for (++s; *s >= '0' && *s <= '9'; ++s) ++digits;
+    if (!digits) return 0;
+    if (*s == 'e' || *s == 'E') {
+        ++s;
+        if (*s == '+' || *s == '-') ++s;
+        if (!(*s >= '0' && *s <= '9')) return 0;
+        while (*s >= '0' && *s <= '9') ++s;
+    }
+    return *s == '\0';
+}
+
 int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *overrides,
                            uint32_t count) {
     pgt_error err = {0};
@@ -646,8 +665,9 @@ int pgt_cli_grammar_params(const char *verb, pgt_grammar *g, const char *const *
         char *end = NULL;
         const float value = eq ? strtof(eq + 1, &end) : 0.0f;
         if (!eq || eq == o || (size_t)(eq - o) > PGT_GRAMMAR_MAX_NAME_CHARS || end == eq + 1 ||
-            *end != '\0' || !isfinite(value))
-            return pgt_cli_fail(verb, "--param %s: expected NAME=VALUE with a finite number", o);
+            *end != '\0' || !isfinite(value) || !decimal_number(eq + 1))
+            return pgt_cli_fail(verb,
+                                "--param %s: expected NAME=VALUE with a finite decimal number", o);
         memcpy(name, o, (size_t)(eq - o));
         name[eq - o] = '\0';
         if (pgt_grammar_set_param(g, name, value, &err) != PGT_OK)

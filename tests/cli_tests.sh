@@ -474,6 +474,12 @@ expect grammar_help 0 "$pgt" grammar --help
 for flag in --dump --param; do
   grep -q -- "$flag" out.txt && ok "grammar_help_documents_$flag" || bad "grammar_help_documents_$flag" "missing"
 done
+# --param values are decimal numbers as a grammar file writes them: no hex, blanks or inf
+for v in 0x10 " 3" inf; do
+  expect "grammar_param_not_decimal_'$v'" 2 "$pgt" grammar "$src/grammars/ivy.grammar" --param "stepLength=$v"
+  one_line "grammar_param_not_decimal_'$v'_one_line" "expected NAME=VALUE with a finite decimal number"
+done
+expect grammar_param_decimal 0 "$pgt" grammar "$src/grammars/ivy.grammar" --param stepLength=.5e1
 expect grammar_ivy 0 "$pgt" grammar "$src/grammars/ivy.grammar"
 grep -q "maxMainSteps" out.txt && ok grammar_ivy_lists_params || bad grammar_ivy_lists_params "$(cat out.txt)"
 expect grammar_param 0 "$pgt" grammar "$src/grammars/ivy.grammar" --param maxMainSteps=20
