@@ -2,6 +2,7 @@
 #include "signal_cleanup.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
@@ -61,10 +62,16 @@ static void on_signal(int sig) {
     errno = saved;
 }
 
+static int is_handled(int sig);
+
 static void *wait_for_signal(void *arg) {
     (void)arg;
     unsigned char b = 0;
-    while (read(signal_pipe[0], &b, 1) != 1) {
+    for (;;) {
+        const ssize_t n = read(signal_pipe[0], &b, 1);
+        if (n == 1 && is_handled(b)) break;
+        if (n < 0 && errno == EINTR) continue;
+        if (n != 1) return NULL; /* the pipe is gone: nothing more will come */
     }
     const int sig = b;
     remove_registered();
@@ -86,13 +93,37 @@ static void *wait_for_signal(void *arg) {
 static const int handled[3] = {SIGINT, SIGTERM, SIGHUP};
 static int handler_set[3];
 
+/* One of the three (not handler_set, which is written after the handler is in place). */
+static int is_handled(int sig) {
+    for (int k = 0; k < 3; ++k)
+        if (handled[k] == sig) return 1;
+    return 0;
+}
+
+/* fd moved to a descriptor >= 3 with close-on-exec: a process started with stdin, stdout or
+ * stderr closed would otherwise get the pipe as one of them (what pgt printed would be read as
+ * signals), and the programs pgt starts would inherit it. -1 on failure (fd closed). */
+static int high_cloexec(int fd) {
+    const int moved = fcntl(fd, F_DUPFD_CLOEXEC, 3);
+    close(fd);
+    return moved;
+}
+
 void pgt_cli_signals_default(void) {
     for (int k = 0; k < 3; ++k)
         if (handler_set[k]) signal(handled[k], SIG_DFL);
 }
 
 int pgt_cli_signals_start(void) {
-    if (pipe(signal_pipe) != 0) return -1;
+    int fds[2];
+    if (pipe(fds) != 0) return -1;
+    signal_pipe[0] = high_cloexec(fds[0]), signal_pipe[1] = high_cloexec(fds[1]);
+    if (signal_pipe[0] < 0 || signal_pipe[1] < 0) {
+        if (signal_pipe[0] >= 0) close(signal_pipe[0]);
+        if (signal_pipe[1] >= 0) close(signal_pipe[1]);
+        signal_pipe[0] = signal_pipe[1] = -1;
+        return -1;
+    }
     pthread_t thread;
     pthread_attr_t attr;
     int ok = pthread_attr_init(&attr) == 0;

@@ -10,6 +10,11 @@
  * it, 128 + the signal). The outputs' own paths are never removed: an output
  * renamed into place before the signal stays, one not yet renamed keeps what was there.
  *
+ * The other threads go on while the thread removes the files: a writer that creates its
+ * PATH.tmp.PID in the microseconds between the sweep and the end leaves it, and one whose file
+ * was removed under it may print a write error before the process ends (still by the signal,
+ * unless that error's exit comes first).
+ *
  * The registrations (pgt_cli_check_outputs, pgt_cli_tmp_open and pgt_cli_stage_add make them)
  * are copies kept for the process's life; at most PGT_CLI_CLEANUP_MAX (further ones are not
  * kept: their temporary files would stay, as without this). */

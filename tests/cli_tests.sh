@@ -1220,6 +1220,11 @@ killed_while_writing() { # NAME PATTERN OUTPUT COMMAND...
   ) > sig.txt 2>&1 && ok "$name" || bad "$name" "$(cat sig.txt)"
 }
 "$gen" sig_data --only icosphere_l1 > /dev/null
+# started with stdout and stderr closed (cron, a daemon), a run does its work: the signal pipe
+# must not become fd 1 or 2 (what pgt printed was read as a signal: exit 240, nothing written)
+(cd sig_data && echo old > closed.ply && PGT_PROGRESS_SECONDS=0.001 "$pgt" subdiv icosphere_l1.off --iters 6 -o closed.ply 1>&- 2>&-; echo "$?" > closed.rc)
+[ "$(cat sig_data/closed.rc)" = 0 ] && [ "$(head -c 3 sig_data/closed.ply)" = ply ] && ok run_with_closed_stdio ||
+  bad run_with_closed_stdio "exit $(cat sig_data/closed.rc), $(head -c 3 sig_data/closed.ply)"
 killed_while_writing subdiv_killed_while_writing 's.ply.tmp.*' s.ply \
   "$pgt" subdiv ../sig_data/icosphere_l1.off --iters 10 -o s.ply
 killed_while_writing atlas_killed_while_writing '.pgt-stage.*' a.exr \
