@@ -1094,6 +1094,21 @@ static void test_line_ends(void) {
             pgt_grammar_destroy(&g);
         }
     }
+    /* the file-size error's place too: LF and CR files of one byte a line end agree */
+    char msg[2][PGT_ERROR_MESSAGE_SIZE];
+    for (int k = 0; k < 2; ++k) {
+        const size_t size = PGT_GRAMMAR_MAX_FILE_BYTES + 64u;
+        char *big = malloc(size);
+        REQUIRE(big != NULL);
+        for (size_t i = 0; i < size; ++i) big[i] = i % 10u == 9u ? (k ? '\r' : '\n') : '#';
+        pgt_grammar g;
+        pgt_error err = {0};
+        CHECK(pgt_grammar_compile(&g, big, size, "big.grammar", &err) == PGT_ERROR_LIMIT);
+        snprintf(msg[k], sizeof msg[k], "%s", err.message);
+        free(big);
+    }
+    CHECK_MSG(strcmp(msg[0], msg[1]) == 0 && strstr(msg[0], "big.grammar:104858:7:"),
+              "LF: %s; CR: %s", msg[0], msg[1]);
 }
 
 static const pgt_test_case cases[] = {

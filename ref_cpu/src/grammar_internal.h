@@ -98,4 +98,11 @@ pgt_result pgt_grammar_run(const pgt_grammar *g, uint32_t expr, const float *arg
 void pgt_grammar_fault_place(const pgt_grammar *g, uint32_t expr, const pgt_grammar_fault *fault,
                              uint32_t *line, uint32_t *col, char *detail, size_t detail_size);
 
+/* Whether text[pos] (pos < size) ends a line: '\n', or a '\r' not followed by '\n' (a file
+ * saved with CR line ends; CRLF ends its line at the '\n'). The lexer and the file-size error
+ * count lines by it. */
+static inline int pgt_grammar_line_end(const char *text, size_t size, size_t pos) {
+    return text[pos] == '\n' || (text[pos] == '\r' && (pos + 1u >= size || text[pos + 1u] != '\n'));
+}
+
 #endif

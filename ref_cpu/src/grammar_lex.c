@@ -24,11 +24,8 @@ static int lex_at(const lexer *L, size_t k) {
     return L->pos + k < L->size ? (unsigned char)L->text[L->pos + k] : -1;
 }
 
-/* Whether the byte at pos ends a line: '\n', or a '\r' not followed by '\n' (a file saved
- * with CR line ends; CRLF ends the line at its '\n'). */
 static int lex_line_end(const lexer *L, size_t pos) {
-    const char c = L->text[pos];
-    return c == '\n' || (c == '\r' && (pos + 1u >= L->size || L->text[pos + 1u] != '\n'));
+    return pgt_grammar_line_end(L->text, L->size, pos);
 }
 
 /* Moves over n bytes, counting lines and code points. */

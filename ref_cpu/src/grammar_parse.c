@@ -1073,11 +1073,11 @@ static pgt_result parse_file(parser *p) {
     return PGT_OK;
 }
 
-/* Line and column of byte offset `at` (for the file-size limit). */
-static void position_of(const char *text, size_t at, uint32_t *line, uint32_t *col) {
+/* Line and column of byte offset `at` of text's size bytes (for the file-size limit). */
+static void position_of(const char *text, size_t size, size_t at, uint32_t *line, uint32_t *col) {
     *line = *col = 1;
     for (size_t i = 0; i < at; ++i) {
-        if (text[i] == '\n')
+        if (pgt_grammar_line_end(text, size, i))
             ++*line, *col = 1;
         else if (((unsigned char)text[i] & 0xC0u) != 0x80u)
             ++*col;
@@ -1090,7 +1090,7 @@ pgt_result pgt_grammar_compile(pgt_grammar *out, const char *text, size_t size,
     const char *file = file_name ? file_name : "<grammar>";
     if (size > PGT_GRAMMAR_MAX_FILE_BYTES) {
         uint32_t line, col;
-        position_of(text, PGT_GRAMMAR_MAX_FILE_BYTES, &line, &col);
+        position_of(text, size, PGT_GRAMMAR_MAX_FILE_BYTES, &line, &col);
         return pgt_error_set(err, PGT_ERROR_LIMIT,
                              "%s:%u:%u: the file goes on past PGT_GRAMMAR_MAX_FILE_BYTES (%u "
                              "bytes) here, expected a smaller grammar",
