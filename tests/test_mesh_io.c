@@ -1011,6 +1011,11 @@ static void test_repeated_faces(void) {
     m.face_count = 3; /* {0,1,2}, {0,2,3}, {2,1,0}: none */
     CHECK(pgt_mesh_repeated_faces(&m, &first, &face) == 0u);
     CHECK(first == PGT_NONE && face == PGT_NONE);
+    /* a face that repeats an index, in its three rotations: two repeats of the first */
+    static const uint32_t degenerate[3][3] = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}};
+    for (uint32_t f = 0; f < 3; ++f) memcpy(m.indices + 3 * f, degenerate[f], sizeof degenerate[f]);
+    CHECK(pgt_mesh_repeated_faces(&m, &first, &face) == 2u);
+    CHECK(first == 0u && face == 1u);
     pgt_mesh_destroy(&m);
     static const char *const shared[] = {"spot.obj", "bob_tri.obj", "human_neutral.obj",
                                          "pizza.obj"};

@@ -64,10 +64,15 @@ double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh) {
     return sqrt(d2);
 }
 
-/* A face's corners rotated so that the smallest index comes first (the cyclic order kept). */
+/* The lexicographically smallest rotation of a face's corners (the cyclic order kept): one key
+ * for the three rotations, also of a face that repeats an index ((0,0,1), (0,1,0), (1,0,0)). */
 static void face_key(const uint32_t *t, uint32_t k[3]) {
-    const uint32_t r = t[0] <= t[1] && t[0] <= t[2] ? 0u : t[1] <= t[2] ? 1u : 2u;
-    k[0] = t[r], k[1] = t[(r + 1u) % 3u], k[2] = t[(r + 2u) % 3u];
+    k[0] = t[0], k[1] = t[1], k[2] = t[2];
+    for (uint32_t r = 1; r < 3; ++r) {
+        const uint32_t c[3] = {t[r], t[(r + 1u) % 3u], t[(r + 2u) % 3u]};
+        if (c[0] < k[0] || (c[0] == k[0] && (c[1] < k[1] || (c[1] == k[1] && c[2] < k[2]))))
+            k[0] = c[0], k[1] = c[1], k[2] = c[2];
+    }
 }
 
 uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face) {
