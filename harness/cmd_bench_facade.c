@@ -116,7 +116,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     const char *grammar_name = grammar ? grammar : "grammars/facade.grammar";
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
     if (pgt_cli_refuse_overwrite(verb, &grammar, 1, &out_path, 1) ||
-        pgt_cli_quick_out(verb, quick, out_path, default_out))
+        pgt_cli_quick_out(verb, quick, out_path, default_out) || pgt_cli_memory_env_check(verb))
         return PGT_EXIT_USAGE;
     double *ms = malloc(6u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");

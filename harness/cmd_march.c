@@ -228,8 +228,9 @@ int pgt_cmd_march(int argc, char **argv) {
         } else if (!strcmp(a, "--dump")) {
             if (!(dump = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             /* PREFIX.atlas.png and PREFIX.texels.csv: an empty prefix, or a folder's path
-             * ending in '/', would write hidden files (.atlas.png) */
-            if (!*dump || dump[strlen(dump) - 1u] == '/')
+             * (ending in '/', '.' or '..'), would write hidden files (.atlas.png) */
+            const char *base = strrchr(dump, '/') ? strrchr(dump, '/') + 1 : dump;
+            if (!*base || !strcmp(base, ".") || !strcmp(base, ".."))
                 return pgt_cli_fail(verb,
                                     "--dump: '%s' is no file name prefix (PREFIX.atlas.png, "
                                     "PREFIX.texels.csv)",

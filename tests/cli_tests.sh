@@ -171,6 +171,14 @@ expect scene_folder 2 "$pgt" facade --scene dir_in.txt -o sf.exr
 one_line scene_folder_one_line "dir_in.txt: read error: Is a directory"
 expect quad_mesh_folder 2 "$pgt" facade --mesh dir_in.obj -o qf.exr
 one_line quad_mesh_folder_one_line "dir_in.obj: read error: Is a directory"
+# a non-manifold vertex of valence 19 (two fans: the adjacency's sorted path for long buckets)
+# is named at its first face, line 25, as before the buckets were sorted
+{ echo OFF; echo "22 19 0"; echo "0 0 0"
+  for i in $(seq 1 21); do awk -v i=$i 'BEGIN { printf "%.6f %.6f %.1f\n", cos(i), sin(i), 0.1 * i }'; done
+  for i in $(seq 11 20); do echo "3 0 $i $((i + 1))"; done
+  for i in $(seq 1 9); do echo "3 0 $i $((i + 1))"; done; } > bowtie19.off
+expect bowtie_valence_19 2 "$pgt" subdiv bowtie19.off --iters 1 -o bt.off
+one_line bowtie_valence_19_one_line "bowtie19.off:25: sqrt3 input: non-manifold vertex 0"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 # an atlas that is a fifo without a writer is refused at once (its open() blocked before the
 # regular-file check); timeout's 124 would fail the check
@@ -181,7 +189,7 @@ rm -f fifo.exr
 expect march_bad_dir 2 "$pgt" march cs.exr --from 10,10 --dir one,0 --step 1 --steps 1 -o p.csv
 expect march_on_atlas 0 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 50 -o p.csv
 # --dump needs a file name prefix: "" or "dir/" would write hidden .atlas.png / .texels.csv
-for d in "" "dumpdir/"; do
+for d in "" "dumpdir/" "." "dumpdir/.."; do
   expect "march_dump_no_prefix_'$d'" 2 "$pgt" march cs.exr --from 20.5,20.5 --dir 1,0 --step 2 --steps 5 -o p.csv --dump "$d"
   one_line "march_dump_no_prefix_'$d'_one_line" "\-\-dump: '$d' is no file name prefix"
 done
