@@ -264,68 +264,100 @@ static float side_hit(uint32_t kind, const float *args, float w, float h, int ax
     return NAN;
 }
 
+/* The first side a ray along axis 0 (x) or 1 (y), in direction dir, meets from the centre of a
+ * Window's or Door's opening at (a, b) = (y, z) or (x, z): the frame's and the reveal's inner
+ * sides, which the rays from outside never reach. Only points inside the opening (between its
+ * sides, from -r to the frame's front) or in front of the frame are probed (INFINITY: a start
+ * inside a solid or behind the glass); NAN: nothing. */
+static float inside_hit(uint32_t kind, const float *args, float w, float h, int axis, int dir,
+                        float a, float b) {
+    const float m = args[0], f = args[1], fd = args[2], r = args[3];
+    const int window = kind == PGT_FACADE_WINDOW;
+    const float sh = window ? args[4] : 0.0f, sd = window ? args[5] : 0.0f;
+    const float fy0 = window ? m + sh : 0.0f;
+    const float ix0 = m + f, ix1 = w - m - f, iy0 = window ? fy0 + f : 0.0f, iy1 = h - m - f;
+    const int in_front = b > fd && b > 0.0f, in_hole = b > -r && b < fd;
+    if (!in_front && !in_hole) return INFINITY; /* behind the glass */
+    if (axis == 0) {                            /* a = y */
+        if (!(a > iy0 && a < iy1)) return INFINITY;
+        return in_hole ? (dir < 0 ? ix0 : ix1) : NAN;
+    }
+    if (!(a > ix0 && a < ix1)) return INFINITY; /* a = x */
+    if (dir > 0) return in_hole ? iy1 : NAN;
+    if (in_hole) return window ? iy0 : b < 0.0f ? 0.0f : NAN; /* a door's opening: the ground */
+    return window && b < sd ? fy0 : NAN; /* in front: the sill's top beyond the frame */
+}
+
 /* A side's coordinate in the scope: the rectangles hold it offset by the block's corner (float,
  * up to ~7 here, ulp 4.8e-7) and the test takes the offset off again: two roundings. */
 #define SIDE_ABS 1e-6f
 
 /* Windows and doors seen from the four sides (rays along +-x and +-y at a grid of (y or x, z)):
- * the first side rectangle met is where side_hit puts it, and nothing where it says nothing. */
+ * the first side rectangle met is where side_hit puts it, and nothing where it says nothing;
+ * then the same from the centre of the opening (inside_hit). */
 static void test_window_and_door_sides(void) {
     static const float args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
                                      {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
     const uint32_t kinds[2] = {PGT_FACADE_WINDOW, PGT_FACADE_DOOR};
     const float w = 1.6f, h = 2.4f, x0 = 2.0f, y0 = 5.0f;
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
-    uint32_t probes = 0, hits = 0;
-    for (int k = 0; k < 2; ++k)
-        for (int ai = 0; ai < 2; ++ai) {
-            const float *A = args[ai];
-            const uint32_t n = pgt_facade_terminal_quads(kinds[k], A, 6, x0, y0, w, h, q);
-            const float m = A[0], f = A[1], fd = A[2], r = A[3], sh = A[4], sd = A[5];
-            const float ez[4] = {-r, 0.0f, fd, sd};
-            const float ex[4] = {m, m + f, w - m - f, w - m};
-            const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
-            for (int axis = 0; axis < 2; ++axis)
-                for (int dir = -1; dir <= 1; dir += 2) {
-                    const float span = axis == 0 ? h : w, off = axis == 0 ? y0 : x0;
-                    const uint32_t G = 61;
-                    for (uint32_t i = 0; i < G; ++i)
-                        for (uint32_t j = 0; j < G; ++j) {
-                            const float a = span * ((float)i + 1.0f / 3.0f) / G;
-                            const float b = -0.3f + 0.6f * ((float)j + 2.0f / 3.0f) / G;
-                            int near = 0;
-                            for (int e = 0; e < 4; ++e)
-                                near |= fabsf(b - ez[e]) < PROBE_EDGE_CLEARANCE;
-                            if (axis == 0)
-                                for (int e = 0; e < 6; ++e)
-                                    near |= fabsf(a - ey[e]) < PROBE_EDGE_CLEARANCE;
-                            else
+    uint32_t probes[2] = {0, 0}, hits[2] = {0, 0};
+    for (int inside = 0; inside < 2; ++inside)
+        for (int k = 0; k < 2; ++k)
+            for (int ai = 0; ai < 2; ++ai) {
+                const float *A = args[ai];
+                const uint32_t n = pgt_facade_terminal_quads(kinds[k], A, 6, x0, y0, w, h, q);
+                const float m = A[0], f = A[1], fd = A[2], r = A[3], sh = A[4], sd = A[5];
+                const float fy0 = kinds[k] == PGT_FACADE_WINDOW ? m + sh : 0.0f;
+                const float iy0 = kinds[k] == PGT_FACADE_WINDOW ? fy0 + f : 0.0f;
+                const float ez[4] = {-r, 0.0f, fd, sd};
+                const float ex[4] = {m, m + f, w - m - f, w - m};
+                const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
+                const float centre[2] = {0.5f * w, 0.5f * (iy0 + h - m - f)}; /* the opening's */
+                for (int axis = 0; axis < 2; ++axis)
+                    for (int dir = -1; dir <= 1; dir += 2) {
+                        const float span = axis == 0 ? h : w, off = axis == 0 ? y0 : x0;
+                        const float corner = axis == 0 ? x0 : y0;
+                        const float from = inside ? centre[axis] : dir > 0 ? -INFINITY : INFINITY;
+                        const uint32_t G = 61;
+                        for (uint32_t i = 0; i < G; ++i)
+                            for (uint32_t j = 0; j < G; ++j) {
+                                const float a = span * ((float)i + 1.0f / 3.0f) / G;
+                                const float b = -0.3f + 0.6f * ((float)j + 2.0f / 3.0f) / G;
+                                int near = 0;
                                 for (int e = 0; e < 4; ++e)
-                                    near |= fabsf(a - ex[e]) < PROBE_EDGE_CLEARANCE;
-                            if (near) continue;
-                            float got = NAN;
-                            for (uint32_t t = 0; t < n; ++t) {
-                                if (q[t].axis != (uint32_t)axis || !(q[t].hi[0] > q[t].lo[0]))
-                                    continue;
-                                if (!(q[t].lo[0] <= off + a && off + a <= q[t].hi[0] &&
-                                      q[t].lo[1] <= b && b <= q[t].hi[1]))
-                                    continue;
-                                const float c = q[t].c - (axis == 0 ? x0 : y0);
-                                if (isnan(got) || (dir > 0 ? c < got : c > got)) got = c;
+                                    near |= fabsf(b - ez[e]) < PROBE_EDGE_CLEARANCE;
+                                for (int e = 0; e < (axis == 0 ? 6 : 4); ++e)
+                                    near |= fabsf(a - (axis == 0 ? ey[e] : ex[e])) <
+                                            PROBE_EDGE_CLEARANCE;
+                                const float want =
+                                    inside ? inside_hit(kinds[k], A, w, h, axis, dir, a, b)
+                                           : side_hit(kinds[k], A, w, h, axis, dir, a, b);
+                                if (near || isinf(want)) continue;
+                                float got = NAN; /* the nearest side beyond `from` */
+                                for (uint32_t t = 0; t < n; ++t) {
+                                    if (q[t].axis != (uint32_t)axis || !(q[t].hi[0] > q[t].lo[0]))
+                                        continue;
+                                    if (!(q[t].lo[0] <= off + a && off + a <= q[t].hi[0] &&
+                                          q[t].lo[1] <= b && b <= q[t].hi[1]))
+                                        continue;
+                                    const float c = q[t].c - corner;
+                                    if ((dir > 0 ? c > from : c < from) &&
+                                        (isnan(got) || (dir > 0 ? c < got : c > got)))
+                                        got = c;
+                                }
+                                probes[inside]++, hits[inside] += !isnan(want);
+                                CHECK_MSG(isnan(want) ? isnan(got) : fabsf(got - want) <= SIDE_ABS,
+                                          "kind %u args %d axis %d dir %d%s at (%g, %g): side %g, "
+                                          "the layout says %g",
+                                          kinds[k], ai, axis, dir, inside ? " from inside" : "",
+                                          (double)a, (double)b, (double)got, (double)want);
                             }
-                            const float want = side_hit(kinds[k], A, w, h, axis, dir, a, b);
-                            if (isinf(want)) continue;
-                            probes++, hits += !isnan(want);
-                            CHECK_MSG(isnan(want) ? isnan(got) : fabsf(got - want) <= SIDE_ABS,
-                                      "kind %u args %d axis %d dir %d at (%g, %g): side %g, the "
-                                      "layout says %g",
-                                      kinds[k], ai, axis, dir, (double)a, (double)b, (double)got,
-                                      (double)want);
-                        }
-                }
-        }
-    printf("  %u side probes, %u meeting a side\n", probes, hits);
-    CHECK(hits > probes / 10);
+                    }
+            }
+    printf("  %u side probes, %u meeting a side; %u from inside the opening, %u meeting one\n",
+           probes[0], hits[0], probes[1], hits[1]);
+    CHECK(hits[0] > probes[0] / 10 && hits[1] > probes[1] / 4);
 }
 
 static void make_one(pgt_facade_scene *s, const pgt_grammar *g, float *corners, float *params,
