@@ -666,7 +666,7 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (pgt_ivy_generate(&out, &in, &o, &err) != PGT_OK) {
         if (err.code == PGT_ERROR_LIMIT && !strncmp(err.message, "terminals:", 10))
             pgt_cli_fail(verb,
-                         "%s now (--seeds %u; the grammar's leafDensity and Bark records "
+                         "%s now (--seeds %u; the grammar's Leaves and Bark records "
                          "set the size)",
                          err.message, seeds);
         else
