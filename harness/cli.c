@@ -422,14 +422,7 @@ FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size) {
 }
 
 FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size) {
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", path);
-    char *slash = strrchr(dir, '/');
-    if (slash) { /* results/ may not exist yet */
-        *slash = 0;
-        mkdir(dir, 0777);
-    }
-    FILE *f = pgt_cli_tmp_open(path, tmp, tmp_size);
+    FILE *f = pgt_cli_tmp_open(path, tmp, tmp_size); /* the folder: pgt_cli_quick_out made it */
     if (!f) return NULL;
     char machine[512], commit[64], date[64];
     pgt_cli_machine(machine, sizeof machine);
@@ -454,8 +447,8 @@ int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *
                             "--quick without --out would replace %s, the committed table, with "
                             "a smoke run's numbers: give --out FILE",
                             def);
-    /* its folder is made when missing (results/ may not exist yet), as pgt_cli_table_open does
-     * (one level: a missing parent of it is still refused) */
+    /* its folder is made when missing (results/ may not exist yet; one level: a missing parent
+     * of it is still refused) */
     char dir[4096];
     folder_of(out, dir, sizeof dir);
     mkdir(dir, 0777);

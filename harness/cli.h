@@ -99,7 +99,7 @@ int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint
  * set) when it cannot be opened. pgt_cli_table_close finishes it. */
 FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size);
 
-/* A results table: makes path's folder when missing, opens it with pgt_cli_tmp_open and
+/* A results table (its folder made by pgt_cli_quick_out): opens it with pgt_cli_tmp_open and
  * writes "# title" and the "# machine:", "# commit:", "# date:" lines every table starts with.
  * NULL (errno set) when the file cannot be opened. */
 FILE *pgt_cli_table_open(const char *path, const char *title, char *tmp, size_t tmp_size);
@@ -117,7 +117,8 @@ int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *
 /* A bench's output, checked before the benchmark runs: --quick with its default output (out ==
  * def, the same pointer: no --out given) is refused (the default is results/NAME.csv, the
  * committed table), and so is an output that cannot be written (pgt_cli_check_outputs: a
- * device, a folder; its folder is made when missing, one level, as pgt_cli_table_open does).
+ * device, a folder; its folder is made when missing, one level: every bench calls this before
+ * pgt_cli_table_open).
  * 0 otherwise. */
 int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def);
 

@@ -102,16 +102,55 @@ static void test_rich_grammar_vs_explicit(void) { check_city("facade_rich.gramma
 /* Geometry-image terminals (6.2.2): the oculus windows, triangles tested brute force. */
 static void test_gimage_grammar_vs_explicit(void) { check_city("facade_gimage.grammar", 2, 2); }
 
-/* Whether a Window's or Door's opening (the glass, the door leaf) has an area in a w x h scope,
- * from the documented layout (facade.h, Fig. 7): inside the margin m and the frame f, and for a
- * window above the sill (height sh). Other kinds always fit. */
-static int opening_fits(uint32_t kind, const float *args, float w, float h) {
-    const float m = args[0], f = args[1];
-    if (kind == PGT_FACADE_WINDOW)
-        return w - 2.0f * (m + f) > 0.0f && h - 2.0f * (m + f) - args[4] > 0.0f;
-    if (kind == PGT_FACADE_DOOR) return w - 2.0f * (m + f) > 0.0f && h - m - f > 0.0f;
-    return 1;
+/* A Window's or Door's layout in its w x h scope as facade.h documents it (Fig. 7), not as
+ * facade_terminals.c builds it: the arguments (margin m, frame f, frameDepth fd, recess r, and a
+ * window's sillHeight sh and sillDepth sd; 0 for a door), the frame's bottom fy0 (m + sh; a
+ * door's frame stands on the ground, 0) and the opening [ix0, ix1] x [iy0, iy1] inside the
+ * margin and the frame (above the sill). ex, ey, ez: the values near which the probes of the
+ * tests below are skipped, from the arguments as given. */
+typedef struct opening_layout {
+    int window;
+    float w, h, m, f, fd, r, sh, sd, fy0, ix0, ix1, iy0, iy1;
+    float ex[4], ey[6], ez[4];
+} opening_layout;
+
+static opening_layout layout_of(uint32_t kind, const float *args, float w, float h) {
+    opening_layout L;
+    L.window = kind == PGT_FACADE_WINDOW;
+    L.w = w, L.h = h, L.m = args[0], L.f = args[1], L.fd = args[2], L.r = args[3];
+    L.sh = L.window ? args[4] : 0.0f, L.sd = L.window ? args[5] : 0.0f;
+    L.fy0 = L.window ? L.m + L.sh : 0.0f;
+    L.ix0 = L.m + L.f, L.ix1 = w - L.m - L.f, L.iy1 = h - L.m - L.f;
+    L.iy0 = L.window ? L.fy0 + L.f : 0.0f;
+    const float m = L.m, f = L.f, sh = args[4];
+    const float ex[4] = {m, m + f, w - m - f, w - m};
+    const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
+    const float ez[4] = {-L.r, 0.0f, L.fd, args[5]};
+    memcpy(L.ex, ex, sizeof ex), memcpy(L.ey, ey, sizeof ey), memcpy(L.ez, ez, sizeof ez);
+    return L;
 }
+
+/* How far from every edge of the layout a probe stays (scope units): the probes are a grid
+ * offset from the edges' values, so that "inside" never hinges on float rounding at an edge. */
+#define PROBE_EDGE_CLEARANCE 1e-3f
+
+static int near_edge(const float *edges, int n, float v) {
+    for (int e = 0; e < n; ++e)
+        if (fabsf(v - edges[e]) < PROBE_EDGE_CLEARANCE) return 1;
+    return 0;
+}
+
+/* Whether a Window's or Door's opening (the glass, the door leaf) has an area in a w x h scope
+ * (layout_of). Other kinds always fit. */
+static int opening_fits(uint32_t kind, const float *args, float w, float h) {
+    if (kind != PGT_FACADE_WINDOW && kind != PGT_FACADE_DOOR) return 1;
+    const opening_layout L = layout_of(kind, args, w, h);
+    return L.ix1 > L.ix0 && L.iy1 > L.iy0;
+}
+
+/* The arguments of the windows and doors the layout tests probe. */
+static const float opening_args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
+                                         {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
 
 /* Every rectangle lies in its scope (x, y) and the terminal's stated depth range. */
 static void test_terminals_in_scope(void) {
@@ -152,27 +191,18 @@ static void test_terminals_in_scope(void) {
     CHECK(q[0].axis == 2 && q[0].c == 0.0f);
 }
 
-/* The depth a Window or Door shows a viewer in front of it at (x, y) of its scope, from the
- * documented layout (facade.h, Fig. 7), not from facade_terminals.c: the wall (z = 0) outside
- * the margin m; for a window the sill box over the margin's inner width from m to m + sh,
- * protruding by sd; the frame, protruding by fd, a band f wide around the opening; the opening
- * (glass, door leaf) recessed to -r. A door's frame and opening reach the scope's bottom. */
-static float front_depth(uint32_t kind, const float *args, float w, float h, float x, float y) {
-    const float m = args[0], f = args[1], fd = args[2], r = args[3];
-    const float sh = kind == PGT_FACADE_WINDOW ? args[4] : 0.0f, sd = args[5];
-    const float bottom = kind == PGT_FACADE_WINDOW ? m : 0.0f; /* of the sill, or the frame */
-    if (x < m || x > w - m || y < bottom || y > h - m) return 0.0f;
-    if (y < bottom + sh) return sd;
-    const float fy0 = bottom + sh; /* the frame's bottom */
-    const int in_opening =
-        x > m + f && x < w - m - f && y < h - m - f && (kind == PGT_FACADE_DOOR || y > fy0 + f);
-    return in_opening ? -r : fd;
+/* The depth a Window or Door shows a viewer in front of it at (x, y) of its scope, from its
+ * documented layout: the wall (z = 0) outside the margin; for a window the sill box from m to
+ * fy0, protruding by sd; the frame, protruding by fd, a band f wide around the opening; the
+ * opening (glass, door leaf) recessed to -r. A door's frame and opening reach the scope's
+ * bottom. */
+static float front_depth(const opening_layout *L, float x, float y) {
+    const float bottom = L->window ? L->m : 0.0f; /* of the sill, or the frame */
+    if (x < L->m || x > L->w - L->m || y < bottom || y > L->h - L->m) return 0.0f;
+    if (y < L->fy0) return L->sd;
+    const int in_opening = x > L->ix0 && x < L->ix1 && y < L->iy1 && (!L->window || y > L->iy0);
+    return in_opening ? -L->r : L->fd;
 }
-
-/* How far from every edge of the layout a probe of test_window_and_door_depths stays (scope
- * units): the probes are a grid offset from the edges' values, so that "inside" never hinges on
- * float rounding at an edge. */
-#define PROBE_EDGE_CLEARANCE 1e-3f
 
 /* Windows and doors seen from the front: at a grid of points of the scope, the nearest
  * rectangle facing the viewer (the largest z among the z-facing ones covering the point) is at
@@ -180,8 +210,7 @@ static float front_depth(uint32_t kind, const float *args, float w, float h, flo
  * test and the explicit twin use, so this is the only check of their shape against the
  * terminal's definition. */
 static void test_window_and_door_depths(void) {
-    static const float args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
-                                     {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
+    const float(*args)[6] = opening_args;
     const uint32_t kinds[2] = {PGT_FACADE_WINDOW, PGT_FACADE_DOOR};
     const float sizes[3][2] = {{1.6f, 2.4f}, {3.1f, 1.7f}, {1.25f, 1.33f}};
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
@@ -191,26 +220,20 @@ static void test_window_and_door_depths(void) {
             for (int sz = 0; sz < 3; ++sz) {
                 const float w = sizes[sz][0], h = sizes[sz][1], x0 = 2.0f, y0 = 5.0f;
                 REQUIRE(opening_fits(kinds[k], args[a], w, h));
+                const opening_layout L = layout_of(kinds[k], args[a], w, h);
                 const uint32_t n = pgt_facade_terminal_quads(kinds[k], args[a], 6, x0, y0, w, h, q);
                 const uint32_t G = 97; /* probes per side, offset by a third of a cell */
                 for (uint32_t i = 0; i < G; ++i)
                     for (uint32_t j = 0; j < G; ++j) {
                         const float x = w * ((float)i + 1.0f / 3.0f) / G,
                                     y = h * ((float)j + 2.0f / 3.0f) / G;
-                        /* skip probes next to an edge of the layout */
-                        const float m = args[a][0], f = args[a][1], sh = args[a][4];
-                        const float ex[4] = {m, m + f, w - m - f, w - m};
-                        const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
-                        int near = 0;
-                        for (int e = 0; e < 4; ++e) near |= fabsf(x - ex[e]) < PROBE_EDGE_CLEARANCE;
-                        for (int e = 0; e < 6; ++e) near |= fabsf(y - ey[e]) < PROBE_EDGE_CLEARANCE;
-                        if (near) continue;
+                        if (near_edge(L.ex, 4, x) || near_edge(L.ey, 6, y)) continue;
                         float best = -INFINITY;
                         for (uint32_t t = 0; t < n; ++t)
                             if (q[t].axis == 2 && q[t].lo[0] <= x0 + x && x0 + x <= q[t].hi[0] &&
                                 q[t].lo[1] <= y0 + y && y0 + y <= q[t].hi[1] && q[t].c > best)
                                 best = q[t].c;
-                        const float want = front_depth(kinds[k], args[a], w, h, x, y);
+                        const float want = front_depth(&L, x, y);
                         probes++;
                         opening += want < 0.0f, frame += want == args[a][2];
                         sill += kinds[k] == PGT_FACADE_WINDOW && want == args[a][5];
@@ -228,39 +251,33 @@ static void test_window_and_door_depths(void) {
 }
 
 /* The first side a ray parallel to axis 0 (x) or 1 (y), in direction dir (+1, -1), meets at
- * (a, b) = (y, z) or (x, z) of a Window's or Door's scope, from the documented layout (facade.h,
- * Fig. 7) as solids: the sill box [m, w-m] x [m, m+sh] x [0, sd], the frame [m, w-m] x
- * [m+sh, h-m] x [0, fd] (a door's from 0) less the opening, and the opening's reveal from -r to
- * 0 (the hole's sides, seen from inside the wall). NAN: nothing; INFINITY: a case the
- * documentation does not settle, not probed (a door from below in front of the wall plane: its
- * frame bars stand on the ground, open there). */
-static float side_hit(uint32_t kind, const float *args, float w, float h, int axis, int dir,
-                      float a, float b) {
-    const float m = args[0], f = args[1], fd = args[2], r = args[3];
-    const int window = kind == PGT_FACADE_WINDOW;
-    const float sh = window ? args[4] : 0.0f, sd = window ? args[5] : 0.0f;
-    const float fy0 = window ? m + sh : 0.0f; /* the frame's bottom */
-    const float ix0 = m + f, ix1 = w - m - f, iy0 = window ? fy0 + f : 0.0f, iy1 = h - m - f;
+ * (a, b) = (y, z) or (x, z) of a Window's or Door's scope, from its documented layout as solids:
+ * the sill box [m, w-m] x [m, fy0] x [0, sd], the frame [m, w-m] x [fy0, h-m] x [0, fd] less the
+ * opening, and the opening's reveal from -r to 0 (the hole's sides, seen from inside the wall).
+ * NAN: nothing; INFINITY: a case the documentation does not settle, not probed (a door from
+ * below in front of the wall plane: its frame bars stand on the ground, open there). */
+static float side_hit(const opening_layout *L, int axis, int dir, float a, float b) {
+    const float m = L->m, fd = L->fd, r = L->r, sd = L->sd, fy0 = L->fy0;
     if (axis == 0) { /* a = y, b = z */
-        const float outer = dir > 0 ? m : w - m, inner = dir > 0 ? ix0 : ix1;
-        if (window && b > 0.0f && b < sd && a > m && a < fy0) return outer; /* sill side */
-        if (b > 0.0f && b < fd && a > fy0 && a < h - m) return outer;       /* frame side */
-        if (b > -r && b < 0.0f && a > iy0 && a < iy1) return inner;         /* reveal */
+        const float outer = dir > 0 ? m : L->w - m, inner = dir > 0 ? L->ix0 : L->ix1;
+        if (L->window && b > 0.0f && b < sd && a > m && a < fy0) return outer; /* sill side */
+        if (b > 0.0f && b < fd && a > fy0 && a < L->h - m) return outer;       /* frame side */
+        if (b > -r && b < 0.0f && a > L->iy0 && a < L->iy1) return inner;      /* reveal */
         return NAN;
     }
     /* a = x, b = z */
-    const int frame_x = a > m && a<w - m, opening_x = a> ix0 && a < ix1;
+    const int frame_x = (a > m) && (a < L->w - m), opening_x = (a > L->ix0) && (a < L->ix1);
     if (dir > 0) { /* from below */
-        if (!window && b > 0.0f) return INFINITY;
-        if (!window) return b > -r && b < 0.0f && opening_x ? 0.0f : NAN; /* the threshold */
-        if (frame_x && b > 0.0f && b < sd) return m;                      /* the sill's bottom */
+        if (!L->window && b > 0.0f) return INFINITY;
+        if (!L->window) return b > -r && b < 0.0f && opening_x ? 0.0f : NAN; /* the threshold */
+        if (frame_x && b > 0.0f && b < sd) return m;                         /* the sill's bottom */
         if (frame_x && b >= sd && b > 0.0f && b < fd) return fy0; /* the frame's underside */
-        if (opening_x && b > -r && b < 0.0f) return iy0;          /* the reveal's bottom */
+        if (opening_x && b > -r && b < 0.0f) return L->iy0;       /* the reveal's bottom */
         return NAN;
     }
-    if (frame_x && b > 0.0f && b < fd) return h - m;                    /* the frame's top */
-    if (window && frame_x && b >= fd && b > 0.0f && b < sd) return fy0; /* the sill's top */
-    if (opening_x && b > -r && b < 0.0f) return iy1;                    /* the reveal's top */
+    if (frame_x && b > 0.0f && b < fd) return L->h - m;                    /* the frame's top */
+    if (L->window && frame_x && b >= fd && b > 0.0f && b < sd) return fy0; /* the sill's top */
+    if (opening_x && b > -r && b < 0.0f) return L->iy1;                    /* the reveal's top */
     return NAN;
 }
 
@@ -269,23 +286,17 @@ static float side_hit(uint32_t kind, const float *args, float w, float h, int ax
  * sides, which the rays from outside never reach. Only points inside the opening (between its
  * sides, from -r to the frame's front) or in front of the frame are probed (INFINITY: a start
  * inside a solid or behind the glass); NAN: nothing. */
-static float inside_hit(uint32_t kind, const float *args, float w, float h, int axis, int dir,
-                        float a, float b) {
-    const float m = args[0], f = args[1], fd = args[2], r = args[3];
-    const int window = kind == PGT_FACADE_WINDOW;
-    const float sh = window ? args[4] : 0.0f, sd = window ? args[5] : 0.0f;
-    const float fy0 = window ? m + sh : 0.0f;
-    const float ix0 = m + f, ix1 = w - m - f, iy0 = window ? fy0 + f : 0.0f, iy1 = h - m - f;
-    const int in_front = b > fd && b > 0.0f, in_hole = b > -r && b < fd;
+static float inside_hit(const opening_layout *L, int axis, int dir, float a, float b) {
+    const int in_front = b > L->fd && b > 0.0f, in_hole = b > -L->r && b < L->fd;
     if (!in_front && !in_hole) return INFINITY; /* behind the glass */
     if (axis == 0) {                            /* a = y */
-        if (!(a > iy0 && a < iy1)) return INFINITY;
-        return in_hole ? (dir < 0 ? ix0 : ix1) : NAN;
+        if (!(a > L->iy0 && a < L->iy1)) return INFINITY;
+        return in_hole ? (dir < 0 ? L->ix0 : L->ix1) : NAN;
     }
-    if (!(a > ix0 && a < ix1)) return INFINITY; /* a = x */
-    if (dir > 0) return in_hole ? iy1 : NAN;
-    if (in_hole) return window ? iy0 : b < 0.0f ? 0.0f : NAN; /* a door's opening: the ground */
-    return window && b < sd ? fy0 : NAN; /* in front: the sill's top beyond the frame */
+    if (!(a > L->ix0 && a < L->ix1)) return INFINITY; /* a = x */
+    if (dir > 0) return in_hole ? L->iy1 : NAN;
+    if (in_hole) return L->window ? L->iy0 : b < 0.0f ? 0.0f : NAN; /* a door's: the ground */
+    return L->window && b < L->sd ? L->fy0 : NAN; /* in front: the sill's top beyond the frame */
 }
 
 /* A side's coordinate in the scope: the rectangles hold it offset by the block's corner (float,
@@ -296,8 +307,6 @@ static float inside_hit(uint32_t kind, const float *args, float w, float h, int 
  * the first side rectangle met is where side_hit puts it, and nothing where it says nothing;
  * then the same from the centre of the opening (inside_hit). */
 static void test_window_and_door_sides(void) {
-    static const float args[2][6] = {{0.4f, 0.1f, 0.08f, 0.25f, 0.12f, 0.2f},
-                                     {0.3f, 0.15f, 0.2f, 0.1f, 0.3f, 0.05f}};
     const uint32_t kinds[2] = {PGT_FACADE_WINDOW, PGT_FACADE_DOOR};
     const float w = 1.6f, h = 2.4f, x0 = 2.0f, y0 = 5.0f;
     pgt_facade_quad q[PGT_FACADE_MAX_QUADS];
@@ -305,15 +314,10 @@ static void test_window_and_door_sides(void) {
     for (int inside = 0; inside < 2; ++inside)
         for (int k = 0; k < 2; ++k)
             for (int ai = 0; ai < 2; ++ai) {
-                const float *A = args[ai];
+                const float *A = opening_args[ai];
                 const uint32_t n = pgt_facade_terminal_quads(kinds[k], A, 6, x0, y0, w, h, q);
-                const float m = A[0], f = A[1], fd = A[2], r = A[3], sh = A[4], sd = A[5];
-                const float fy0 = kinds[k] == PGT_FACADE_WINDOW ? m + sh : 0.0f;
-                const float iy0 = kinds[k] == PGT_FACADE_WINDOW ? fy0 + f : 0.0f;
-                const float ez[4] = {-r, 0.0f, fd, sd};
-                const float ex[4] = {m, m + f, w - m - f, w - m};
-                const float ey[6] = {0.0f, m, m + sh, m + sh + f, h - m - f, h - m};
-                const float centre[2] = {0.5f * w, 0.5f * (iy0 + h - m - f)}; /* the opening's */
+                const opening_layout L = layout_of(kinds[k], A, w, h);
+                const float centre[2] = {0.5f * w, 0.5f * (L.iy0 + L.iy1)}; /* the opening's */
                 for (int axis = 0; axis < 2; ++axis)
                     for (int dir = -1; dir <= 1; dir += 2) {
                         const float span = axis == 0 ? h : w, off = axis == 0 ? y0 : x0;
@@ -324,15 +328,11 @@ static void test_window_and_door_sides(void) {
                             for (uint32_t j = 0; j < G; ++j) {
                                 const float a = span * ((float)i + 1.0f / 3.0f) / G;
                                 const float b = -0.3f + 0.6f * ((float)j + 2.0f / 3.0f) / G;
-                                int near = 0;
-                                for (int e = 0; e < 4; ++e)
-                                    near |= fabsf(b - ez[e]) < PROBE_EDGE_CLEARANCE;
-                                for (int e = 0; e < (axis == 0 ? 6 : 4); ++e)
-                                    near |= fabsf(a - (axis == 0 ? ey[e] : ex[e])) <
-                                            PROBE_EDGE_CLEARANCE;
-                                const float want =
-                                    inside ? inside_hit(kinds[k], A, w, h, axis, dir, a, b)
-                                           : side_hit(kinds[k], A, w, h, axis, dir, a, b);
+                                const int near =
+                                    near_edge(L.ez, 4, b) ||
+                                    (axis == 0 ? near_edge(L.ey, 6, a) : near_edge(L.ex, 4, a));
+                                const float want = inside ? inside_hit(&L, axis, dir, a, b)
+                                                          : side_hit(&L, axis, dir, a, b);
                                 if (near || isinf(want)) continue;
                                 float got = NAN; /* the nearest side beyond `from` */
                                 for (uint32_t t = 0; t < n; ++t) {

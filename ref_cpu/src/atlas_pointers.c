@@ -404,7 +404,7 @@ static void pointer_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) 
           *rot = pgt_image_plane(c->atlas, 10);
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
         uint32_t *cnt = &c->row_counts[ROW_COUNTS * (uint32_t)y];
-        cnt[0] = cnt[1] = cnt[2] = cnt[3] = 0;
+        memset(cnt, 0, ROW_COUNTS * sizeof *cnt);
         for (int32_t x = 0; x < W; ++x) {
             const size_t idx = (size_t)y * (size_t)W + (size_t)x;
             pu[idx] = -1.0f, pv[idx] = -1.0f, rot[idx] = 0.0f;

@@ -24,15 +24,11 @@ static int lex_at(const lexer *L, size_t k) {
     return L->pos + k < L->size ? (unsigned char)L->text[L->pos + k] : -1;
 }
 
-static int lex_line_end(const lexer *L, size_t pos) {
-    return pgt_grammar_line_end(L->text, L->size, pos);
-}
-
 /* Moves over n bytes, counting lines and code points. */
 static void lex_advance(lexer *L, size_t n) {
     for (; n > 0 && L->pos < L->size; --n, ++L->pos) {
         const unsigned char c = (unsigned char)L->text[L->pos];
-        if (lex_line_end(L, L->pos)) {
+        if (pgt_grammar_line_end(L->text, L->size, L->pos)) {
             L->line++;
             L->col = 1;
         } else if ((c & 0xC0u) != 0x80u) {
@@ -65,7 +61,7 @@ static pgt_result lex_skip(lexer *L) {
         if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') {
             lex_advance(L, 1);
         } else if (c == '#' || (c == '/' && d == '/')) {
-            while (L->pos < L->size && !lex_line_end(L, L->pos)) {
+            while (L->pos < L->size && !pgt_grammar_line_end(L->text, L->size, L->pos)) {
                 if (L->text[L->pos] == '\0') return comment_nul(L);
                 lex_advance(L, 1);
             }

@@ -1,5 +1,6 @@
 /* pgt: mesh allocation. */
 #include "pgt/mesh.h"
+#include "pgt/rng.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -87,9 +88,8 @@ uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint
     for (uint32_t f = 0; f < F; ++f) {
         uint32_t k[3];
         face_key(mesh->indices + 3 * (size_t)f, k);
-        uint64_t h = 1469598103934665603ull; /* FNV-1a over the three indices */
-        for (int i = 0; i < 3; ++i) h = (h ^ k[i]) * 1099511628211ull;
-        for (size_t i = (size_t)(h ^ (h >> 32)) & (size - 1u);; i = (i + 1u) & (size - 1u)) {
+        const uint64_t h = pgt_rng_u64(k[0], k[1], k[2]); /* the project's hash of three */
+        for (size_t i = (size_t)h & (size - 1u);; i = (i + 1u) & (size - 1u)) {
             if (!slot[i]) {
                 slot[i] = f + 1u;
                 break;
