@@ -282,6 +282,8 @@ int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
             return pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", path,
                                 S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
         }
+        if (errno == ENAMETOOLONG) /* the file name over PGT_NAME_MAX, or the path over PATH_MAX */
+            return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
         char dir[4096];
         folder_of(path, dir, sizeof dir);
         int e = 0;
@@ -363,6 +365,19 @@ const char *pgt_cli_mesh_label(const char *name) {
     return slash ? slash + 1 : name;
 }
 
+void pgt_cli_csv_field(FILE *f, const char *s) {
+    if (!strpbrk(s, ",\"\r\n")) {
+        fputs(s, f);
+        return;
+    }
+    fputc('"', f);
+    for (; *s; ++s) {
+        if (*s == '"') fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
 /* The file a mesh name stands for (pgt_cli_load_named's rule), or NULL for a generated one. */
 static const char *named_path(const char *name, const char *shared_dir, char *buf, size_t size) {
     if (pgt_gen_default_find(name) != PGT_NONE) return NULL;
@@ -417,7 +432,7 @@ int pgt_cli_uint_list(const char *verb, const char *flag, const char *text, uint
 
 FILE *pgt_cli_tmp_open(const char *path, char *tmp, size_t tmp_size) {
     pgt_cli_cleanup_add(path, PGT_CLI_CLEANUP_TMP_OF);
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, tmp_size, path);
     return fopen(tmp, "w");
 }
 

@@ -166,6 +166,11 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
  * name itself otherwise. Benchmark CSVs compare across machines, whose folders differ. */
 const char *pgt_cli_mesh_label(const char *name);
 
+/* Writes s to f as one CSV field (RFC 4180): as it is, or between double quotes with every '"'
+ * doubled when it holds a comma, a double quote or a line end, so that a mesh named "a,b" stays
+ * one column of a benchmark table. */
+void pgt_cli_csv_field(FILE *f, const char *s);
+
 /* Loads a mesh named on a command line: a generated default dataset (pgt_datasets --list), an
  * existing file, or a file name inside shared_dir. UVs are kept, so are labels. */
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,

@@ -281,8 +281,9 @@ static int bench_subdiv(bench_cfg *cfg) {
                 }
                 double peak = bench_peak_mib(&m, &o);
                 double out_mib = ((double)vout * 12.0 + (double)fout * 12.0) / 1048576.0;
-                fprintf(csv, "%s,%u,%u,%u,%u,%u,%.3f,%.3f,", name, m.face_count, k, o.threads, fout,
-                        vout, med, best);
+                pgt_cli_csv_field(csv, name);
+                fprintf(csv, ",%u,%u,%u,%u,%u,%.3f,%.3f,", m.face_count, k, o.threads, fout, vout,
+                        med, best);
                 if (have_cg) fprintf(csv, "%.3f", cg.median_ms);
                 fputc(',', csv);
                 if (have_om) fprintf(csv, "%.3f", om.median_ms);
@@ -319,8 +320,9 @@ static int bench_subdiv(bench_cfg *cfg) {
     if (pgt_cli_bench_close(csv, tmp_csv, cfg->out_path, "bench", failures + mismatches))
         return PGT_EXIT_USAGE;
     if (!failures && !mismatches)
-        fprintf(stderr, "pgt bench subdiv: wrote %s (%u meshes x %u k x %u thread counts)\n",
-                cfg->out_path, cfg->n_meshes, cfg->n_iters, cfg->n_threads);
+        fprintf(stderr, "pgt bench subdiv: wrote %s (%u mesh%s x %u k x %u thread count%s)\n",
+                cfg->out_path, cfg->n_meshes, cfg->n_meshes == 1 ? "" : "es", cfg->n_iters,
+                cfg->n_threads, cfg->n_threads == 1 ? "" : "s");
     /* an error outranks a found problem (cli.h) */
     return failures ? PGT_EXIT_USAGE : mismatches ? PGT_EXIT_FAIL : PGT_EXIT_OK;
 }

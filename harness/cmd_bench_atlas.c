@@ -193,9 +193,10 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             double total[1000];
             for (uint32_t r = 0; r < repeat; ++r) total[r] = runs[r].ms_total;
             const double med_total = pgt_cli_median(total, repeat);
-            fprintf(csv,
-                    "ours,%s,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%.4f,%u,%u,%u\n",
-                    pgt_cli_mesh_label(meshes[mi]), m.face_count, st.charts, res, threads[ti],
+            fputs("ours,", csv);
+            pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
+            fprintf(csv, ",%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%.4f,%u,%u,%u\n",
+                    m.face_count, st.charts, res, threads[ti],
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_charts), scratch),
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_layout), scratch),
                     median_of(runs, repeat, offsetof(pgt_atlas_stats, ms_raster), scratch),
@@ -215,7 +216,7 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     free(scratch);
     if (pgt_cli_bench_close(csv, tmp_csv, out_path, "bench", failures)) return PGT_EXIT_USAGE;
     if (!failures)
-        fprintf(stderr, "pgt bench atlas: wrote %s (%u meshes x %u thread counts)\n", out_path,
-                n_meshes, n_threads);
+        fprintf(stderr, "pgt bench atlas: wrote %s (%u mesh%s x %u thread count%s)\n", out_path,
+                n_meshes, n_meshes == 1 ? "" : "es", n_threads, n_threads == 1 ? "" : "s");
     return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
 }

@@ -612,11 +612,12 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                 const double msps = (double)total / (med * 1e-3) / 1e6;
                 const double per_cpu = cpu_med > 0.0 ? (double)total / (cpu_med * 1e-3) / 1e6 : 0.0;
                 const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
-                fprintf(
-                    csv, "%s,%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
-                    pgt_cli_mesh_label(meshes[mi]), m.face_count, st.charts, res, (double)step,
-                    walkers, steps, threads[ti], with_pos ? "yes" : "no", (unsigned long long)total,
-                    jpk, stopped, med, best, msps, msps / threads[ti], cpu_med, per_cpu);
+                pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
+                fprintf(csv,
+                        ",%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
+                        m.face_count, st.charts, res, (double)step, walkers, steps, threads[ti],
+                        with_pos ? "yes" : "no", (unsigned long long)total, jpk, stopped, med, best,
+                        msps, msps / threads[ti], cpu_med, per_cpu);
                 fprintf(stderr,
                         "pgt bench march: %s (%u charts) %u thread%s%s: %.2f M steps/s (%.2f per "
                         "core; %.2f per CPU-second), %.1f jumps per 1000 steps\n",

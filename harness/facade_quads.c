@@ -196,7 +196,7 @@ pgt_result pgt_facade_quads_write_obj(const pgt_facade_quads *m, const char *pat
                                       const char *comment, pgt_error *err) {
     /* a temporary file beside it, renamed when complete: a failed write keeps the old file */
     char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, sizeof tmp, path);
     FILE *f = fopen(tmp, "wb");
     if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create: %s", tmp, strerror(errno));
     if (comment) fprintf(f, "# %s\n", comment);

@@ -484,7 +484,7 @@ pgt_result pgt_facade_file_write(const char *path, const char *read_path, const 
     const size_t tn = strlen(path) + 32u;
     char *tmp = malloc(tn);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "out of memory");
-    snprintf(tmp, tn, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, tn, path);
     FILE *fp = fopen(tmp, "wb");
     if (!fp) {
         pgt_result r =

@@ -231,7 +231,7 @@ pgt_result pgt_png_write(const char *path, uint32_t w, uint32_t h, uint32_t chan
     size_t tmp_size = strlen(path) + 32;
     char *tmp = malloc(tmp_size);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, tmp_size, path);
     png_job job;
     memset(&job, 0, sizeof(job));
     job.w = w;

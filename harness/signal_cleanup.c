@@ -1,6 +1,8 @@
 /* pgt harness: removing temporary outputs when a signal stops the run (signal_cleanup.h). */
 #include "signal_cleanup.h"
 
+#include "pgt/result.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <pthread.h>
@@ -41,7 +43,7 @@ static void remove_registered(void) {
     char tmp[4400];
     for (uint32_t k = 0; k < cleanup_count; ++k) {
         if (cleanup_kind[k] == PGT_CLI_CLEANUP_DIR) continue;
-        snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cleanup_path[k], (long)getpid());
+        pgt_tmp_name(tmp, sizeof tmp, cleanup_path[k]);
         unlink(tmp);
         if (cleanup_kind[k] == PGT_CLI_CLEANUP_FILE) unlink(cleanup_path[k]);
     }

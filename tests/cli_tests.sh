@@ -295,6 +295,13 @@ one_line bench_march_position_bad_one_line "\-\-position: 'maybe' is not no, yes
 expect bench_march_position_no 0 "$pgt" bench march --meshes ./bin.obj --position no --out res/mp.csv --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
 [ "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')" = "position no " ] && ok bench_march_position_no_rows \
   || bad bench_march_position_no_rows "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')"
+# a '"' in a mesh's name is one CSV field (RFC 4180: quoted, the quote doubled), not a broken row
+cp "$work/data/cube_sphere_8.obj" 'q"x.obj'
+expect bench_march_quoted_name 0 "$pgt" bench march --meshes './q"x.obj' --position no --out res/mq.csv --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
+grep -q '^"q""x.obj",' res/mq.csv && ok bench_march_quoted_name_field || bad bench_march_quoted_name_field "$(grep -v '^#' res/mq.csv)"
+expect bench_atlas_quoted_name 0 "$pgt" bench atlas --meshes './q"x.obj' --out res/tq.csv --threads 1 --repeat 1 --res 64
+grep -q '^ours,"q""x.obj",' res/tq.csv && ok bench_atlas_quoted_name_field || bad bench_atlas_quoted_name_field "$(grep -v '^#' res/tq.csv)"
+rm -f 'q"x.obj'
 # a bench whose mesh cannot be read: exit 2 naming the file; the other rows go to OUT.failed and
 # OUT is left as it was (pgt_cli_bench_close: a run with failures never replaces a whole table)
 echo "old table" > res/t1.csv
@@ -1237,6 +1244,19 @@ killed_while_writing subdiv_killed_while_writing 's.ply.tmp.*' s.ply \
   "$pgt" subdiv ../sig_data/icosphere_l1.off --iters 10 -o s.ply
 killed_while_writing atlas_killed_while_writing '.pgt-stage.*' a.exr \
   "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 2048 --png a.png
+# an output's file name of up to 255 bytes is written (the temporary name is cut to fit and
+# carries a hash: NAME-CUT~HASH.tmp.PID), and removed when a signal stops the run; a longer one is
+# refused before any work
+long=$(printf 'L%.0s' $(seq 250)).ply
+killed_while_writing long_name_killed_while_writing 'LLL*~*.tmp.*' "$long" \
+  "$pgt" subdiv ../sig_data/icosphere_l1.off --iters 10 -o "$long"
+expect long_name_written 0 "$pgt" subdiv "$ico" --iters 1 -o "$long"
+[ "$(head -c 3 "$long")" = ply ] && [ -z "$(ls -A | grep -F '.tmp.')" ] && ok long_name_written_whole \
+  || bad long_name_written_whole "$(ls -A | cut -c 1-30)"
+rm -f "$long"
+expect long_name_refused 2 "$pgt" subdiv "$ico" --iters 9 -o "${long%.ply}LLLLLL.ply"
+one_line long_name_refused_one_line "File name too long"
+[ -z "$(ls -A | grep '^LLL')" ] && ok long_name_refused_nothing_left || bad long_name_refused_nothing_left "$(ls -A | cut -c 1-30)"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

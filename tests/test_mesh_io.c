@@ -995,6 +995,48 @@ static void test_replace_file(void) {
     scratch_remove();
 }
 
+/* pgt_tmp_name, every writer's temporary name: PATH.tmp.PID while the file name leaves room for
+ * the suffix; a longer one (up to PGT_NAME_MAX) cut at a character's start, with a hash that
+ * tells two such names apart, within the file-name limit; a mesh written under a 255-byte name
+ * leaves nothing else behind. */
+static void test_tmp_name(void) {
+    char tmp[1024], want[1024], other[1024], name[300], path[600];
+    snprintf(want, sizeof want, "dir/a.obj.tmp.%ld", (long)getpid());
+    CHECK(pgt_tmp_name(tmp, sizeof tmp, "dir/a.obj") == 0 && !strcmp(tmp, want));
+    CHECK(pgt_tmp_name(tmp, 8, "dir/a.obj") == -1);
+    /* 125 two-byte characters and ".ply": 254 bytes, too long for the suffix */
+    for (int k = 0; k < 125; ++k) memcpy(name + 2 * k, "\xc3\xa9", 2);
+    memcpy(name + 250, ".ply", 5);
+    snprintf(path, sizeof path, "d/%s", name);
+    CHECK(pgt_tmp_name(tmp, sizeof tmp, path) == 0);
+    const char *base = tmp + 2, *tilde = strrchr(tmp, '~');
+    char suffix[32];
+    snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
+    CHECK(!strncmp(tmp, "d/", 2) && strlen(base) <= PGT_NAME_MAX && !strchr(base, '/'));
+    CHECK(strlen(tmp) < strlen(path) + 32);
+    REQUIRE(tilde);
+    const size_t cut = (size_t)(tilde - base);
+    CHECK(cut >= 200 && cut % 2 == 0 && !strncmp(base, name, cut)); /* whole characters */
+    CHECK(strlen(tilde) == 17 + strlen(suffix) && !strcmp(tilde + 17, suffix));
+    name[248] = 'x'; /* a byte past the cut changed: the same cut, another hash */
+    snprintf(path, sizeof path, "d/%s", name);
+    CHECK(pgt_tmp_name(other, sizeof other, path) == 0 && strcmp(other, tmp));
+
+    scratch_make_for("tmpname");
+    REQUIRE(scratch[0]);
+    memset(name, 'n', 251);
+    memcpy(name + 251, ".off", 5);
+    pgt_mesh m;
+    rng_state = 7;
+    make_mesh(&m, 10, 12, 0, 0);
+    pgt_error err = {0};
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    CHECK(pgt_mesh_write(&m, path, NULL, &err) == PGT_OK);
+    CHECK(access(path, F_OK) == 0 && scratch_count() == 1);
+    pgt_mesh_destroy(&m);
+    scratch_remove();
+}
+
 /* pgt_mesh_repeated_faces: a rotation of a face's corners repeats it, the other orientation does
  * not; the first repeat is reported with the face it repeats; the shared meshes have none. */
 static void test_repeated_faces(void) {
@@ -1034,6 +1076,7 @@ static void test_repeated_faces(void) {
 
 static const pgt_test_case cases[] = {
     {"replace_file", test_replace_file},
+    {"tmp_name", test_tmp_name},
     {"repeated_faces", test_repeated_faces},
     {"malformed_corpus", test_malformed_corpus},
     {"truncated_binary_ply", test_truncated_binary_ply},

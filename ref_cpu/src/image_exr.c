@@ -1039,7 +1039,7 @@ pgt_result pgt_image_write_exr_threads(const pgt_image *img, const char *path, u
     size_t tmp_size = strlen(path) + 32;
     char *tmp = malloc(tmp_size);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, tmp_size, path);
     exr_stream s;
     memset(&s, 0, sizeof(s));
     s.name = path;

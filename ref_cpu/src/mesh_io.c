@@ -390,7 +390,7 @@ static pgt_result write_atomic(const char *path, const write_job *job, pgt_error
     size_t tmp_size = strlen(path) + 32;
     char *tmp = malloc(tmp_size);
     if (!tmp) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
+    pgt_tmp_name(tmp, tmp_size, path);
     FILE *f = fopen(tmp, "wb");
     if (!f) {
         int e = errno;

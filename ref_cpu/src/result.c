@@ -3,8 +3,11 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 const char *pgt_result_name(pgt_result code) {
     switch (code) {
@@ -61,6 +64,26 @@ void pgt_error_clear(pgt_error *err) {
     if (!err) return;
     err->code = PGT_OK;
     err->message[0] = '\0';
+}
+
+int pgt_tmp_name(char *tmp, size_t tmp_size, const char *path) {
+    char suffix[32];
+    const int ns = snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const size_t nb = strlen(base), nd = (size_t)(base - path);
+    int n;
+    if (nb + (size_t)ns <= PGT_NAME_MAX) {
+        n = snprintf(tmp, tmp_size, "%s%s", path, suffix);
+    } else {
+        uint64_t h = 0xcbf29ce484222325ull; /* FNV-1a over the whole file name */
+        for (size_t k = 0; k < nb; ++k) h = (h ^ (unsigned char)base[k]) * 0x100000001b3ull;
+        size_t keep = PGT_NAME_MAX - (size_t)ns - 17u; /* '~' and 16 hex digits */
+        while (keep > 0 && ((unsigned char)base[keep] & 0xC0u) == 0x80u) --keep;
+        n = snprintf(tmp, tmp_size, "%.*s%.*s~%016llx%s", (int)nd, path, (int)keep, base,
+                     (unsigned long long)h, suffix);
+    }
+    return n >= 0 && (size_t)n < tmp_size ? 0 : -1;
 }
 
 int pgt_replace_file(const char *tmp, const char *path) {

@@ -57,6 +57,17 @@ pgt_result pgt_error_set(pgt_error *err, pgt_result code, const char *fmt, ...)
 /* Clears err to PGT_OK and an empty message. err may be NULL. */
 void pgt_error_clear(pgt_error *err);
 
+/* Longest file name (one path component) an output may have: Linux's NAME_MAX. */
+#define PGT_NAME_MAX 255
+
+/* The temporary name every pgt writer puts an output under in its folder before
+ * pgt_replace_file renames it over path: PATH.tmp.PID. When path's file name is too long for
+ * that suffix (over PGT_NAME_MAX with it, which the output itself is not), the file name is cut
+ * (at a UTF-8 character's start) and 16 hex digits of a hash of the whole name added, so that a
+ * name of up to PGT_NAME_MAX bytes can be written: NAME-CUT~HASH.tmp.PID. Never longer than
+ * strlen(path) + 32 bytes with its NUL. Returns 0, or -1 when it does not fit tmp_size. */
+int pgt_tmp_name(char *tmp, size_t tmp_size, const char *path);
+
 /* Finishes an output written under a temporary name in its folder (PATH.tmp.PID): renames tmp
  * over path, which replaces path atomically. Returns 0, or -1 with errno set and tmp left for the
  * caller to remove; errno is EPERM (EISDIR for a folder) when path exists and is not a regular
