@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <ctype.h>
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -456,18 +457,32 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
     return 0;
 }
 
+int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, const char *const *def,
+                       const char *const *flag, int n) {
+    for (int k = 0; k < n; ++k)
+        if (quick && out[k] == def[k])
+            return pgt_cli_fail(verb,
+                                "--quick without %s would replace %s, the committed table, "
+                                "with a smoke run's numbers: give %s FILE",
+                                flag[k], def[k], flag[k]);
+    /* the folders are made when missing (results/ may not exist yet; one level: a missing
+     * parent of one is still refused) and the ones made here removed when a check fails */
+    char dir[8][4096];
+    int made[8] = {0};
+    assert(n <= 8);
+    for (int k = 0; k < n; ++k) {
+        folder_of(out[k], dir[k], sizeof dir[k]);
+        made[k] = mkdir(dir[k], 0777) == 0;
+    }
+    const int r = pgt_cli_check_outputs(verb, out, n);
+    for (int k = n - 1; k >= 0 && r; --k)
+        if (made[k]) rmdir(dir[k]);
+    return r;
+}
+
 int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def) {
-    if (quick && out == def)
-        return pgt_cli_fail(verb,
-                            "--quick without --out would replace %s, the committed table, with "
-                            "a smoke run's numbers: give --out FILE",
-                            def);
-    /* its folder is made when missing (results/ may not exist yet; one level: a missing parent
-     * of it is still refused) */
-    char dir[4096];
-    folder_of(out, dir, sizeof dir);
-    mkdir(dir, 0777);
-    return pgt_cli_check_outputs(verb, &out, 1);
+    static const char *const flag = "--out";
+    return pgt_cli_quick_outs(verb, quick, &out, &def, &flag, 1);
 }
 
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb,

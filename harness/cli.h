@@ -114,12 +114,16 @@ int pgt_cli_table_close(FILE *f, const char *tmp, const char *path, const char *
  * cannot be written. */
 int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *verb, int failures);
 
-/* A bench's output, checked before the benchmark runs: --quick with its default output (out ==
- * def, the same pointer: no --out given) is refused (the default is results/NAME.csv, the
+/* A bench's outputs, checked before the benchmark runs: --quick with a default output (out[k] ==
+ * def[k], the same pointer: flag[k] not given) is refused (the default is results/NAME.csv, the
  * committed table), and so is an output that cannot be written (pgt_cli_check_outputs: a
- * device, a folder; its folder is made when missing, one level: every bench calls this before
- * pgt_cli_table_open).
- * 0 otherwise. */
+ * device, a folder). Their folders are made when missing, one level (every bench calls this
+ * before pgt_cli_table_open), and removed again when an output is refused, so a refused run
+ * leaves no empty folder. 0 otherwise. */
+int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, const char *const *def,
+                       const char *const *flag, int n);
+
+/* pgt_cli_quick_outs of one output, flag --out. */
 int pgt_cli_quick_out(const char *verb, int quick, const char *out, const char *def);
 
 /* Outputs of one command that appear together or not at all: each output is written under its

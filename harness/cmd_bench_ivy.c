@@ -225,9 +225,10 @@ int pgt_cmd_bench_ivy(int argc, char **argv) {
             return pgt_cli_fail("bench", "unknown flag '%s' (see pgt bench ivy --help)", a);
         }
     }
-    if (pgt_cli_quick_out("bench", quick, out_path, default_out) ||
-        pgt_cli_quick_out("bench", quick, fig11_path, default_fig11))
-        return PGT_EXIT_USAGE;
+    const char *const outs[2] = {out_path, fig11_path},
+                      *const defs[2] = {default_out, default_fig11},
+                      *const flags[2] = {"--out", "--fig11"};
+    if (pgt_cli_quick_outs("bench", quick, outs, defs, flags, 2)) return PGT_EXIT_USAGE;
     if (quick) repeat = 1;
     mallopt(M_MMAP_MAX, 0);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);

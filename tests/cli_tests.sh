@@ -1125,6 +1125,15 @@ for r in t2 + f11:
     assert int(r["polygons"]) > 0, r' \
   && ok bench_ivy_rows || bad bench_ivy_rows "$(head -c 600 res/fig11.csv)"
 
+# bench ivy's two outputs are checked together before it runs: a refused --fig11 leaves no folder
+# made for --out; --quick without --fig11 names that flag
+expect bench_ivy_fig11_refused 2 "$pgt" bench ivy --quick --out newdir/t2.csv --fig11 /dev/null
+one_line bench_ivy_fig11_refused_one_line "cannot write /dev/null"
+[ ! -e newdir ] && ok bench_ivy_fig11_refused_no_folder || bad bench_ivy_fig11_refused_no_folder "newdir left"
+expect bench_ivy_quick_no_fig11 2 "$pgt" bench ivy --quick --out newdir/t2.csv
+one_line bench_ivy_quick_no_fig11_one_line "\-\-quick without \-\-fig11 would replace results/fig11.csv"
+[ ! -e newdir ] && ok bench_ivy_quick_no_fig11_no_folder || bad bench_ivy_quick_no_fig11_no_folder "newdir left"
+
 expect missing_input 2 "$pgt" subdiv nothere.off --iters 1 -o x.off
 one_line missing_input_names_file "nothere.off"
 
