@@ -88,7 +88,8 @@ static const char *ivy_usage2 =
     "                  texel sizes)\n"
     "  --no-leaves     no leaves (Leaves records are dropped before the terminals)\n"
     "  --no-secondary  the main branch alone: sets the grammar param secondaryBranches to 0\n"
-    "                  (grammars/ivy.grammar has it; another grammar without it is an error)\n"
+    "                  (grammars/ivy.grammar has it; another grammar without it is an error;\n"
+    "                  not with --param secondaryBranches=V)\n"
     "  --threads N     threads of every stage (default: the number of CPUs)\n"
     "  --curves F.csv  one row per Bezier segment: branch,segment,p0x,p0y,p0z,b1x,b1y,b1z,\n"
     "                  b2x,b2y,b2z,p1x,p1y,p1z,n0x,n0y,n0z,n1x,n1y,n1z (segment: its index\n"
@@ -527,6 +528,12 @@ int pgt_cmd_ivy(int argc, char **argv) {
     if (!have_seeds) return pgt_cli_fail(verb, "no seed count: give --seeds N");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o IVY.ply");
     if (!grammar_path) grammar_path = PGT_IVY_DEFAULT_GRAMMAR;
+    for (uint32_t k = 0; k < param_count && no_secondary; ++k) /* one would silently win */
+        if (!strncmp(params[k], "secondaryBranches=", 18))
+            return pgt_cli_fail(verb,
+                                "--param %s and --no-secondary both set secondaryBranches "
+                                "(--no-secondary sets it to 0): give one",
+                                params[k]);
     {
         const char *inputs[7] = {in_path,    grammar_path, seed_file,   mask_path,
                                  paint_path, forbid_path,  density_path};

@@ -419,6 +419,8 @@ b1=$(sed -n 's/.* segments, \([0-9]*\) branches.*/\1/p' out.txt)
 printf 'A --> Marching(1, 0, 1) { NIL, NIL }\n' >plain.grammar
 expect ivy_no_secondary_needs_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --grammar plain.grammar --no-secondary
 one_line ivy_no_secondary_names_param "^pgt ivy: --no-secondary sets the param secondaryBranches to 0: plain.grammar: no param"
+expect ivy_no_secondary_and_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --param secondaryBranches=3 --no-secondary
+one_line ivy_no_secondary_and_param_one_line "^pgt ivy: \-\-param secondaryBranches=3 and \-\-no-secondary both set secondaryBranches"
 printf '# seeds\ntexel 20.5 20.5 1 0\nbogus 1 2\n' >seeds_bad.txt
 expect ivy_seed_file_bad_line 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bad.txt
 one_line ivy_seed_file_names_line "seeds_bad.txt:3:"
