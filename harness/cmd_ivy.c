@@ -719,6 +719,11 @@ int pgt_cmd_ivy(int argc, char **argv) {
     printf("  ms: expand %.1f, bezier %.1f, terminals %.1f (total %.1f); write %.0f\n",
            out.ms_expand, out.ms_bezier, out.ms_terminals,
            out.ms_expand + out.ms_bezier + out.ms_terminals, ms_write);
+    if (m->triangle_count == 0) /* a valid PLY, but not a mesh render or subdiv will read */
+        fprintf(stderr,
+                "pgt ivy: note: no polygons (%u segments grew): %s has no faces, which pgt "
+                "render and pgt subdiv refuse\n",
+                out.segments, out_path);
     rc = PGT_EXIT_OK;
 done:
     pgt_cli_progress_stop(&prog);

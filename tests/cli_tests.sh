@@ -421,6 +421,10 @@ expect ivy_no_secondary_needs_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --gra
 one_line ivy_no_secondary_names_param "^pgt ivy: --no-secondary sets the param secondaryBranches to 0: plain.grammar: no param"
 expect ivy_no_secondary_and_param 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --param secondaryBranches=3 --no-secondary
 one_line ivy_no_secondary_and_param_one_line "^pgt ivy: \-\-param secondaryBranches=3 and \-\-no-secondary both set secondaryBranches"
+# nothing grows past the seed: a PLY without faces, said on stderr (render and subdiv refuse it)
+expect ivy_nothing_grew 0 "$pgt" ivy cs.exr --seeds 1 -o empty.ply --no-leaves --param maxMainSteps=0
+grep -q "^pgt ivy: note: no polygons (0 segments grew): empty.ply has no faces" err.txt \
+  && head -c 400 empty.ply | grep -a -q "^element face 0" && ok ivy_nothing_grew_said || bad ivy_nothing_grew_said "$(cat err.txt)"
 printf '# seeds\ntexel 20.5 20.5 1 0\nbogus 1 2\n' >seeds_bad.txt
 expect ivy_seed_file_bad_line 2 "$pgt" ivy cs.exr --seeds 1 -o x.ply --seed-file seeds_bad.txt
 one_line ivy_seed_file_names_line "seeds_bad.txt:3:"
