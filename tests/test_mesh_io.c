@@ -604,6 +604,46 @@ static void test_numbers_match_strtof(void) {
     free(expect);
 }
 
+/* Numbers longer than the readers' stack copy (PGT_IO_MAX_NUMBER, 255 bytes) are still numbers:
+ * 0.5 followed by 1000 zeros is 0.5; 0.(340 zeros)123e345 is 12300; 1 followed by 400 zeros is
+ * beyond float and refused as such, naming the line, in OBJ, OFF and ASCII PLY alike. */
+static void test_long_numbers(void) {
+    char half[1100], big[420], tiny[400];
+    snprintf(half, sizeof half, "0.5%01000d", 0);
+    snprintf(big, sizeof big, "1%0400d", 0);
+    snprintf(tiny, sizeof tiny, "0.%0340d123e345", 0);
+    REQUIRE(strlen(half) == 1003 && strlen(big) == 401 && strlen(tiny) == 349);
+    static const char *const form[3][2] = {
+        {"v %s %s 0\nv 1 0 0\nv 0 1 %s\nf 1 2 3\n", "long.obj"},
+        {"OFF\n3 1 0\n%s %s 0\n1 0 0\n0 1 %s\n3 0 1 2\n", "long.off"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         "%s %s 0\n1 0 0\n0 1 %s\n3 0 1 2\n",
+         "long.ply"}};
+    static const unsigned bad_line[3] = {1, 3, 10};
+    char *text = malloc(4096);
+    REQUIRE(text);
+    for (int k = 0; k < 3; ++k) {
+        pgt_mesh m;
+        pgt_error err;
+        int n = snprintf(text, 4096, form[k][0], half, tiny, half);
+        CHECK(read_mem(&m, text, (size_t)n, form[k][1], &err) == PGT_OK);
+        if (err.code == PGT_OK) {
+            CHECK(m.positions[0] == 0.5f && m.positions[1] == 12300.0f && m.positions[8] == 0.5f);
+            pgt_mesh_destroy(&m);
+        } else {
+            CHECK_MSG(0, "%s: %s", form[k][1], err.message);
+        }
+        n = snprintf(text, 4096, form[k][0], big, tiny, half);
+        char where[32];
+        snprintf(where, sizeof where, "%s:%u:", form[k][1], bad_line[k]);
+        CHECK(read_mem(&m, text, (size_t)n, form[k][1], &err) == PGT_ERROR_NOT_FINITE);
+        CHECK_MSG(strstr(err.message, where) && strstr(err.message, "not a finite float"), "%s",
+                  err.message);
+    }
+    free(text);
+}
+
 /* ---- PLY groups and skipped properties ---- */
 
 static void check_groups_mesh(const pgt_mesh *m) {
@@ -1077,6 +1117,7 @@ static void test_repeated_faces(void) {
 static const pgt_test_case cases[] = {
     {"replace_file", test_replace_file},
     {"tmp_name", test_tmp_name},
+    {"long_numbers", test_long_numbers},
     {"repeated_faces", test_repeated_faces},
     {"malformed_corpus", test_malformed_corpus},
     {"truncated_binary_ply", test_truncated_binary_ply},

@@ -170,28 +170,49 @@ static int parse_float_fast(const char *s, size_t n, float *out) {
 #endif
 }
 
-pgt_result pgt_io_parse_float(const char *s, size_t n, float *out) {
-    if (n > 0 && parse_float_fast(s, n, out)) return PGT_OK;
-    char buf[PGT_IO_MAX_NUMBER + 1];
-    if (n == 0 || n > PGT_IO_MAX_NUMBER) return PGT_ERROR_PARSE;
+/* s[0, n) as a C string: in stack (PGT_IO_MAX_NUMBER bytes) when it fits, else on the heap (a
+ * decimal of thousands of digits is still a number: "0.000...1", 1e-40 written out). NULL when
+ * out of memory; free with number_free. */
+static char *number_text(const char *s, size_t n, char *stack) {
+    char *buf = n <= PGT_IO_MAX_NUMBER ? stack : malloc(n + 1);
+    if (!buf) return NULL;
     memcpy(buf, s, n);
     buf[n] = '\0';
+    return buf;
+}
+
+static void number_free(char *buf, const char *stack) {
+    if (buf != stack) free(buf);
+}
+
+pgt_result pgt_io_parse_float(const char *s, size_t n, float *out) {
+    if (n > 0 && parse_float_fast(s, n, out)) return PGT_OK;
+    char stack[PGT_IO_MAX_NUMBER + 1], *buf = n ? number_text(s, n, stack) : NULL;
+    if (!buf) return n ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_PARSE;
     char *e = NULL;
     float f = strtof(buf, &e);
-    if (e != buf + n) return PGT_ERROR_PARSE;
+    const int whole = e == buf + n;
+    number_free(buf, stack);
+    if (!whole) return PGT_ERROR_PARSE;
     if (!isfinite(f)) return PGT_ERROR_NOT_FINITE;
     *out = f;
     return PGT_OK;
 }
 
+const char *pgt_io_float_problem(pgt_result r) {
+    return r == PGT_ERROR_NOT_FINITE      ? "not a finite float"
+           : r == PGT_ERROR_OUT_OF_MEMORY ? "too long to copy (out of memory)"
+                                          : "not a number";
+}
+
 int pgt_io_is_number(const char *s, size_t n) {
-    char buf[PGT_IO_MAX_NUMBER + 1];
-    if (n == 0 || n > PGT_IO_MAX_NUMBER) return 0;
-    memcpy(buf, s, n);
-    buf[n] = '\0';
+    char stack[PGT_IO_MAX_NUMBER + 1], *buf = n ? number_text(s, n, stack) : NULL;
+    if (!buf) return 0;
     char *e = NULL;
     (void)strtod(buf, &e);
-    return e == buf + n;
+    const int whole = e == buf + n;
+    number_free(buf, stack);
+    return whole;
 }
 
 int pgt_io_parse_i64(const char *s, size_t n, int64_t *out) {

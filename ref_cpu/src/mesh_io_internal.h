@@ -12,8 +12,9 @@
 
 #include "pgt/mesh_io.h"
 
-/* Longest number token we parse (strtof needs a NUL-terminated copy). Far above the 17 digits
- * plus sign and exponent any writer needs; longer tokens are a parse error. */
+/* Longest number token copied to the stack for strtof (which needs a NUL-terminated copy); far
+ * above the 17 digits plus sign and exponent any writer needs. Longer tokens are copied to the
+ * heap: a decimal written out to thousands of digits is still a number. */
 #define PGT_IO_MAX_NUMBER 255
 
 /* ---- growable arrays ---- */
@@ -165,9 +166,13 @@ static inline int pgt_io_token_is(const char *tok, size_t n, const char *word) {
 }
 
 /* A float token (C locale strtof; rounding straight to float, so %.9g output round-trips).
- * PGT_OK, PGT_ERROR_PARSE (not entirely a number) or PGT_ERROR_NOT_FINITE (nan, inf, or beyond
- * the float range such as 1e39 or 1e999). */
+ * PGT_OK, PGT_ERROR_PARSE (not entirely a number), PGT_ERROR_NOT_FINITE (nan, inf, or beyond
+ * the float range such as 1e39 or 1e999) or PGT_ERROR_OUT_OF_MEMORY (a token too long to copy). */
 pgt_result pgt_io_parse_float(const char *s, size_t n, float *out);
+
+/* What a failed pgt_io_parse_float says of its token: "not a number", "not a finite float" or
+ * "too long to copy (out of memory)". */
+const char *pgt_io_float_problem(pgt_result r);
 
 /* Any number strtod accepts, including nan and inf (values we skip). */
 int pgt_io_is_number(const char *s, size_t n);

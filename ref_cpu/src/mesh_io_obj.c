@@ -86,14 +86,9 @@ static pgt_result obj_numbers(const char *p, const char *end, size_t count_min, 
         float f = 0.0f;
         pgt_result r = pgt_io_parse_float(tok, n, &f);
         /* Values we do not store (w, vertex colours, normals) may be nan or inf. */
-        if (r == PGT_ERROR_PARSE)
-            return pgt_io_fail_line(err, PGT_ERROR_PARSE, name, line,
-                                    "'%s' value '%s' is not a number", what,
-                                    pgt_io_quote(tok, n, q, sizeof(q)));
-        if (r == PGT_ERROR_NOT_FINITE && k < stored)
-            return pgt_io_fail_line(err, PGT_ERROR_NOT_FINITE, name, line,
-                                    "'%s' value '%s' is not a finite float", what,
-                                    pgt_io_quote(tok, n, q, sizeof(q)));
+        if (r != PGT_OK && (r != PGT_ERROR_NOT_FINITE || k < stored))
+            return pgt_io_fail_line(err, r, name, line, "'%s' value '%s' is %s", what,
+                                    pgt_io_quote(tok, n, q, sizeof(q)), pgt_io_float_problem(r));
         if (k < stored) dst[k] = f;
         k++;
     }

@@ -155,10 +155,8 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
             float x = 0.0f;
             pgt_result pr = c < 3 ? pgt_io_parse_float(tok, n, &x) : PGT_OK;
             if (pr != PGT_OK) {
-                r = pgt_io_fail_line(err, pr, name, t.line, "vertex %lld: '%s' is %s",
-                                     (long long)v, pgt_io_quote(tok, n, q, sizeof(q)),
-                                     pr == PGT_ERROR_PARSE ? "not a number"
-                                                           : "not a finite float");
+                r = pgt_io_fail_line(err, pr, name, t.line, "vertex %lld: '%s' is %s", (long long)v,
+                                     pgt_io_quote(tok, n, q, sizeof(q)), pgt_io_float_problem(pr));
                 goto done;
             }
             if (c < 3) positions[3 * v + (int64_t)c] = x;

@@ -247,7 +247,7 @@ static pgt_result ply_read_real(ply_in *in, ply_type type, const char *what, flo
     r = pgt_io_parse_float(tok, n, out);
     if (r != PGT_OK)
         return ply_fail(in, 0, r, "%s '%s' is %s", what, pgt_io_quote(tok, n, q, sizeof(q)),
-                        r == PGT_ERROR_PARSE ? "not a number" : "not a finite float");
+                        pgt_io_float_problem(r));
     return PGT_OK;
 }
 
