@@ -46,9 +46,14 @@ static const char *subdiv_usage =
 /* Where in the input file a subdivision error is: for a non-manifold edge or vertex or a
  * degenerate face, the line (binary PLY: the byte offset) of the face record the error is about,
  * found again with the reference's adjacency (only on this error path; every backend checks its
- * input with pgt_adjacency_require_manifold); else the path alone. */
+ * input with pgt_adjacency_require_manifold); for a coordinate beyond the limit, the vertex's
+ * record (or the face's, for a UV); else the path alone. */
 static const char *error_place(const pgt_mesh *in, const pgt_mesh_origin *origin, const char *path,
                                pgt_result code, char *buf, size_t size) {
+    uint32_t k = 0;
+    const int far = code == PGT_ERROR_LIMIT ? pgt_sqrt3_far_coordinate(in, &k) : 0;
+    if (far == 1) return pgt_mesh_origin_vertex_where(origin, path, k, buf, size);
+    if (far == 2) return pgt_mesh_origin_where(origin, path, k, buf, size);
     if (code != PGT_ERROR_NON_MANIFOLD && code != PGT_ERROR_DEGENERATE) return path;
     pgt_adjacency adj;
     if (pgt_adjacency_build(&adj, in, 1, NULL) != PGT_OK) return path;

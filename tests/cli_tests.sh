@@ -179,6 +179,22 @@ one_line quad_mesh_folder_one_line "dir_in.obj: read error: Is a directory"
   for i in $(seq 1 9); do echo "3 0 $i $((i + 1))"; done; } > bowtie19.off
 expect bowtie_valence_19 2 "$pgt" subdiv bowtie19.off --iters 1 -o bt.off
 one_line bowtie_valence_19_one_line "bowtie19.off:25: sqrt3 input: non-manifold vertex 0"
+# a coordinate beyond the subdivision's limit (1e18) names the vertex's line, or the face's for a
+# UV, or in binary PLY the vertex record's byte offset (header bytes + 12 per vertex)
+printf 'v 0 0 0\nv 1 0 0\n# c\nv 0 1 2e18\nf 1 2 3\n' >far.obj
+expect subdiv_far_vertex 2 "$pgt" subdiv far.obj --iters 1 -o fo.obj
+one_line subdiv_far_vertex_line "^pgt subdiv: far.obj:4: sqrt3 input: vertex 2 (0-based): coordinate 2e+18 is beyond"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 3e18 1\n\nf 1/1 2/2 3/3\n' >far_uv.obj
+expect subdiv_far_uv 2 "$pgt" subdiv far_uv.obj --iters 1 -o fo.obj
+one_line subdiv_far_uv_line "^pgt subdiv: far_uv.obj:8: sqrt3 input: face 0 (0-based): UV 3e+18 is beyond"
+/usr/bin/python3 -c '
+import struct, sys
+h = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+v = struct.pack("<9f", 0, 0, 0, 1, 0, -5e18, 0, 1, 0)
+open("far.ply", "wb").write(h + v + struct.pack("<B3i", 3, 0, 1, 2))
+print(len(h) + 12)' >far_at.txt
+expect subdiv_far_binary 2 "$pgt" subdiv far.ply --iters 1 -o fo.obj
+one_line subdiv_far_binary_offset "^pgt subdiv: far.ply: byte offset $(cat far_at.txt): sqrt3 input: vertex 1 (0-based)"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
 # an atlas that is a fifo without a writer is refused at once (its open() blocked before the
 # regular-file check); timeout's 124 would fail the check

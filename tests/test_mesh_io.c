@@ -766,7 +766,7 @@ static void test_ply_groups_binary(void) {
  * the line of face record k where faces[k] = (1-based line, corners): the lines are counted
  * here as the text is built, and a polygon of c corners is c - 2 triangles in file order. */
 static void check_text_origin(const char *name, const char *const *lines, size_t n,
-                              const size_t (*faces)[2], size_t nf) {
+                              const size_t (*faces)[2], size_t nf, const size_t *vertex_lines) {
     char text[1024];
     size_t len = 0;
     for (size_t i = 0; i < n; ++i)
@@ -790,21 +790,30 @@ static void check_text_origin(const char *name, const char *const *lines, size_t
     char want[64];
     snprintf(want, sizeof(want), "%s:%zu", name, faces[0][0]);
     CHECK_MSG(strcmp(where, want) == 0, "%s", where);
+    CHECK(o.vertex_count == m.vertex_count);
+    for (uint32_t v = 0; v < m.vertex_count && v < o.vertex_count; ++v)
+        CHECK_MSG(o.vertex[v] == vertex_lines[v], "%s: vertex %u at line %llu", name, v,
+                  (unsigned long long)o.vertex[v]);
+    snprintf(want, sizeof(want), "%s:%zu", name, vertex_lines[3]);
+    CHECK_MSG(!strcmp(pgt_mesh_origin_vertex_where(&o, name, 3, where, sizeof(where)), want), "%s",
+              where);
+    CHECK(!strcmp(pgt_mesh_origin_vertex_where(&o, name, 4, where, sizeof(where)), name));
     pgt_mesh_origin_destroy(&o);
+    CHECK(o.vertex == NULL && o.vertex_count == 0);
     pgt_mesh_destroy(&m);
 }
 
 static void test_origins(void) {
-    static const char *const obj[] = {"# two faces", "v 0 0 0", "v 1 0 0",
-                                      "v 1 1 0",     "v 0 1 0", "",
-                                      "f 1 2 3 4",   "g x",     "f 1 3 4 # a comment"};
-    static const size_t obj_faces[][2] = {{7, 4}, {9, 3}};
-    check_text_origin("o.obj", obj, 9, obj_faces, 2);
+    static const char *const obj[] = {
+        "# two faces", "v 0 0 0", "v 1 0 0",   "# between", "v 1 1 0",
+        "v 0 1 0",     "",        "f 1 2 3 4", "g x",       "f 1 3 4 # a comment"};
+    static const size_t obj_faces[][2] = {{8, 4}, {10, 3}}, obj_vertices[4] = {2, 3, 5, 6};
+    check_text_origin("o.obj", obj, 10, obj_faces, 2, obj_vertices);
     static const char *const off[] = {"OFF",   "# counts next", "4 3 0",      "0 0 0",
                                       "1 0 0", "1 1 0",         "0 1 0",      "4 0 1 2 3",
                                       "",      "3 0 2 3",       "5 0 1 2 3 1"};
-    static const size_t off_faces[][2] = {{8, 4}, {10, 3}, {11, 5}};
-    check_text_origin("o.off", off, 11, off_faces, 3);
+    static const size_t off_faces[][2] = {{8, 4}, {10, 3}, {11, 5}}, off_vertices[4] = {4, 5, 6, 7};
+    check_text_origin("o.off", off, 11, off_faces, 3, off_vertices);
     static const char *const ply[] = {"ply",
                                       "format ascii 1.0",
                                       "element vertex 4",
@@ -820,8 +829,8 @@ static void test_origins(void) {
                                       "0 1 0",
                                       "4 0 1 2 3",
                                       "3 0 2 3"};
-    static const size_t ply_faces[][2] = {{14, 4}, {15, 3}};
-    check_text_origin("o.ply", ply, 15, ply_faces, 2);
+    static const size_t ply_faces[][2] = {{14, 4}, {15, 3}}, ply_vertices[4] = {10, 11, 12, 13};
+    check_text_origin("o.ply", ply, 15, ply_faces, 2, ply_vertices);
 
     /* binary PLY: each triangle names its face record's byte offset, counted here */
     unsigned char b[512];
@@ -830,6 +839,7 @@ static void test_origins(void) {
                                 "float x\nproperty float y\nproperty float z\nelement face 2\n"
                                 "property list uchar uint vertex_indices\nend_header\n");
     const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const size_t vertices_at = k;
     k += put(b + k, pos, sizeof(pos));
     const size_t quad_at = k;
     const unsigned char four = 4, three = 3;
@@ -846,6 +856,8 @@ static void test_origins(void) {
     REQUIRE(pgt_mesh_read_memory(&m, b, k, "o.ply", &ro, &err) == PGT_OK);
     REQUIRE(o.offsets && o.face_count == 3);
     CHECK(o.face[0] == quad_at && o.face[1] == quad_at && o.face[2] == tri_at);
+    REQUIRE(o.vertex_count == 4);
+    for (uint32_t v = 0; v < 4; ++v) CHECK(o.vertex[v] == vertices_at + 12u * v);
     char where[64], want[64];
     snprintf(want, sizeof(want), "o.ply: byte offset %zu", tri_at);
     CHECK_MSG(strcmp(pgt_mesh_origin_where(&o, "o.ply", 2, where, sizeof(where)), want) == 0, "%s",
@@ -855,7 +867,7 @@ static void test_origins(void) {
     CHECK(strcmp(pgt_mesh_origin_where(NULL, "o.ply", 0, where, sizeof(where)), "o.ply") == 0);
     pgt_mesh_origin_destroy(&o);
     pgt_mesh_destroy(&m);
-    CHECK(o.face == NULL && o.face_count == 0);
+    CHECK(o.face == NULL && o.face_count == 0 && o.vertex == NULL && o.vertex_count == 0);
 
     /* a failed read leaves the origin zeroed */
     memset(&o, 0xAB, sizeof(o));

@@ -71,6 +71,7 @@ void pgt_io_tris_free(pgt_io_tris *t) {
     free(t->uvs.data);
     free(t->labels.data);
     free(t->where.data);
+    free(t->vertex_where.data);
     memset(t, 0, sizeof(*t));
 }
 
@@ -89,15 +90,22 @@ pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_co
         memcpy(out->uvs, t->uvs.data, t->triangle_count * 6 * sizeof(float));
     if (t->use_labels) memcpy(out->labels, t->labels.data, t->triangle_count * sizeof(int32_t));
     if (origin) {
-        assert(t->use_where && t->where.len == t->triangle_count);
-        origin->face = malloc(t->triangle_count * sizeof(uint64_t));
-        if (!origin->face) {
+        assert(t->use_where && t->where.len == t->triangle_count &&
+               t->vertex_where.len == vertex_count);
+        origin->face = malloc(t->triangle_count * sizeof(uint64_t) + 1);
+        origin->vertex = malloc(vertex_count * sizeof(uint64_t) + 1);
+        if (!origin->face || !origin->vertex) {
             pgt_mesh_destroy(out);
+            pgt_mesh_origin_destroy(origin);
             return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
-                                 "%s: out of memory for the faces' records", name);
+                                 "%s: out of memory for the records' places", name);
         }
-        memcpy(origin->face, t->where.data, t->triangle_count * sizeof(uint64_t));
+        if (t->triangle_count)
+            memcpy(origin->face, t->where.data, t->triangle_count * sizeof(uint64_t));
         origin->face_count = (uint32_t)t->triangle_count;
+        if (vertex_count) /* (an empty vector's data may be NULL) */
+            memcpy(origin->vertex, t->vertex_where.data, vertex_count * sizeof(uint64_t));
+        origin->vertex_count = (uint32_t)vertex_count;
         origin->offsets = offsets;
     }
     return PGT_OK;
@@ -106,18 +114,34 @@ pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_co
 void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
     if (!origin) return;
     free(origin->face);
+    free(origin->vertex);
     memset(origin, 0, sizeof(*origin));
+}
+
+/* "NAME:LINE", "NAME: byte offset N", or NAME when the record is not known. */
+static const char *record_where(const uint64_t *place, uint32_t count, int offsets,
+                                const char *name, uint32_t k, char *buf, size_t size) {
+    if (!place || k >= count)
+        snprintf(buf, size, "%s", name);
+    else if (offsets)
+        snprintf(buf, size, "%s: byte offset %llu", name, (unsigned long long)place[k]);
+    else
+        snprintf(buf, size, "%s:%llu", name, (unsigned long long)place[k]);
+    return buf;
 }
 
 const char *pgt_mesh_origin_where(const pgt_mesh_origin *origin, const char *name, uint32_t face,
                                   char *buf, size_t size) {
-    if (!origin || !origin->face || face >= origin->face_count)
-        snprintf(buf, size, "%s", name);
-    else if (origin->offsets)
-        snprintf(buf, size, "%s: byte offset %llu", name, (unsigned long long)origin->face[face]);
-    else
-        snprintf(buf, size, "%s:%llu", name, (unsigned long long)origin->face[face]);
-    return buf;
+    return origin ? record_where(origin->face, origin->face_count, origin->offsets, name, face, buf,
+                                 size)
+                  : record_where(NULL, 0, 0, name, 0, buf, size);
+}
+
+const char *pgt_mesh_origin_vertex_where(const pgt_mesh_origin *origin, const char *name,
+                                         uint32_t vertex, char *buf, size_t size) {
+    return origin ? record_where(origin->vertex, origin->vertex_count, origin->offsets, name,
+                                 vertex, buf, size)
+                  : record_where(NULL, 0, 0, name, 0, buf, size);
 }
 
 void pgt_io_note_fan(const char *name, size_t polygons, int quiet) {

@@ -65,6 +65,8 @@ typedef struct pgt_io_tris {
     pgt_io_f32vec uvs;     /* 6 per triangle when use_uvs */
     pgt_io_i32vec labels;  /* 1 per triangle when use_labels */
     pgt_io_u64vec where;   /* 1 per triangle when use_where: its face record's line or offset */
+    pgt_io_u64vec vertex_where; /* when use_where: 1 per vertex, its record's line or offset
+                                   (the reader reserves and fills it) */
     int use_aux, use_uvs, use_labels, use_where;
     size_t triangle_count;
     size_t polygon_count; /* faces with more than 3 corners */
@@ -81,8 +83,8 @@ const char *pgt_io_tris_problem(pgt_result r);
 void pgt_io_tris_free(pgt_io_tris *t);
 
 /* Builds *out from positions (3 * vertex_count floats) and the triangles; uvs/labels are copied
- * when the builder uses them (OBJ fills uvs itself afterwards), and the triangles' records into
- * *origin when it is not NULL (offsets: binary PLY). */
+ * when the builder uses them (OBJ fills uvs itself afterwards), and the triangles' and vertices'
+ * records into *origin when it is not NULL (offsets: binary PLY). */
 pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count,
                          const pgt_io_tris *t, int with_uvs, pgt_mesh_origin *origin, int offsets,
                          const char *name, pgt_error *err);

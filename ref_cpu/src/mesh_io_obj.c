@@ -132,7 +132,8 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
     pgt_io_u32vec poly_v = {0}, poly_vt = {0};
     size_t faces = 0, faces_with_vt = 0;
     obj_counts seen = {0, 0, 0};
-    if (!positions || !vts) {
+    if (!positions || !vts ||
+        (tris.use_where && pgt_io_u64_reserve(&tris.vertex_where, total.v + 1) != 0)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu vertices", name,
                           total.v);
         goto done;
@@ -148,6 +149,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
             assert(seen.v < total.v);
             r = obj_numbers(p, end, 3, 7, 3, positions + 3 * seen.v, "v", name, t.line, err);
             if (r != PGT_OK) goto done;
+            if (tris.use_where) tris.vertex_where.data[tris.vertex_where.len++] = t.line;
             seen.v++;
         } else if (pgt_io_token_is(tok, n, "vt")) {
             assert(seen.vt < total.vt);

@@ -138,7 +138,8 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
     memset(&tris, 0, sizeof(tris));
     tris.use_where = origin != NULL;
     pgt_io_u32vec poly = {0};
-    if (!positions) {
+    if (!positions ||
+        (tris.use_where && pgt_io_u64_reserve(&tris.vertex_where, (size_t)V + 1) != 0)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld vertices",
                           name, (long long)V);
         goto done;
@@ -168,6 +169,7 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
                                  c);
             goto done;
         }
+        if (tris.use_where) tris.vertex_where.data[tris.vertex_where.len++] = t.line;
     }
     for (int64_t f = 0; f < F; ++f) {
         next_data_line(&t, &p, &end);

@@ -608,7 +608,8 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
         tris.use_uvs |= h->face->props[j].role == ROLE_TEXCOORD;
         tris.use_labels |= h->face->props[j].role == ROLE_GROUP;
     }
-    if (!positions || (h->vertex_uv && !vertex_uv)) {
+    if (!positions || (h->vertex_uv && !vertex_uv) ||
+        (tris.use_where && pgt_io_u64_reserve(&tris.vertex_where, (size_t)V + 1) != 0)) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu vertices",
                           name, (unsigned long long)V);
         goto done;
@@ -711,6 +712,9 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                     goto done;
                 }
             }
+            if (e->kind == KIND_VERTEX && tris.use_where)
+                tris.vertex_where.data[tris.vertex_where.len++] =
+                    h->binary ? record_start : in.text.line;
             if (e->kind != KIND_FACE) continue;
             if (tris.use_uvs && uv.len != 2 * poly.len) {
                 r = ply_fail(&in, record_start, PGT_ERROR_COUNT_MISMATCH,

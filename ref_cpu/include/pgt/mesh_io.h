@@ -31,15 +31,18 @@ typedef enum pgt_mesh_format {
     PGT_FORMAT_PLY = 3  /* reading: ascii and binary_little_endian; writing: binary_little_endian */
 } pgt_mesh_format;
 
-/* Where the triangles of a mesh read from a file come from: the face record (OBJ `f` line, OFF
- * face line, PLY face element) each was fan-triangulated from, so that an error found later
- * about a face (a non-manifold edge or vertex, a degenerate face) can name the place in the
- * file. */
+/* Where the triangles and vertices of a mesh read from a file come from: the face record (OBJ
+ * `f` line, OFF face line, PLY face element) each triangle was fan-triangulated from and each
+ * vertex's record (OBJ `v` line, OFF vertex line, PLY vertex element), so that an error found
+ * later about a face (a non-manifold edge or vertex, a degenerate face) or a vertex (a
+ * coordinate beyond a limit) can name the place in the file. */
 typedef struct pgt_mesh_origin {
-    uint64_t *face;      /* face_count entries: the record's 1-based line, or in binary PLY data
-                            the byte offset where the record starts */
-    uint32_t face_count; /* the mesh's face_count */
-    int offsets;         /* nonzero: face[] holds byte offsets (binary PLY), else lines */
+    uint64_t *face;        /* face_count entries: the record's 1-based line, or in binary PLY
+                              data the byte offset where the record starts */
+    uint32_t face_count;   /* the mesh's face_count */
+    int offsets;           /* nonzero: face[] and vertex[] hold byte offsets (binary PLY) */
+    uint64_t *vertex;      /* vertex_count entries, as face[] */
+    uint32_t vertex_count; /* the mesh's vertex_count */
 } pgt_mesh_origin;
 
 typedef struct pgt_mesh_read_options {
@@ -57,6 +60,10 @@ void pgt_mesh_origin_destroy(pgt_mesh_origin *origin);
  * buf. */
 const char *pgt_mesh_origin_where(const pgt_mesh_origin *origin, const char *name, uint32_t face,
                                   char *buf, size_t size);
+
+/* pgt_mesh_origin_where of vertex `vertex`'s record. */
+const char *pgt_mesh_origin_vertex_where(const pgt_mesh_origin *origin, const char *name,
+                                         uint32_t vertex, char *buf, size_t size);
 
 typedef struct pgt_mesh_write_options {
     pgt_mesh_format format; /* 0: from the extension */
