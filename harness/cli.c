@@ -1,8 +1,8 @@
 /* pgt harness: shared command-line helpers. */
 #include "cli.h"
 
-#include <ctype.h>
 #include <assert.h>
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -390,6 +390,12 @@ static const char *named_path(const char *name, const char *shared_dir, char *bu
 
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err) {
+    return pgt_cli_load_named_origin(name, shared_dir, out, NULL, err);
+}
+
+pgt_result pgt_cli_load_named_origin(const char *name, const char *shared_dir, pgt_mesh *out,
+                                     pgt_mesh_origin *origin, pgt_error *err) {
+    if (origin) memset(origin, 0, sizeof *origin);
     if (!name || !*name) /* not the shared folder's path, which an empty name would join to */
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "no mesh named (an empty name)");
     char buf[4096];
@@ -402,7 +408,7 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
                              "%s: not a generated dataset (pgt_datasets --list), not a file in "
                              "this folder, not in %s",
                              name, shared_dir);
-    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
+    pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, origin};
     return pgt_mesh_read(out, path, &ro, err);
 }
 
@@ -708,12 +714,14 @@ void pgt_cli_print_float(float x) {
     fputs(buf, stdout);
 }
 
-int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out) {
+int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out,
+                            pgt_mesh_origin *origin) {
     pgt_error err = {0};
-    if (pgt_cli_load_named(path, PGT_CLI_SHARED_MESH_DIR, out, &err) != PGT_OK)
+    if (pgt_cli_load_named_origin(path, PGT_CLI_SHARED_MESH_DIR, out, origin, &err) != PGT_OK)
         return pgt_cli_fail(verb, "%s", err.message);
     if (!out->uvs) {
         pgt_mesh_destroy(out);
+        pgt_mesh_origin_destroy(origin);
         return pgt_cli_fail(verb,
                             "%s: no UVs: run a parametrization first (datasets_gen gives UV-less "
                             "meshes an atlas with MeshLab's Voronoi Atlas)%s",
@@ -722,11 +730,14 @@ int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint
     uint32_t first = 0, face = 0;
     const uint32_t n = pgt_mesh_repeated_faces(out, &first, &face);
     if (n) {
+        char place[4200];
+        pgt_mesh_origin_where(origin, path, face, place, sizeof place);
         pgt_mesh_destroy(out);
+        pgt_mesh_origin_destroy(origin);
         return pgt_cli_fail(verb,
                             "%s: face %u (0-based) repeats face %u, the same three vertices in "
                             "the same order (%u such faces): their charts would lie at one place",
-                            path, face, first, n);
+                            place, face, first, n);
     }
     return 0;
 }

@@ -10,6 +10,8 @@
 #include "pgt/mesh.h"
 #include "pgt/result.h"
 
+struct pgt_mesh_origin; /* pgt/mesh_io.h */
+
 #define PGT_EXIT_OK 0
 #define PGT_EXIT_FAIL 1  /* the work ran and found a problem (e.g. a diff outside tolerance) */
 #define PGT_EXIT_USAGE 2 /* bad flag, bad value, bad input file, or an error while working */
@@ -180,12 +182,19 @@ void pgt_cli_csv_field(FILE *f, const char *s);
 pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh *out,
                               pgt_error *err);
 
+/* pgt_cli_load_named, with the places of the file's records in *origin (pgt/mesh_io.h; zeroed
+ * for a generated mesh or on failure) so that a later error can name a line. */
+pgt_result pgt_cli_load_named_origin(const char *name, const char *shared_dir, pgt_mesh *out,
+                                     struct pgt_mesh_origin *origin, pgt_error *err);
+
 /* Loads the mesh an atlas is built of (pgt atlas, pgt ivy): pgt_cli_load_named, then refuses a
  * mesh without UVs (`hint` ends that message) and one with repeated faces
  * (pgt_mesh_repeated_faces: their charts lie at one place in 3D, and every pointer search
- * tests them all; 150,000 copies of one triangle, a 2 MB OBJ, ran for minutes). 0, or
- * PGT_EXIT_USAGE after one error line (*out then zeroed). */
-int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out);
+ * tests them all; 150,000 copies of one triangle, a 2 MB OBJ, ran for minutes). origin (may be
+ * NULL) gets the records' places (pgt_cli_load_named_origin) for pgt_atlas_options.origin. 0,
+ * or PGT_EXIT_USAGE after one error line (*out and *origin then zeroed). */
+int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out,
+                            struct pgt_mesh_origin *origin);
 
 /* 0 unless out (given by `flag`) is the file of one of the n mesh names (pgt_cli_load_named's
  * rule); else prints "pgt VERB: FLAG OUT is the input mesh NAME; ..." and returns

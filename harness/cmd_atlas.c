@@ -169,13 +169,14 @@ int pgt_cmd_atlas(int argc, char **argv) {
 
     pgt_error err = {0};
     pgt_mesh mesh = {0};
+    pgt_mesh_origin origin = {0}; /* where the file's records are, for the build's messages */
     pgt_image atlas = {0};
     int rc = PGT_EXIT_USAGE;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
     pgt_cli_progress_stagef(prog.progress, "reading %s", in_path);
     const double t0 = pgt_cli_now_ms();
-    if (pgt_cli_load_atlas_mesh(verb, in_path, NULL, &mesh)) goto done;
+    if (pgt_cli_load_atlas_mesh(verb, in_path, NULL, &mesh, &origin)) goto done;
     const double t1 = pgt_cli_now_ms();
     pgt_atlas_options opt = {0};
     opt.width = opt.height = res;
@@ -185,6 +186,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     opt.threads = threads;
     opt.force_repack = repack;
     opt.what = in_path;
+    opt.origin = &origin;
     opt.progress = prog.progress; /* the build names its steps */
     pgt_atlas_stats st;
     if (pgt_atlas_build(&atlas, &mesh, &opt, &st, &err) != PGT_OK) {
@@ -261,5 +263,6 @@ done:
     pgt_cli_progress_stop(&prog);
     pgt_image_destroy(&atlas);
     pgt_mesh_destroy(&mesh);
+    pgt_mesh_origin_destroy(&origin);
     return rc;
 }

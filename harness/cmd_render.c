@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "pgt/mesh_io.h"
 #include "png_io.h"
 #include "progress_line.h"
 #include "render.h"
@@ -246,7 +247,9 @@ int pgt_cmd_render(int argc, char **argv) {
     uint64_t triangles = 0;
     for (uint32_t i = 0; i < count; ++i) {
         pgt_error_clear(&err);
-        if (pgt_cli_load_named(args[i].path, PGT_CLI_SHARED_MESH_DIR, &meshes[i], &err) != PGT_OK) {
+        pgt_mesh_origin origin; /* for the line of a vertex beyond the ray range */
+        if (pgt_cli_load_named_origin(args[i].path, PGT_CLI_SHARED_MESH_DIR, &meshes[i], &origin,
+                                      &err) != PGT_OK) {
             pgt_cli_fail(verb, "%s", err.message);
             goto done;
         }
@@ -254,9 +257,15 @@ int pgt_cmd_render(int argc, char **argv) {
         free(meshes[i].uvs), meshes[i].uvs = NULL;
         free(meshes[i].labels), meshes[i].labels = NULL;
         if (pgt_render_pad_positions(&meshes[i], &err) != PGT_OK) {
-            pgt_cli_fail(verb, "%s: %s", args[i].path, err.message);
+            char place[4200];
+            pgt_mesh_origin_vertex_where(&origin, args[i].path,
+                                         pgt_mesh_far_vertex(&meshes[i], PGT_RENDER_MAX_COORD),
+                                         place, sizeof place);
+            pgt_mesh_origin_destroy(&origin);
+            pgt_cli_fail(verb, "%s: %s", place, err.message);
             goto done;
         }
+        pgt_mesh_origin_destroy(&origin);
         rmeshes[i].mesh = &meshes[i];
         rmeshes[i].positions_padded = 1;
         const float *rgb = args[i].has_rgb ? args[i].rgb : palette[i % PALETTE_SIZE];

@@ -9,6 +9,7 @@
 #include "pgt/image.h"
 #include "pgt/ivy.h"
 #include "pgt/mesh.h"
+#include "pgt/mesh_io.h"
 #include "pgt/rng.h"
 
 int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, uint32_t res,
@@ -20,7 +21,8 @@ int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, ui
         if (pgt_image_read_exr_threads(&s->img, path, threads, &err) != PGT_OK) goto fail;
     } else {
         pgt_mesh mesh = {0};
-        if (pgt_cli_load_atlas_mesh(verb, path, ", or give an atlas .exr", &mesh)) {
+        pgt_mesh_origin origin = {0};
+        if (pgt_cli_load_atlas_mesh(verb, path, ", or give an atlas .exr", &mesh, &origin)) {
             pgt_ivy_scene_free(s);
             return -1;
         }
@@ -28,8 +30,10 @@ int pgt_ivy_scene_atlas(pgt_ivy_scene *s, const char *verb, const char *path, ui
         ao.width = ao.height = res;
         ao.threads = threads;
         ao.what = path;
+        ao.origin = &origin;
         const pgt_result r = pgt_atlas_build(&s->img, &mesh, &ao, &s->stats, &err);
         pgt_mesh_destroy(&mesh);
+        pgt_mesh_origin_destroy(&origin);
         if (r != PGT_OK) goto fail;
         s->built = 1;
     }

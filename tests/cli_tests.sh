@@ -141,12 +141,12 @@ else
   bad atlas_own_chart_reported "no $bob"
 fi
 # repeated faces (charts at one place: 150,000 copies of a triangle ran for minutes) are refused
-# by atlas and ivy at once, naming the faces
+# by atlas and ivy at once, naming the faces and the repeat's line (the 8th: 6 v/vt lines, then f)
 { printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n'; for i in $(seq 2000); do echo 'f 1/1 2/2 3/3'; done; } > rep.obj
 expect atlas_repeated_faces 2 timeout 20 "$pgt" atlas rep.obj -o rep.exr --res 2048
-one_line atlas_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0.*(1999 such faces)"
+one_line atlas_repeated_faces_one_line "rep.obj:8: face 1 (0-based) repeats face 0.*(1999 such faces)"
 expect ivy_repeated_faces 2 timeout 20 "$pgt" ivy rep.obj --seeds 1 -o rep.ply
-one_line ivy_repeated_faces_one_line "rep.obj: face 1 (0-based) repeats face 0"
+one_line ivy_repeated_faces_one_line "rep.obj:8: face 1 (0-based) repeats face 0"
 # an empty mesh name is refused as such (it named the shared folder's path)
 expect atlas_empty_name 2 "$pgt" atlas "" -o e.exr
 one_line atlas_empty_name_one_line "no mesh named (an empty name)"
@@ -617,7 +617,13 @@ expect render_camera_far 2 "$pgt" render "$ico" -o r.png --camera 0,0,2e18,0,0,0
 one_line render_camera_far_names_flag "\-\-camera .*eye's coordinate 2e+18 is beyond"
 awk '/^v /{printf "v %.9g %.9g %.9g\n", $2 * 1e16, $3 * 1e16, $4 * 1e16; next} {print}' "$work/data/cube_sphere_8.obj" >huge.obj
 expect render_mesh_far 2 "$pgt" render huge.obj -o r.png
-one_line render_mesh_far_names_file "^pgt render: huge.obj: vertex 0 (0-based): coordinate .* is beyond"
+one_line render_mesh_far_names_file "^pgt render: huge.obj:$(grep -n -m1 '^v ' huge.obj | cut -d: -f1): vertex 0 (0-based): coordinate .* is beyond"
+# atlas and ivy (a mesh given) name the line too, at their limit (1e18: squared distances)
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 3e18\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n' >far_at.obj
+expect atlas_far_vertex 2 "$pgt" atlas far_at.obj -o fa.exr
+one_line atlas_far_vertex_line "^pgt atlas: far_at.obj:3: vertex 2: coordinate 3e+18 is beyond +-1e+18"
+expect ivy_far_vertex 2 "$pgt" ivy far_at.obj --seeds 1 -o fa.ply
+one_line ivy_far_vertex_line "^pgt ivy: far_at.obj:3: vertex 2: coordinate 3e+18 is beyond +-1e+18"
 # the shading does not depend on the mesh's scale (the normal's length was squared in float:
 # edges of 1e10 or 1e-13 lost their lambert term)
 for s in 1 1e10 1e-13; do

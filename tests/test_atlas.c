@@ -1660,6 +1660,19 @@ static void test_hostile_inputs(void) {
     CHECK(isfinite(st.texel_size) && st.texel_size > 0.0 && check_contract(&img, st.band) == 0);
     pgt_image_destroy(&img);
     pgt_mesh_destroy(&bad);
+    /* the message names the first such vertex and its coordinate beyond (here y), or says the
+     * position is not finite */
+    REQUIRE(pgt_mesh_copy(&bad, &m, &err) == PGT_OK);
+    bad.positions[3u * 7u + 1u] = -2e18f;
+    bad.positions[3u * 9u] = 5e18f;
+    CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(err.message, "vertex 7: coordinate -2e+18 is beyond") != NULL, "%s",
+              err.message);
+    bad.positions[3u * 5u + 2u] = NAN;
+    CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(err.message, "vertex 5 has a non-finite position") != NULL, "%s",
+              err.message);
+    pgt_mesh_destroy(&bad);
 
     /* one chart far smaller than a texel, away from the border (its UVs kept): no inner texel,
      * an atlas pgt march would refuse; --repack scales it up */

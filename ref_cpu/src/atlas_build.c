@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "atlas_internal.h"
+#include "pgt/mesh_io.h"
 #include "pgt/parallel.h"
 #include "time_internal.h"
 
@@ -77,17 +78,21 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "--dead-end: %g is not a number of texel sizes in (0, %g]",
                              (double)dead_end, (double)PGT_ATLAS_MAX_DEAD_END);
-    for (uint64_t i = 0; i < 3ull * mesh->vertex_count; ++i) {
-        if (!isfinite(mesh->positions[i]))
+    const uint32_t far = pgt_mesh_far_vertex(mesh, PGT_ATLAS_MAX_COORD);
+    if (far != PGT_NONE) {
+        char place[4200];
+        pgt_mesh_origin_vertex_where(opt->origin, what, far, place, sizeof place);
+        const float *p = mesh->positions + 3u * (size_t)far;
+        int j = 0; /* the coordinate that is beyond */
+        while (j < 2 && fabsf(p[j]) <= PGT_ATLAS_MAX_COORD) ++j;
+        const float c = p[j];
+        if (!isfinite(c))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: vertex %u has a non-finite position", what,
-                                 (uint32_t)(i / 3u));
-        if (fabsf(mesh->positions[i]) > PGT_ATLAS_MAX_COORD)
-            return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: vertex %u: coordinate %g is beyond +-%g (squared distances "
-                                 "in float would overflow; scale the mesh down)",
-                                 what, (uint32_t)(i / 3u), (double)mesh->positions[i],
-                                 (double)PGT_ATLAS_MAX_COORD);
+                                 "%s: vertex %u has a non-finite position", place, far);
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "%s: vertex %u: coordinate %g is beyond +-%g (squared distances in "
+                             "float would overflow; scale the mesh down)",
+                             place, far, (double)c, (double)PGT_ATLAS_MAX_COORD);
     }
     for (uint64_t i = 0; i < 3ull * mesh->face_count; ++i)
         if (mesh->indices[i] >= mesh->vertex_count)

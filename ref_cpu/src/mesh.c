@@ -76,6 +76,12 @@ static void face_key(const uint32_t *t, uint32_t k[3]) {
     }
 }
 
+uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit) {
+    for (size_t i = 0; i < 3u * (size_t)mesh->vertex_count; ++i)
+        if (!(fabsf(mesh->positions[i]) <= limit)) return (uint32_t)(i / 3u);
+    return PGT_NONE;
+}
+
 uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face) {
     *out_first = *out_face = PGT_NONE;
     const uint32_t F = mesh ? mesh->face_count : 0u;

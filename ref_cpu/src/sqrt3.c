@@ -840,9 +840,7 @@ pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_er
 }
 
 int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index) {
-    for (size_t i = 0; i < 3u * (size_t)in->vertex_count; ++i)
-        if (!(fabsf(in->positions[i]) <= PGT_SQRT3_MAX_COORD))
-            return *index = (uint32_t)(i / 3u), 1;
+    if ((*index = pgt_mesh_far_vertex(in, PGT_SQRT3_MAX_COORD)) != PGT_NONE) return 1;
     for (size_t i = 0; in->uvs && i < 6u * (size_t)in->face_count; ++i)
         if (!(fabsf(in->uvs[i]) <= PGT_SQRT3_MAX_COORD)) return *index = (uint32_t)(i / 6u), 2;
     return 0;

@@ -132,6 +132,8 @@ typedef struct pgt_atlas_options {
     int force_repack;       /* nonzero: repack even when the input UVs would do */
     const char *what;       /* names the input in messages (a file name); NULL: "mesh" */
     pgt_progress *progress; /* optional: names each step as a stage (pgt/progress.h) */
+    const struct pgt_mesh_origin *origin; /* optional (pgt/mesh_io.h): a vertex error names the
+                                             line (or offset) of its record in `what` */
 } pgt_atlas_options;
 
 typedef struct pgt_atlas_stats {

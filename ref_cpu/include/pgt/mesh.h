@@ -45,6 +45,10 @@ pgt_result pgt_mesh_copy(pgt_mesh *out, const pgt_mesh *src, pgt_error *err);
  * (PGT_NONE when none). O(faces) with a hash table; 0 when the table cannot be allocated. */
 uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face);
 
+/* The first vertex with a coordinate beyond +-limit or not finite (a consumer's float range:
+ * sums, squares or ray origins that would overflow), or PGT_NONE. */
+uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit);
+
 /* Axis-aligned bounding box diagonal length, in double (0 for an empty mesh). */
 double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh);
 
