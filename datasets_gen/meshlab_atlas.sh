@@ -202,7 +202,8 @@ fi
 [ -s "$tmp/out.obj" ] || mlfail "meshlabserver wrote no OBJ"
 
 # --- check and copy the OBJ (without the dummy material lines) --------------------------------
-part=$(mktemp "$outdir/.$(basename "$out").XXXXXX") || die "$out: cannot create a temporary file"
+# a short name of its own (OUT's name may be up to 255 bytes, with no room for a suffix)
+part=$(mktemp "$outdir/.pgt-meshlab.XXXXXX") || die "$out: cannot create a temporary file"
 stats=$(LC_ALL=C awk -v part="$part" '
     $1 == "mtllib" || $1 == "usemtl" { next }
     { print > part }

@@ -1,7 +1,6 @@
 /* pgt harness: shared command-line helpers. */
 #include "cli.h"
 
-#include <assert.h>
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -283,8 +282,9 @@ int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
             return pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", path,
                                 S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
         }
-        if (errno == ENAMETOOLONG) /* the file name over PGT_NAME_MAX, or the path over PATH_MAX */
-            return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(errno));
+        const char *slash = strrchr(path, '/');
+        if (errno == ENAMETOOLONG || strlen(slash ? slash + 1 : path) > PGT_NAME_MAX)
+            return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(ENAMETOOLONG));
         char dir[4096];
         folder_of(path, dir, sizeof dir);
         int e = 0;
@@ -364,6 +364,10 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
 const char *pgt_cli_mesh_label(const char *name) {
     const char *slash = strrchr(name, '/');
     return slash ? slash + 1 : name;
+}
+
+void pgt_cli_comment_text(FILE *f, const char *s) {
+    for (; *s; ++s) fputc((unsigned char)*s < 0x20u || *s == 0x7F ? '?' : *s, f);
 }
 
 void pgt_cli_csv_field(FILE *f, const char *s) {
@@ -471,11 +475,22 @@ int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, cons
                                 "--quick without %s would replace %s, the committed table, "
                                 "with a smoke run's numbers: give %s FILE",
                                 flag[k], def[k], flag[k]);
+    for (int k = 0; k < n; ++k) { /* pgt_cli_bench_close's OUT.failed must fit too */
+        const char *slash = strrchr(out[k], '/');
+        if (strlen(slash ? slash + 1 : out[k]) + strlen(".failed") > PGT_NAME_MAX)
+            return pgt_cli_fail(verb,
+                                "%s %s: a file name of at most %d bytes (a run with failures "
+                                "writes its rows to NAME.failed beside it)",
+                                flag[k], out[k], PGT_NAME_MAX - (int)strlen(".failed"));
+    }
+    enum { MAX_OUTS = 8 };
+    if (n > MAX_OUTS || pgt_cli_refuse_overwrite(verb, NULL, 0, out, n))
+        return n > MAX_OUTS ? pgt_cli_fail(verb, "%d outputs (at most %d)", n, (int)MAX_OUTS)
+                            : PGT_EXIT_USAGE;
     /* the folders are made when missing (results/ may not exist yet; one level: a missing
      * parent of one is still refused) and the ones made here removed when a check fails */
-    char dir[8][4096];
-    int made[8] = {0};
-    assert(n <= 8);
+    char dir[MAX_OUTS][4096];
+    int made[MAX_OUTS] = {0};
     for (int k = 0; k < n; ++k) {
         folder_of(out[k], dir[k], sizeof dir[k]);
         made[k] = mkdir(dir[k], 0777) == 0;
@@ -527,23 +542,26 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     return tmp;
 }
 
-/* In a message, each staging name (and a writer's NAME.tmp.PID of it) back to its output's
- * path: what pgt_cli_fail prints while a stage holds names. */
+/* Replaces every `from` in msg (size bytes) by `to`. */
+static void replace_all(char *msg, size_t size, const char *from, const char *to) {
+    const size_t nf = strlen(from), nt = strlen(to);
+    for (char *at = strstr(msg, from); at; at = strstr(at, from)) {
+        char rest[1024];
+        snprintf(rest, sizeof rest, "%s", at + nf);
+        const size_t room = size - (size_t)(at - msg);
+        snprintf(at, room, "%s%s", to, rest);
+        at += nt < room ? nt : room - 1u;
+    }
+}
+
+/* In a message, each staging name (and a writer's temporary name of it, pgt_tmp_name) back to
+ * its output's path: what pgt_cli_fail prints while a stage holds names. */
 static void stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
-    for (uint32_t k = 0; k < s->count; ++k)
-        for (char *at = strstr(msg, s->tmp[k]); at; at = strstr(at, s->tmp[k])) {
-            const char *after = at + strlen(s->tmp[k]);
-            if (!strncmp(after, ".tmp.", 5)) { /* a writer's own temporary file of it */
-                after += 5;
-                while (isdigit((unsigned char)*after)) ++after;
-            }
-            char rest[1024];
-            snprintf(rest, sizeof rest, "%s", after);
-            const size_t room = size - (size_t)(at - msg);
-            snprintf(at, room, "%s%s", s->path[k], rest);
-            const size_t len = strlen(s->path[k]);
-            at += len < room ? len : room - 1u;
-        }
+    char tmp[4400];
+    for (uint32_t k = 0; k < s->count; ++k) {
+        if (pgt_tmp_name(tmp, sizeof tmp, s->tmp[k]) == 0) replace_all(msg, size, tmp, s->path[k]);
+        replace_all(msg, size, s->tmp[k], s->path[k]);
+    }
 }
 
 /* Removes the staged files from the from-th on (unlink: never a user's folder of that name) and

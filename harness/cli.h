@@ -172,6 +172,10 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
  * name itself otherwise. Benchmark CSVs compare across machines, whose folders differ. */
 const char *pgt_cli_mesh_label(const char *name);
 
+/* Writes s to f inside a '#' comment line of a table: control bytes (a line end would start a
+ * line that is not a comment) as '?'. */
+void pgt_cli_comment_text(FILE *f, const char *s);
+
 /* Writes s to f as one CSV field (RFC 4180): as it is, or between double quotes with every '"'
  * doubled when it holds a comma, a double quote or a line end, so that a mesh named "a,b" stays
  * one column of a benchmark table. */

@@ -116,7 +116,7 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     const char *grammar_name = grammar ? grammar : "grammars/facade.grammar";
     if (!grammar) grammar = BENCH_FACADE_DEFAULT_GRAMMAR;
     if (pgt_cli_refuse_overwrite(verb, &grammar, 1, &out_path, 1) ||
-        pgt_cli_quick_out(verb, quick, out_path, default_out) || pgt_cli_memory_env_check(verb))
+        pgt_cli_memory_env_check(verb) || pgt_cli_quick_out(verb, quick, out_path, default_out))
         return PGT_EXIT_USAGE;
     double *ms = malloc(6u * frames * sizeof(double));
     if (!ms) return pgt_cli_fail(verb, "out of memory");
@@ -131,9 +131,10 @@ int pgt_cmd_bench_facade(int argc, char **argv) {
     }
     fprintf(csv,
             "# runs: per row 1 warm-up + %u timed frames of each, medians (ms_min: fastest "
-            "of ours); cities pgt_gen_city(N, seed %u) with %s; default aerial camera "
-            "(pgt facade --help); %u threads for both\n",
-            frames, seed, grammar_name, threads);
+            "of ours); cities pgt_gen_city(N, seed %u) with ",
+            frames, seed);
+    pgt_cli_comment_text(csv, grammar_name); /* a line end in it would end the comment */
+    fprintf(csv, "; default aerial camera (pgt facade --help); %u threads for both\n", threads);
     fprintf(csv, "# ours: pgt_facade_render (coverage polygons, ray development, shading; "
                  "ms_cover apart): ms, ours_mrays; the same without shading (hits_only: depth, "
                  "ids and normal per pixel, what Embree's rays return): trace_ms, "

@@ -198,7 +198,9 @@ pgt_result pgt_facade_quads_write_obj(const pgt_facade_quads *m, const char *pat
     char tmp[4200];
     pgt_tmp_name(tmp, sizeof tmp, path);
     FILE *f = fopen(tmp, "wb");
-    if (!f) return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create: %s", tmp, strerror(errno));
+    if (!f)
+        return pgt_error_set(err, PGT_ERROR_IO, "%s: cannot create a temporary file beside it: %s",
+                             path, strerror(errno));
     if (comment) fprintf(f, "# %s\n", comment);
     fprintf(f, "# %u vertices, %u quads; vt = (u, v) in facade space, metres\n", m->vertex_count,
             m->quad_count);

@@ -1056,20 +1056,36 @@ static void test_tmp_name(void) {
     snprintf(want, sizeof want, "dir/a.obj.tmp.%ld", (long)getpid());
     CHECK(pgt_tmp_name(tmp, sizeof tmp, "dir/a.obj") == 0 && !strcmp(tmp, want));
     CHECK(pgt_tmp_name(tmp, 8, "dir/a.obj") == -1);
-    /* 125 two-byte characters and ".ply": 254 bytes, too long for the suffix */
-    for (int k = 0; k < 125; ++k) memcpy(name + 2 * k, "\xc3\xa9", 2);
-    memcpy(name + 250, ".ply", 5);
-    snprintf(path, sizeof path, "d/%s", name);
-    CHECK(pgt_tmp_name(tmp, sizeof tmp, path) == 0);
-    const char *base = tmp + 2, *tilde = strrchr(tmp, '~');
     char suffix[32];
-    snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
-    CHECK(!strncmp(tmp, "d/", 2) && strlen(base) <= PGT_NAME_MAX && !strchr(base, '/'));
-    CHECK(strlen(tmp) < strlen(path) + 32);
-    REQUIRE(tilde);
-    const size_t cut = (size_t)(tilde - base);
-    CHECK(cut >= 200 && cut % 2 == 0 && !strncmp(base, name, cut)); /* whole characters */
-    CHECK(strlen(tilde) == 17 + strlen(suffix) && !strcmp(tilde + 17, suffix));
+    const size_t ns = (size_t)snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
+    /* the longest file name the suffix still fits is kept whole; one byte more is cut */
+    memset(name, 'k', sizeof name);
+    name[PGT_NAME_MAX - ns] = '\0';
+    snprintf(path, sizeof path, "d/%s", name);
+    snprintf(want, sizeof want, "%s%s", path, suffix);
+    CHECK(pgt_tmp_name(tmp, sizeof tmp, path) == 0 && !strcmp(tmp, want));
+    name[PGT_NAME_MAX - ns] = 'k';
+    name[PGT_NAME_MAX - ns + 1] = '\0';
+    snprintf(path, sizeof path, "d/%s", name);
+    CHECK(pgt_tmp_name(tmp, sizeof tmp, path) == 0 && strchr(tmp, '~') &&
+          strlen(tmp + 2) <= PGT_NAME_MAX);
+    /* "a" or "" then two-byte characters up to 254 bytes, too long for the suffix: whatever the
+     * PID's digits, one of the two would be cut inside a character without the back-off */
+    for (size_t lead = 0; lead < 2; ++lead) {
+        memset(name, 'a', lead);
+        for (size_t k = lead; k + 1 < 250; k += 2) memcpy(name + k, "\xc3\xa9", 2);
+        const size_t n = lead + 2 * ((250 - lead) / 2);
+        memcpy(name + n, ".ply", 5);
+        snprintf(path, sizeof path, "d/%s", name);
+        CHECK(pgt_tmp_name(tmp, sizeof tmp, path) == 0);
+        const char *base = tmp + 2, *tilde = strrchr(tmp, '~');
+        CHECK(!strncmp(tmp, "d/", 2) && strlen(base) <= PGT_NAME_MAX && !strchr(base, '/'));
+        CHECK(strlen(tmp) < strlen(path) + 32);
+        REQUIRE(tilde);
+        const size_t cut = (size_t)(tilde - base); /* whole characters: */
+        CHECK_MSG(cut >= 200 && (cut - lead) % 2 == 0 && !strncmp(base, name, cut), "cut %zu", cut);
+        CHECK(strlen(tilde) == 17 + ns && !strcmp(tilde + 17, suffix));
+    }
     name[248] = 'x'; /* a byte past the cut changed: the same cut, another hash */
     snprintf(path, sizeof path, "d/%s", name);
     CHECK(pgt_tmp_name(other, sizeof other, path) == 0 && strcmp(other, tmp));
