@@ -487,14 +487,18 @@ int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, cons
     if (n > MAX_OUTS || pgt_cli_refuse_overwrite(verb, NULL, 0, out, n))
         return n > MAX_OUTS ? pgt_cli_fail(verb, "%d outputs (at most %d)", n, (int)MAX_OUTS)
                             : PGT_EXIT_USAGE;
-    /* the folders are made when missing (results/ may not exist yet; one level: a missing
-     * parent of one is still refused) and the ones made here removed when a check fails */
-    char dir[MAX_OUTS][4096];
-    int made[MAX_OUTS] = {0};
+    /* the folders are made when missing (results/ may not exist yet; one level: a folder
+     * whose parent existed before this call, whatever the flags' order) and the ones made here
+     * removed when a check fails */
+    char dir[MAX_OUTS][4096], parent[4096];
+    int made[MAX_OUTS] = {0}, may[MAX_OUTS] = {0};
+    struct stat st;
     for (int k = 0; k < n; ++k) {
         folder_of(out[k], dir[k], sizeof dir[k]);
-        made[k] = mkdir(dir[k], 0777) == 0;
+        folder_of(dir[k], parent, sizeof parent);
+        may[k] = stat(parent, &st) == 0 && S_ISDIR(st.st_mode);
     }
+    for (int k = 0; k < n; ++k) made[k] = may[k] && mkdir(dir[k], 0777) == 0;
     const int r = pgt_cli_check_outputs(verb, out, n);
     for (int k = n - 1; k >= 0 && r; --k)
         if (made[k]) rmdir(dir[k]);

@@ -1183,6 +1183,10 @@ rmdir emptyd
 expect bench_ivy_same_outputs 2 "$pgt" bench ivy --quick --out same.csv --fig11 ./same.csv
 one_line bench_ivy_same_outputs_one_line "is named for two outputs"
 [ ! -e same.csv ] && ok bench_ivy_same_outputs_nothing || bad bench_ivy_same_outputs_nothing "same.csv written"
+# one missing folder level, counted from what existed before the run, whatever the flags' order
+expect bench_ivy_two_levels 2 "$pgt" bench ivy --quick --out lv/t2.csv --fig11 lv/b/f.csv
+expect bench_ivy_two_levels_swapped 2 "$pgt" bench ivy --quick --fig11 lv/t2.csv --out lv/b/f.csv
+[ ! -e lv ] && ok bench_ivy_two_levels_no_folder || bad bench_ivy_two_levels_no_folder "lv left"
 expect bench_ivy_quick_no_fig11 2 "$pgt" bench ivy --quick --out newdir/t2.csv
 one_line bench_ivy_quick_no_fig11_one_line "\-\-quick without \-\-fig11 would replace results/fig11.csv"
 [ ! -e newdir ] && ok bench_ivy_quick_no_fig11_no_folder || bad bench_ivy_quick_no_fig11_no_folder "newdir left"
