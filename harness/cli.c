@@ -21,7 +21,6 @@
 /* The stage whose names pgt_cli_fail turns back into the outputs' paths (pgt_cli_stage_add
  * sets it; a verb stages its outputs in one place). */
 static const pgt_cli_stage *cli_active_stage;
-static void stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
 
 int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     char msg[4096];
@@ -30,7 +29,7 @@ int pgt_cli_fail(const char *verb, const char *fmt, ...) {
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     /* a writer names the staging file it was given: the user's path instead */
-    if (cli_active_stage) stage_unname(cli_active_stage, msg, sizeof msg);
+    if (cli_active_stage) pgt_cli_stage_unname(cli_active_stage, msg, sizeof msg);
     pgt_cli_progress_silence(); /* the error is stderr's last line */
     fprintf(stderr, "pgt %s: %s\n", verb, msg);
     return PGT_EXIT_USAGE;
@@ -534,8 +533,8 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
         snprintf(s->dir[d], sizeof s->dir[0], "%s", dir);
         /* only a folder made here is removed at the end; when it cannot be made (the output's
          * folder is missing or read-only) the writer fails on the name below and says why */
+        pgt_cli_cleanup_add(dir, PGT_CLI_CLEANUP_DIR); /* first: no moment made but unregistered */
         s->made[d] = mkdir(dir, 0700) == 0;
-        if (s->made[d]) pgt_cli_cleanup_add(dir, PGT_CLI_CLEANUP_DIR);
         s->dir_count++;
     }
     char *tmp = s->tmp[s->count];
@@ -546,25 +545,35 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     return tmp;
 }
 
-/* Replaces every `from` in msg (size bytes) by `to`. */
-static void replace_all(char *msg, size_t size, const char *from, const char *to) {
-    const size_t nf = strlen(from), nt = strlen(to);
-    for (char *at = strstr(msg, from); at; at = strstr(at, from)) {
-        char rest[1024];
-        snprintf(rest, sizeof rest, "%s", at + nf);
-        const size_t room = size - (size_t)(at - msg);
-        snprintf(at, room, "%s%s", to, rest);
-        at += nt < room ? nt : room - 1u;
-    }
-}
-
-/* In a message, each staging name (and a writer's temporary name of it, pgt_tmp_name) back to
- * its output's path: what pgt_cli_fail prints while a stage holds names. */
-static void stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
-    char tmp[4400];
-    for (uint32_t k = 0; k < s->count; ++k) {
-        if (pgt_tmp_name(tmp, sizeof tmp, s->tmp[k]) == 0) replace_all(msg, size, tmp, s->path[k]);
-        replace_all(msg, size, s->tmp[k], s->path[k]);
+void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size) {
+    /* one pass: at each place the longest of the names (one staged name may begin another:
+     * -o x.ply --curves x.ply.csv), replaced in place, the rest of the message moved */
+    char tmp[PGT_CLI_STAGE_MAX][4400]; /* pgt_tmp_name of each staged name */
+    for (uint32_t k = 0; k < s->count; ++k)
+        if (pgt_tmp_name(tmp[k], sizeof tmp[k], s->tmp[k]) != 0) tmp[k][0] = '\0';
+    size_t len = strlen(msg);
+    for (size_t at = 0; at < len;) {
+        const char *to = NULL;
+        size_t nf = 0;
+        for (uint32_t k = 0; k < s->count; ++k)
+            for (int t = 0; t < 2; ++t) {
+                const char *from = t ? tmp[k] : s->tmp[k];
+                const size_t n = strlen(from);
+                if (n > nf && !strncmp(msg + at, from, n)) nf = n, to = s->path[k];
+            }
+        if (!to) {
+            ++at;
+            continue;
+        }
+        size_t nt = strlen(to);
+        if (at + nt >= size) nt = size - 1u - at; /* cut at the buffer's end */
+        size_t tail = len - (at + nf);
+        if (at + nt + tail >= size) tail = size - 1u - at - nt;
+        memmove(msg + at + nt, msg + at + nf, tail);
+        memcpy(msg + at, to, nt);
+        len = at + nt + tail;
+        msg[len] = '\0';
+        at += nt;
     }
 }
 
@@ -734,6 +743,14 @@ void pgt_cli_print_float(float x) {
         if (strtof(buf, NULL) == x) break;
     }
     fputs(buf, stdout);
+}
+
+void pgt_cli_skip_mesh(const char *verb, const char *name, const char *msg) {
+    const size_t n = strlen(name);
+    if (!strncmp(msg, name, n) && msg[n] == ':')
+        fprintf(stderr, "pgt %s: skipping %s\n", verb, msg);
+    else
+        fprintf(stderr, "pgt %s: skipping %s: %s\n", verb, name, msg);
 }
 
 int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out,

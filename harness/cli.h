@@ -149,6 +149,10 @@ typedef struct pgt_cli_stage {
 
 /* The name to write output `path` under (NULL when PGT_CLI_STAGE_MAX are staged already). */
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path);
+/* In msg (size bytes, NUL-terminated), each staging name and a writer's temporary name of it
+ * (pgt_tmp_name) back to its output's path, the longest name first where several begin at one
+ * place: what pgt_cli_fail prints while a stage holds names. */
+void pgt_cli_stage_unname(const pgt_cli_stage *s, char *msg, size_t size);
 /* Renames the staged files over their paths; on failure prints a one-line error for verb,
  * removes what is left staged and returns nonzero. The stage is empty afterwards. */
 int pgt_cli_stage_commit(pgt_cli_stage *s, const char *verb);
@@ -190,6 +194,10 @@ pgt_result pgt_cli_load_named(const char *name, const char *shared_dir, pgt_mesh
  * for a generated mesh or on failure) so that a later error can name a line. */
 pgt_result pgt_cli_load_named_origin(const char *name, const char *shared_dir, pgt_mesh *out,
                                      struct pgt_mesh_origin *origin, pgt_error *err);
+
+/* A benchmark's line for a mesh it skips: "pgt VERB: skipping NAME: MSG", or without "NAME: "
+ * when MSG already begins with the name (the readers and builders name their input). */
+void pgt_cli_skip_mesh(const char *verb, const char *name, const char *msg);
 
 /* Loads the mesh an atlas is built of (pgt atlas, pgt ivy): pgt_cli_load_named, then refuses a
  * mesh without UVs (`hint` ends that message) and one with repeated faces

@@ -57,9 +57,11 @@ static const struct {
     double seconds;
 } paper_rows[] = {{"Hebe", 64000, 1.0}, {"Ruins", 164000, 0.54}, {"Shack", 140000, 0.73}};
 
-static pgt_result load(const char *name, const char *shared, pgt_mesh *m, pgt_error *err) {
+static pgt_result load(const char *name, const char *shared, pgt_mesh *m, pgt_mesh_origin *origin,
+                       pgt_error *err) {
+    memset(origin, 0, sizeof *origin);
     if (!strcmp(name, "cube_sphere_64")) return pgt_gen_cube_sphere(m, 64, err);
-    return pgt_cli_load_named(name, shared, m, err);
+    return pgt_cli_load_named_origin(name, shared, m, origin, err);
 }
 
 /* Median of column `field` (an offset into pgt_atlas_stats' doubles) over the runs. */
@@ -164,9 +166,10 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
     double *scratch = malloc(sizeof(double) * repeat);
     for (uint32_t mi = 0; mi < n_meshes && runs && scratch; ++mi) {
         pgt_mesh m = {0};
+        pgt_mesh_origin origin; /* a vertex error names its line */
         pgt_error err = {0};
-        if (load(meshes[mi], shared, &m, &err) != PGT_OK) {
-            fprintf(stderr, "pgt bench: skipping %s: %s\n", meshes[mi], err.message);
+        if (load(meshes[mi], shared, &m, &origin, &err) != PGT_OK) {
+            pgt_cli_skip_mesh("bench atlas", meshes[mi], err.message);
             failures++;
             continue;
         }
@@ -175,13 +178,14 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
             o.width = o.height = res;
             o.threads = threads[ti];
             o.what = meshes[mi];
+            o.origin = &origin;
             pgt_image img = {0};
             pgt_atlas_stats st;
             int ok = 1;
             for (uint32_t r = 0; r <= repeat && ok; ++r) {
                 pgt_error_clear(&err);
                 if (pgt_atlas_build(&img, &m, &o, &st, &err) != PGT_OK) {
-                    fprintf(stderr, "pgt bench: %s: %s\n", meshes[mi], err.message);
+                    pgt_cli_skip_mesh("bench atlas", meshes[mi], err.message);
                     failures++;
                     ok = 0;
                     break;
@@ -211,6 +215,7 @@ int pgt_cmd_bench_atlas(int argc, char **argv) {
                     med_total);
         }
         pgt_mesh_destroy(&m);
+        pgt_mesh_origin_destroy(&origin);
     }
     free(runs);
     free(scratch);

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "pgt/mesh_io.h"
 #include "gen.h"
 #include "pgt/atlas_build.h"
 #include "pgt/image.h"
@@ -546,15 +547,17 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     }
     for (uint32_t mi = 0; mi < n_meshes; ++mi) {
         pgt_mesh m = {0};
+        pgt_mesh_origin origin; /* a vertex error names its line */
         pgt_error err = {0};
-        if (pgt_cli_load_named(meshes[mi], shared_dir, &m, &err) != PGT_OK) {
-            fprintf(stderr, "pgt bench march: skipping %s: %s\n", meshes[mi], err.message);
+        if (pgt_cli_load_named_origin(meshes[mi], shared_dir, &m, &origin, &err) != PGT_OK) {
+            pgt_cli_skip_mesh("bench march", meshes[mi], err.message);
             failures++;
             continue;
         }
         if (!m.uvs) {
-            fprintf(stderr, "pgt bench march: skipping %s: no UVs\n", meshes[mi]);
+            pgt_cli_skip_mesh("bench march", meshes[mi], "no UVs");
             pgt_mesh_destroy(&m);
+            pgt_mesh_origin_destroy(&origin);
             continue;
         }
         pgt_image img = {0};
@@ -562,11 +565,13 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         ao.width = ao.height = res;
         ao.threads = pgt_cli_cpu_count();
         ao.what = meshes[mi];
+        ao.origin = &origin;
         pgt_atlas_stats st;
         pgt_march_atlas a = {0};
-        if (pgt_atlas_build(&img, &m, &ao, &st, &err) != PGT_OK ||
-            pgt_march_atlas_create(&a, &img, meshes[mi], &err) != PGT_OK) {
-            fprintf(stderr, "pgt bench march: skipping %s: %s\n", meshes[mi], err.message);
+        const pgt_result built = pgt_atlas_build(&img, &m, &ao, &st, &err);
+        pgt_mesh_origin_destroy(&origin);
+        if (built != PGT_OK || pgt_march_atlas_create(&a, &img, meshes[mi], &err) != PGT_OK) {
+            pgt_cli_skip_mesh("bench march", meshes[mi], err.message);
             failures++;
             pgt_image_destroy(&img);
             pgt_mesh_destroy(&m);

@@ -193,6 +193,11 @@ h = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n
 v = struct.pack("<9f", 0, 0, 0, 1, 0, -5e18, 0, 1, 0)
 open("far.ply", "wb").write(h + v + struct.pack("<B3i", 3, 0, 1, 2))
 print(len(h) + 12)' >far_at.txt
+# the coordinates are checked before the output's size: at 12 iterations this torus's 2304 faces
+# would pass the face limit, but the message is about vertex 37 (the OFF's line 40, its y)
+awk 'NR == 40 { $2 = "-3e18" } { print }' "$work/data/noisy_torus_48x24.off" >far_torus.off
+expect subdiv_far_before_size 2 "$pgt" subdiv far_torus.off --iters 12 -o fo.obj
+one_line subdiv_far_before_size_line "^pgt subdiv: far_torus.off:40: sqrt3 input: vertex 37 (0-based): coordinate -3e+18 is beyond"
 expect subdiv_far_binary 2 "$pgt" subdiv far.ply --iters 1 -o fo.obj
 one_line subdiv_far_binary_offset "^pgt subdiv: far.ply: byte offset $(cat far_at.txt): sqrt3 input: vertex 1 (0-based)"
 expect march_not_an_atlas 2 "$pgt" march "$ico" --from 1,1 --dir 1,0 --step 1 --steps 1 -o p.csv
@@ -627,12 +632,18 @@ one_line render_camera_far_names_flag "\-\-camera .*eye's coordinate 2e+18 is be
 awk '/^v /{printf "v %.9g %.9g %.9g\n", $2 * 1e16, $3 * 1e16, $4 * 1e16; next} {print}' "$work/data/cube_sphere_8.obj" >huge.obj
 expect render_mesh_far 2 "$pgt" render huge.obj -o r.png
 one_line render_mesh_far_names_file "^pgt render: huge.obj:$(grep -n -m1 '^v ' huge.obj | cut -d: -f1): vertex 0 (0-based): coordinate .* is beyond"
+awk 'NR == 5 { $2 = "-3e15" } { print }' "$work/data/noisy_torus_48x24.off" >far_torus_r.off
+expect render_mesh_far_y 2 "$pgt" render far_torus_r.off -o r.png
+one_line render_mesh_far_y_line "^pgt render: far_torus_r.off:5: vertex 2 (0-based): coordinate -3e+15 is beyond"
 # atlas and ivy (a mesh given) name the line too, at their limit (1e18: squared distances)
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 3e18\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n' >far_at.obj
 expect atlas_far_vertex 2 "$pgt" atlas far_at.obj -o fa.exr
-one_line atlas_far_vertex_line "^pgt atlas: far_at.obj:3: vertex 2: coordinate 3e+18 is beyond +-1e+18"
+one_line atlas_far_vertex_line "^pgt atlas: far_at.obj:3: vertex 2 (0-based): coordinate 3e+18 is beyond +-1e+18"
+expect bench_atlas_far_vertex 2 "$pgt" bench atlas --quick --meshes ./far_at.obj --out res/fat.csv --threads 1 --repeat 1 --res 64
+grep -q "^pgt bench atlas: skipping ./far_at.obj:3: vertex 2 (0-based): coordinate 3e+18 is beyond" err.txt && ok bench_atlas_far_vertex_line \
+  || bad bench_atlas_far_vertex_line "$(cat err.txt)"
 expect ivy_far_vertex 2 "$pgt" ivy far_at.obj --seeds 1 -o fa.ply
-one_line ivy_far_vertex_line "^pgt ivy: far_at.obj:3: vertex 2: coordinate 3e+18 is beyond +-1e+18"
+one_line ivy_far_vertex_line "^pgt ivy: far_at.obj:3: vertex 2 (0-based): coordinate 3e+18 is beyond +-1e+18"
 # the shading does not depend on the mesh's scale (the normal's length was squared in float:
 # edges of 1e10 or 1e-13 lost their lambert term)
 for s in 1 1e10 1e-13; do

@@ -1666,11 +1666,11 @@ static void test_hostile_inputs(void) {
     bad.positions[3u * 7u + 1u] = -2e18f;
     bad.positions[3u * 9u] = 5e18f;
     CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
-    CHECK_MSG(strstr(err.message, "vertex 7: coordinate -2e+18 is beyond") != NULL, "%s",
+    CHECK_MSG(strstr(err.message, "vertex 7 (0-based): coordinate -2e+18 is beyond") != NULL, "%s",
               err.message);
     bad.positions[3u * 5u + 2u] = NAN;
     CHECK(build(&bad, 64, 1, 0, &img, &st, &err) == PGT_ERROR_INVALID_ARGUMENT);
-    CHECK_MSG(strstr(err.message, "vertex 5 has a non-finite position") != NULL, "%s",
+    CHECK_MSG(strstr(err.message, "vertex 5 (0-based) has a non-finite position") != NULL, "%s",
               err.message);
     pgt_mesh_destroy(&bad);
 

@@ -641,6 +641,22 @@ static void test_long_numbers(void) {
         CHECK_MSG(strstr(err.message, where) && strstr(err.message, "not a finite float"), "%s",
                   err.message);
     }
+    /* values read only to be skipped: an OFF face colour, a PLY property pgt does not keep */
+    static const char *const skipped[2][2] = {
+        {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 %s\n", "skip.off"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float quality\nelement face 1\nproperty list uchar int "
+         "vertex_indices\nend_header\n0 0 0 %s\n1 0 0 1\n0 1 0 1\n3 0 1 2\n",
+         "skip.ply"}};
+    for (int k = 0; k < 2; ++k) {
+        pgt_mesh m;
+        pgt_error err;
+        int n = snprintf(text, 4096, skipped[k][0], half);
+        CHECK_MSG(read_mem(&m, text, (size_t)n, skipped[k][1], &err) == PGT_OK, "%s", err.message);
+        if (err.code == PGT_OK) pgt_mesh_destroy(&m);
+        n = snprintf(text, 4096, skipped[k][0], "0.5x");
+        CHECK(read_mem(&m, text, (size_t)n, skipped[k][1], &err) == PGT_ERROR_PARSE);
+    }
     free(text);
 }
 

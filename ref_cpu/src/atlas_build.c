@@ -88,11 +88,12 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         const float c = p[j];
         if (!isfinite(c))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                                 "%s: vertex %u has a non-finite position", place, far);
-        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
-                             "%s: vertex %u: coordinate %g is beyond +-%g (squared distances in "
-                             "float would overflow; scale the mesh down)",
-                             place, far, (double)c, (double)PGT_ATLAS_MAX_COORD);
+                                 "%s: vertex %u (0-based) has a non-finite position", place, far);
+        return pgt_error_set(
+            err, PGT_ERROR_INVALID_ARGUMENT,
+            "%s: vertex %u (0-based): coordinate %g is beyond +-%g (squared distances in "
+            "float would overflow; scale the mesh down)",
+            place, far, (double)c, (double)PGT_ATLAS_MAX_COORD);
     }
     for (uint64_t i = 0; i < 3ull * mesh->face_count; ++i)
         if (mesh->indices[i] >= mesh->vertex_count)

@@ -195,8 +195,9 @@ static int parse_float_fast(const char *s, size_t n, float *out) {
 }
 
 /* s[0, n) as a C string: in stack (PGT_IO_MAX_NUMBER bytes) when it fits, else on the heap (a
- * decimal of thousands of digits is still a number: "0.000...1", 1e-40 written out). NULL when
- * out of memory; free with number_free. */
+ * decimal of thousands of digits is still a number: "0.000...1", 1e-40 written out; the readers
+ * have no line limit, so a token is as long as the file allows). NULL when out of memory; free
+ * with number_free. */
 static char *number_text(const char *s, size_t n, char *stack) {
     char *buf = n <= PGT_IO_MAX_NUMBER ? stack : malloc(n + 1);
     if (!buf) return NULL;
@@ -229,14 +230,14 @@ const char *pgt_io_float_problem(pgt_result r) {
                                           : "not a number";
 }
 
-int pgt_io_is_number(const char *s, size_t n) {
+pgt_result pgt_io_check_number(const char *s, size_t n) {
     char stack[PGT_IO_MAX_NUMBER + 1], *buf = n ? number_text(s, n, stack) : NULL;
-    if (!buf) return 0;
+    if (!buf) return n ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_PARSE;
     char *e = NULL;
     (void)strtod(buf, &e);
     const int whole = e == buf + n;
     number_free(buf, stack);
-    return whole;
+    return whole ? PGT_OK : PGT_ERROR_PARSE;
 }
 
 int pgt_io_parse_i64(const char *s, size_t n, int64_t *out) {

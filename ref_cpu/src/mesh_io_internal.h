@@ -176,8 +176,9 @@ pgt_result pgt_io_parse_float(const char *s, size_t n, float *out);
  * "too long to copy (out of memory)". */
 const char *pgt_io_float_problem(pgt_result r);
 
-/* Any number strtod accepts, including nan and inf (values we skip). */
-int pgt_io_is_number(const char *s, size_t n);
+/* Any number strtod accepts, including nan and inf (values we skip): PGT_OK, PGT_ERROR_PARSE or
+ * PGT_ERROR_OUT_OF_MEMORY (a token too long to copy; pgt_io_float_problem says which). */
+pgt_result pgt_io_check_number(const char *s, size_t n);
 
 /* A decimal integer with optional sign. 0: ok; 1: not an integer; 2: beyond +-INT64_MAX (then
  * *out is saturated to +-INT64_MAX, so range checks still reject it). */

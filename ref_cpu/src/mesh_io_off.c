@@ -230,7 +230,15 @@ pgt_result pgt_io_read_off(pgt_mesh *out, const char *data, size_t size, const c
         }
         /* Optional colour after the indices: ignored, but it must be numbers. */
         for (size_t c = 0; (n = pgt_io_token(&p, end, &tok)) > 0; ++c) {
-            if (c == OFF_MAX_FACE_COLOUR || !pgt_io_is_number(tok, n)) {
+            const pgt_result cr =
+                c == OFF_MAX_FACE_COLOUR ? PGT_ERROR_PARSE : pgt_io_check_number(tok, n);
+            if (cr == PGT_ERROR_OUT_OF_MEMORY) {
+                r = pgt_io_fail_line(err, cr, name, t.line, "face %lld: colour value '%s' is %s",
+                                     (long long)f, pgt_io_quote(tok, n, q, sizeof(q)),
+                                     pgt_io_float_problem(cr));
+                goto done;
+            }
+            if (cr != PGT_OK) {
                 r = pgt_io_fail_line(err, PGT_ERROR_PARSE, name, t.line,
                                      "face %lld: unexpected '%s' after its %lld indices (at most "
                                      "%u colour values may follow)",

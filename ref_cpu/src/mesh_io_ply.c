@@ -263,9 +263,10 @@ static pgt_result ply_skip_values(ply_in *in, ply_type type, uint64_t count, con
         char q[32];
         pgt_result r = ply_token(in, &tok, &n, what);
         if (r != PGT_OK) return r;
-        if (!pgt_io_is_number(tok, n))
-            return ply_fail(in, 0, PGT_ERROR_PARSE, "%s '%s' is not a number", what,
-                            pgt_io_quote(tok, n, q, sizeof(q)));
+        const pgt_result cr = pgt_io_check_number(tok, n);
+        if (cr != PGT_OK)
+            return ply_fail(in, 0, cr, "%s '%s' is %s", what, pgt_io_quote(tok, n, q, sizeof(q)),
+                            pgt_io_float_problem(cr));
     }
     return PGT_OK;
 }
