@@ -75,9 +75,9 @@ void pgt_io_tris_free(pgt_io_tris *t) {
     memset(t, 0, sizeof(*t));
 }
 
-pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count,
-                         const pgt_io_tris *t, int with_uvs, pgt_mesh_origin *origin, int offsets,
-                         const char *name, pgt_error *err) {
+pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count, pgt_io_tris *t,
+                         int with_uvs, pgt_mesh_origin *origin, int offsets, const char *name,
+                         pgt_error *err) {
     /* Readers check both counts against the limit before they get here. */
     pgt_result r = pgt_mesh_create(out, (uint32_t)vertex_count, (uint32_t)t->triangle_count,
                                    with_uvs, t->use_labels, err);
@@ -89,24 +89,16 @@ pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_co
     if (with_uvs && t->use_uvs)
         memcpy(out->uvs, t->uvs.data, t->triangle_count * 6 * sizeof(float));
     if (t->use_labels) memcpy(out->labels, t->labels.data, t->triangle_count * sizeof(int32_t));
-    if (origin) {
+    if (origin) { /* the places move over: no copy, no second peak */
         assert(t->use_where && t->where.len == t->triangle_count &&
                t->vertex_where.len == vertex_count);
-        origin->face = malloc(t->triangle_count * sizeof(uint64_t) + 1);
-        origin->vertex = malloc(vertex_count * sizeof(uint64_t) + 1);
-        if (!origin->face || !origin->vertex) {
-            pgt_mesh_destroy(out);
-            pgt_mesh_origin_destroy(origin);
-            return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
-                                 "%s: out of memory for the records' places", name);
-        }
-        if (t->triangle_count)
-            memcpy(origin->face, t->where.data, t->triangle_count * sizeof(uint64_t));
+        origin->face = t->where.data;
         origin->face_count = (uint32_t)t->triangle_count;
-        if (vertex_count) /* (an empty vector's data may be NULL) */
-            memcpy(origin->vertex, t->vertex_where.data, vertex_count * sizeof(uint64_t));
+        origin->vertex = t->vertex_where.data;
         origin->vertex_count = (uint32_t)vertex_count;
         origin->offsets = offsets;
+        memset(&t->where, 0, sizeof t->where);
+        memset(&t->vertex_where, 0, sizeof t->vertex_where);
     }
     return PGT_OK;
 }

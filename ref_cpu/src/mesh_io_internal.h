@@ -84,10 +84,10 @@ void pgt_io_tris_free(pgt_io_tris *t);
 
 /* Builds *out from positions (3 * vertex_count floats) and the triangles; uvs/labels are copied
  * when the builder uses them (OBJ fills uvs itself afterwards), and the triangles' and vertices'
- * records into *origin when it is not NULL (offsets: binary PLY). */
-pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count,
-                         const pgt_io_tris *t, int with_uvs, pgt_mesh_origin *origin, int offsets,
-                         const char *name, pgt_error *err);
+ * record places move from t into *origin when it is not NULL (offsets: binary PLY). */
+pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_count, pgt_io_tris *t,
+                         int with_uvs, pgt_mesh_origin *origin, int offsets, const char *name,
+                         pgt_error *err);
 
 /* ---- text: lines and tokens ---- */
 
