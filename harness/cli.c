@@ -248,6 +248,12 @@ int pgt_cli_same_file(const char *a, const char *b) {
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+/* The file-name part of path: what follows its last '/', or path itself. */
+static const char *file_name_of(const char *path) {
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
 /* The folder part of path ("." without one, "/" for a file at the root) into buf. */
 static void folder_of(const char *path, char *buf, size_t size) {
     const char *slash = strrchr(path, '/');
@@ -281,8 +287,7 @@ int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
             return pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", path,
                                 S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
         }
-        const char *slash = strrchr(path, '/');
-        if (errno == ENAMETOOLONG || strlen(slash ? slash + 1 : path) > PGT_NAME_MAX)
+        if (errno == ENAMETOOLONG || strlen(file_name_of(path)) > PGT_NAME_MAX)
             return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(ENAMETOOLONG));
         char dir[4096];
         folder_of(path, dir, sizeof dir);
@@ -360,10 +365,7 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
     }
 }
 
-const char *pgt_cli_mesh_label(const char *name) {
-    const char *slash = strrchr(name, '/');
-    return slash ? slash + 1 : name;
-}
+const char *pgt_cli_mesh_label(const char *name) { return file_name_of(name); }
 
 void pgt_cli_comment_text(FILE *f, const char *s) {
     for (; *s; ++s) fputc((unsigned char)*s < 0x20u || *s == 0x7F ? '?' : *s, f);
@@ -474,14 +476,12 @@ int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, cons
                                 "--quick without %s would replace %s, the committed table, "
                                 "with a smoke run's numbers: give %s FILE",
                                 flag[k], def[k], flag[k]);
-    for (int k = 0; k < n; ++k) { /* pgt_cli_bench_close's OUT.failed must fit too */
-        const char *slash = strrchr(out[k], '/');
-        if (strlen(slash ? slash + 1 : out[k]) + strlen(".failed") > PGT_NAME_MAX)
+    for (int k = 0; k < n; ++k) /* pgt_cli_bench_close's OUT.failed must fit too */
+        if (strlen(file_name_of(out[k])) + strlen(".failed") > PGT_NAME_MAX)
             return pgt_cli_fail(verb,
                                 "%s %s: a file name of at most %d bytes (a run with failures "
                                 "writes its rows to NAME.failed beside it)",
                                 flag[k], out[k], PGT_NAME_MAX - (int)strlen(".failed"));
-    }
     enum { MAX_OUTS = 8 };
     if (n > MAX_OUTS || pgt_cli_refuse_overwrite(verb, NULL, 0, out, n))
         return n > MAX_OUTS ? pgt_cli_fail(verb, "%d outputs (at most %d)", n, (int)MAX_OUTS)
@@ -523,7 +523,6 @@ int pgt_cli_bench_close(FILE *f, const char *tmp, const char *path, const char *
 const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     if (s->count == PGT_CLI_STAGE_MAX) return NULL;
     /* the staging folder inside path's folder */
-    const char *slash = strrchr(path, '/');
     char folder[4096], dir[4200];
     folder_of(path, folder, sizeof folder);
     snprintf(dir, sizeof dir, "%s/.pgt-stage.%ld", folder, (long)getpid());
@@ -538,7 +537,7 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
         s->dir_count++;
     }
     char *tmp = s->tmp[s->count];
-    snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, slash ? slash + 1 : path);
+    snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, file_name_of(path));
     pgt_cli_cleanup_add(tmp, PGT_CLI_CLEANUP_FILE);
     s->path[s->count++] = path;
     cli_active_stage = s;

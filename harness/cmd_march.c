@@ -12,11 +12,11 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "pgt/mesh_io.h"
 #include "gen.h"
 #include "pgt/atlas_build.h"
 #include "pgt/image.h"
 #include "pgt/march.h"
+#include "pgt/mesh_io.h"
 #include "png_io.h"
 #include "progress_line.h"
 

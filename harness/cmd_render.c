@@ -258,9 +258,9 @@ int pgt_cmd_render(int argc, char **argv) {
         free(meshes[i].labels), meshes[i].labels = NULL;
         if (pgt_render_pad_positions(&meshes[i], &err) != PGT_OK) {
             char place[4200];
-            pgt_mesh_origin_vertex_where(&origin, args[i].path,
-                                         pgt_mesh_far_vertex(&meshes[i], PGT_RENDER_MAX_COORD),
-                                         place, sizeof place);
+            pgt_mesh_origin_vertex_where(
+                &origin, args[i].path, pgt_mesh_far_vertex(&meshes[i], PGT_RENDER_MAX_COORD, NULL),
+                place, sizeof place);
             pgt_mesh_origin_destroy(&origin);
             pgt_cli_fail(verb, "%s: %s", place, err.message);
             goto done;

@@ -51,7 +51,7 @@ static const char *subdiv_usage =
 static const char *error_place(const pgt_mesh *in, const pgt_mesh_origin *origin, const char *path,
                                pgt_result code, char *buf, size_t size) {
     uint32_t k = 0;
-    const int far = code == PGT_ERROR_LIMIT ? pgt_sqrt3_far_coordinate(in, &k) : 0;
+    const int far = code == PGT_ERROR_LIMIT ? pgt_sqrt3_far_coordinate(in, &k, NULL) : 0;
     if (far == 1) return pgt_mesh_origin_vertex_where(origin, path, k, buf, size);
     if (far == 2) return pgt_mesh_origin_where(origin, path, k, buf, size);
     if (code != PGT_ERROR_NON_MANIFOLD && code != PGT_ERROR_DEGENERATE) return path;

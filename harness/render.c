@@ -143,15 +143,13 @@ void pgt_render_auto_camera(const pgt_render_mesh *meshes, uint32_t count, doubl
 /* PGT_ERROR_INVALID_ARGUMENT for a coordinate beyond PGT_RENDER_MAX_COORD (or not finite);
  * the message starts with prefix ("" or "render: mesh 2: "). */
 static pgt_result check_coordinates(const pgt_mesh *mesh, const char *prefix, pgt_error *err) {
-    const uint32_t v = pgt_mesh_far_vertex(mesh, PGT_RENDER_MAX_COORD);
+    float c = 0.0f;
+    const uint32_t v = pgt_mesh_far_vertex(mesh, PGT_RENDER_MAX_COORD, &c);
     if (v == PGT_NONE) return PGT_OK;
-    const float *p = mesh->positions + 3u * (size_t)v;
-    int j = 0; /* the coordinate that is beyond */
-    while (j < 2 && fabsf(p[j]) <= PGT_RENDER_MAX_COORD) ++j;
     return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                          "%svertex %u (0-based): coordinate %g is beyond +-%g (Embree's rays must "
                          "start within 1.8e18; scale the mesh down)",
-                         prefix, v, (double)p[j], (double)PGT_RENDER_MAX_COORD);
+                         prefix, v, (double)c, (double)PGT_RENDER_MAX_COORD);
 }
 
 pgt_result pgt_render_pad_positions(pgt_mesh *mesh, pgt_error *err) {

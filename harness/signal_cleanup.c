@@ -64,7 +64,15 @@ static void on_signal(int sig) {
     errno = saved;
 }
 
-static int is_handled(int sig);
+static const int handled[3] = {SIGINT, SIGTERM, SIGHUP};
+static int handler_set[3];
+
+/* One of the three (not handler_set, which is written after the handler is in place). */
+static int is_handled(int sig) {
+    for (int k = 0; k < 3; ++k)
+        if (handled[k] == sig) return 1;
+    return 0;
+}
 
 static void *wait_for_signal(void *arg) {
     (void)arg;
@@ -92,15 +100,6 @@ static void *wait_for_signal(void *arg) {
  * SA_RESTART: the other threads' reads and writes go on. SIGINT, SIGTERM and SIGHUP, but not
  * one the process was started ignoring (a shell starts a background job with SIGINT ignored,
  * nohup with SIGHUP): that one stays ignored. */
-static const int handled[3] = {SIGINT, SIGTERM, SIGHUP};
-static int handler_set[3];
-
-/* One of the three (not handler_set, which is written after the handler is in place). */
-static int is_handled(int sig) {
-    for (int k = 0; k < 3; ++k)
-        if (handled[k] == sig) return 1;
-    return 0;
-}
 
 /* fd moved to a descriptor >= 3 with close-on-exec: a process started with stdin, stdout or
  * stderr closed would otherwise get the pipe as one of them (what pgt printed would be read as

@@ -78,14 +78,11 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "--dead-end: %g is not a number of texel sizes in (0, %g]",
                              (double)dead_end, (double)PGT_ATLAS_MAX_DEAD_END);
-    const uint32_t far = pgt_mesh_far_vertex(mesh, PGT_ATLAS_MAX_COORD);
+    float c = 0.0f; /* the coordinate that is beyond */
+    const uint32_t far = pgt_mesh_far_vertex(mesh, PGT_ATLAS_MAX_COORD, &c);
     if (far != PGT_NONE) {
         char place[4200];
         pgt_mesh_origin_vertex_where(opt->origin, what, far, place, sizeof place);
-        const float *p = mesh->positions + 3u * (size_t)far;
-        int j = 0; /* the coordinate that is beyond */
-        while (j < 2 && fabsf(p[j]) <= PGT_ATLAS_MAX_COORD) ++j;
-        const float c = p[j];
         if (!isfinite(c))
             return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                                  "%s: vertex %u (0-based) has a non-finite position", place, far);

@@ -76,9 +76,12 @@ static void face_key(const uint32_t *t, uint32_t k[3]) {
     }
 }
 
-uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit) {
+uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit, float *coord) {
     for (size_t i = 0; i < 3u * (size_t)mesh->vertex_count; ++i)
-        if (!(fabsf(mesh->positions[i]) <= limit)) return (uint32_t)(i / 3u);
+        if (!(fabsf(mesh->positions[i]) <= limit)) {
+            if (coord) *coord = mesh->positions[i];
+            return (uint32_t)(i / 3u);
+        }
     return PGT_NONE;
 }
 

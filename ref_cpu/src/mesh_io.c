@@ -186,34 +186,35 @@ static int parse_float_fast(const char *s, size_t n, float *out) {
 #endif
 }
 
-/* s[0, n) as a C string: in stack (PGT_IO_MAX_NUMBER bytes) when it fits, else on the heap (a
- * decimal of thousands of digits is still a number: "0.000...1", 1e-40 written out; the readers
- * have no line limit, so a token is as long as the file allows). NULL when out of memory; free
- * with number_free. */
-static char *number_text(const char *s, size_t n, char *stack) {
-    char *buf = n <= PGT_IO_MAX_NUMBER ? stack : malloc(n + 1);
-    if (!buf) return NULL;
+/* s[0, n) read whole by strtof into *out (finite), or by strtod when out is NULL (any number,
+ * nan and inf included). The C string strto* needs is a copy: on the stack (PGT_IO_MAX_NUMBER
+ * bytes) when it fits, else on the heap (a decimal of thousands of digits is still a number:
+ * "0.000...1", 1e-40 written out; the readers have no line limit, so a token is as long as the
+ * file allows). */
+static pgt_result scan_number(const char *s, size_t n, float *out) {
+    if (n == 0) return PGT_ERROR_PARSE;
+    char stack[PGT_IO_MAX_NUMBER + 1], *buf = n <= PGT_IO_MAX_NUMBER ? stack : malloc(n + 1);
+    if (!buf) return PGT_ERROR_OUT_OF_MEMORY;
     memcpy(buf, s, n);
     buf[n] = '\0';
-    return buf;
-}
-
-static void number_free(char *buf, const char *stack) {
+    char *e = NULL;
+    float f = 0.0f;
+    if (out)
+        f = strtof(buf, &e);
+    else
+        (void)strtod(buf, &e);
+    const int whole = e == buf + n;
     if (buf != stack) free(buf);
+    if (!whole) return PGT_ERROR_PARSE;
+    if (!out) return PGT_OK;
+    if (!isfinite(f)) return PGT_ERROR_NOT_FINITE;
+    *out = f;
+    return PGT_OK;
 }
 
 pgt_result pgt_io_parse_float(const char *s, size_t n, float *out) {
     if (n > 0 && parse_float_fast(s, n, out)) return PGT_OK;
-    char stack[PGT_IO_MAX_NUMBER + 1], *buf = n ? number_text(s, n, stack) : NULL;
-    if (!buf) return n ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_PARSE;
-    char *e = NULL;
-    float f = strtof(buf, &e);
-    const int whole = e == buf + n;
-    number_free(buf, stack);
-    if (!whole) return PGT_ERROR_PARSE;
-    if (!isfinite(f)) return PGT_ERROR_NOT_FINITE;
-    *out = f;
-    return PGT_OK;
+    return scan_number(s, n, out);
 }
 
 const char *pgt_io_float_problem(pgt_result r) {
@@ -222,15 +223,7 @@ const char *pgt_io_float_problem(pgt_result r) {
                                           : "not a number";
 }
 
-pgt_result pgt_io_check_number(const char *s, size_t n) {
-    char stack[PGT_IO_MAX_NUMBER + 1], *buf = n ? number_text(s, n, stack) : NULL;
-    if (!buf) return n ? PGT_ERROR_OUT_OF_MEMORY : PGT_ERROR_PARSE;
-    char *e = NULL;
-    (void)strtod(buf, &e);
-    const int whole = e == buf + n;
-    number_free(buf, stack);
-    return whole ? PGT_OK : PGT_ERROR_PARSE;
-}
+pgt_result pgt_io_check_number(const char *s, size_t n) { return scan_number(s, n, NULL); }
 
 int pgt_io_parse_i64(const char *s, size_t n, int64_t *out) {
     size_t i = 0;

@@ -820,30 +820,32 @@ pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_er
     /* the coordinates first: a PGT_ERROR_LIMIT with pgt_sqrt3_far_coordinate nonzero is then
      * always about that element (pgt subdiv names its line) */
     uint32_t k = 0;
-    const int far = pgt_sqrt3_far_coordinate(in, &k);
-    if (far) {
-        const float *c = far == 1 ? in->positions + 3u * (size_t)k : in->uvs + 6u * (size_t)k;
-        int j = 0;
-        while (fabsf(c[j]) <= PGT_SQRT3_MAX_COORD) ++j;
-        return far == 1 ? pgt_error_set(err, PGT_ERROR_LIMIT,
-                                        "sqrt3 input: vertex %u (0-based): coordinate %g is "
-                                        "beyond +-%g (sums of neighbours in float would overflow)",
-                                        k, (double)c[j], (double)PGT_SQRT3_MAX_COORD)
-                        : pgt_error_set(err, PGT_ERROR_LIMIT,
-                                        "sqrt3 input: face %u (0-based): UV %g is beyond +-%g", k,
-                                        (double)c[j], (double)PGT_SQRT3_MAX_COORD);
-    }
+    float c = 0.0f;
+    const int far = pgt_sqrt3_far_coordinate(in, &k, &c);
+    if (far == 1)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "sqrt3 input: vertex %u (0-based): coordinate %g is beyond +-%g (sums "
+                             "of neighbours in float would overflow)",
+                             k, (double)c, (double)PGT_SQRT3_MAX_COORD);
+    if (far == 2)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "sqrt3 input: face %u (0-based): UV %g is beyond +-%g", k, (double)c,
+                             (double)PGT_SQRT3_MAX_COORD);
     if (iterations > PGT_SQRT3_MAX_ITERATIONS)
         return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)", iterations,
                              PGT_SQRT3_MAX_ITERATIONS);
     return pgt_sqrt3_bound(in->vertex_count, in->face_count, 0, iterations, NULL, NULL, err);
 }
 
-int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index) {
-    if ((*index = pgt_mesh_far_vertex(in, PGT_SQRT3_MAX_COORD)) != PGT_NONE) return 1;
-    for (size_t i = 0; in->uvs && i < 6u * (size_t)in->face_count; ++i)
-        if (!(fabsf(in->uvs[i]) <= PGT_SQRT3_MAX_COORD)) return *index = (uint32_t)(i / 6u), 2;
-    return 0;
+int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index, float *value) {
+    float v = 0.0f;
+    int far = 0;
+    if ((*index = pgt_mesh_far_vertex(in, PGT_SQRT3_MAX_COORD, &v)) != PGT_NONE) far = 1;
+    for (size_t i = 0; !far && in->uvs && i < 6u * (size_t)in->face_count; ++i)
+        if (!(fabsf(in->uvs[i]) <= PGT_SQRT3_MAX_COORD))
+            *index = (uint32_t)(i / 6u), v = in->uvs[i], far = 2;
+    if (value) *value = v;
+    return far;
 }
 
 pgt_result pgt_sqrt3_subdivide(pgt_mesh *out, const pgt_mesh *in_mesh,

@@ -46,8 +46,9 @@ pgt_result pgt_mesh_copy(pgt_mesh *out, const pgt_mesh *src, pgt_error *err);
 uint32_t pgt_mesh_repeated_faces(const pgt_mesh *mesh, uint32_t *out_first, uint32_t *out_face);
 
 /* The first vertex with a coordinate beyond +-limit or not finite (a consumer's float range:
- * sums, squares or ray origins that would overflow), or PGT_NONE. */
-uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit);
+ * sums, squares or ray origins that would overflow), or PGT_NONE; that coordinate in *coord when
+ * coord is not NULL. */
+uint32_t pgt_mesh_far_vertex(const pgt_mesh *mesh, float limit, float *coord);
 
 /* Axis-aligned bounding box diagonal length, in double (0 for an empty mesh). */
 double pgt_mesh_bbox_diagonal(const pgt_mesh *mesh);

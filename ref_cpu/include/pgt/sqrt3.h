@@ -60,8 +60,8 @@ pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_er
 /* The first vertex with a coordinate beyond +-PGT_SQRT3_MAX_COORD (NaN included), and when there
  * is none the first face with such a UV: the element pgt_sqrt3_check_input's coordinate error
  * is about, so that a caller can say where it is in the input file. Returns 1 (vertex), 2 (face,
- * its UVs) or 0 (none), the index in *index. */
-int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index);
+ * its UVs) or 0 (none), the index in *index and the value in *value (value may be NULL). */
+int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index, float *value);
 
 /* Upper bound of the output sizes for k iterations (exact when no face is protected and the mesh
  * has no border). Returns PGT_ERROR_LIMIT when they would exceed PGT_MESH_MAX_ELEMENTS. */
