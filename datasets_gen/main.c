@@ -45,7 +45,18 @@ static const char usage[] =
     "--mesh FILE.obj renders it. (An OUT_DIR called tower: ./tower.)\n"
     "\n"
     "Exit status: 0 on success, 1 when a dataset cannot be generated or written, 2 on a bad\n"
-    "command line or a city's grammar that cannot be read or compiled.\n";
+    "command line, a city's or tower's -o that cannot be written (checked before generating) or\n"
+    "a city's grammar that cannot be read or compiled.\n";
+
+/* Before generating: 0 when out can be written as far as can be told now (pgt_output_check),
+ * else one line "pgt_datasets VERB: cannot write OUT: why" and exit status 2, as pgt's verbs
+ * (a city of millions of buildings does not end on a typo in -o). */
+static int check_output(const char *verb, const char *out) {
+    char why[128];
+    if (!pgt_output_check(out, why, sizeof why)) return 0;
+    fprintf(stderr, "pgt_datasets: %s: cannot write %s: %s\n", verb, out, why);
+    return 2;
+}
 
 /* One line on stderr, naming the flag or value; exit status 2. */
 static int bad_usage(const char *fmt, const char *arg) {
@@ -139,6 +150,7 @@ static int city_main(int argc, char **argv) {
                                : "city: N '%s' is not a whole number in [1, 4194304]",
                              num[k]);
     }
+    if (check_output("city", out)) return 2;
     pgt_facade_file f;
     pgt_error err;
     pgt_error_clear(&err);
@@ -191,6 +203,7 @@ static int tower_main(int argc, char **argv) {
     if (!(v[4] >= 0.0 && v[4] <= 4294967295.0 && v[4] == (double)(uint32_t)v[4] && v[5] >= 0.0 &&
           v[5] <= 4294967295.0 && v[5] == (double)(uint32_t)v[5]))
         return bad_usage("%s", "tower: SEGMENTS and ROWS are whole numbers");
+    if (check_output("tower", out)) return 2;
     pgt_facade_quads m;
     pgt_error err;
     pgt_error_clear(&err);

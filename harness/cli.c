@@ -248,31 +248,14 @@ int pgt_cli_same_file(const char *a, const char *b) {
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-/* The file-name part of path: what follows its last '/', or path itself. */
-static const char *file_name_of(const char *path) {
-    const char *slash = strrchr(path, '/');
-    return slash ? slash + 1 : path;
-}
-
-/* The folder part of path ("." without one, "/" for a file at the root) into buf. */
-static void folder_of(const char *path, char *buf, size_t size) {
-    const char *slash = strrchr(path, '/');
-    if (!slash)
-        snprintf(buf, size, ".");
-    else if (slash == path)
-        snprintf(buf, size, "/");
-    else
-        snprintf(buf, size, "%.*s", (int)(slash - path), path);
-}
-
 int pgt_cli_same_output(const char *a, const char *b) {
     if (!strcmp(a, b) || pgt_cli_same_file(a, b)) return 1;
     /* files that do not exist yet ("o.ply" and "./o.ply"): one name in one folder */
     const char *na = strrchr(a, '/'), *nb = strrchr(b, '/');
     if (strcmp(na ? na + 1 : a, nb ? nb + 1 : b)) return 0;
     char da[4096], db[4096];
-    folder_of(a, da, sizeof da);
-    folder_of(b, db, sizeof db);
+    if (pgt_path_folder(a, da, sizeof da) || pgt_path_folder(b, db, sizeof db))
+        return 0; /* a folder name past PATH_MAX: neither can be written */
     return pgt_cli_same_file(da, db);
 }
 
@@ -281,24 +264,9 @@ int pgt_cli_check_outputs(const char *verb, const char *const *paths, int n) {
         const char *path = paths[k];
         if (!path) continue;
         pgt_cli_cleanup_add(path, PGT_CLI_CLEANUP_TMP_OF); /* its writer's PATH.tmp.PID */
-        struct stat st;
-        if (stat(path, &st) == 0) {
-            if (S_ISREG(st.st_mode)) continue;
-            return pgt_cli_fail(verb, "cannot write %s: it is %s, not a regular file", path,
-                                S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
-        }
-        if (errno == ENAMETOOLONG || strlen(file_name_of(path)) > PGT_NAME_MAX)
-            return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(ENAMETOOLONG));
-        char dir[4096];
-        folder_of(path, dir, sizeof dir);
-        int e = 0;
-        if (stat(dir, &st) != 0)
-            e = errno;
-        else if (!S_ISDIR(st.st_mode))
-            e = ENOTDIR;
-        else if (access(dir, W_OK | X_OK) != 0)
-            e = errno;
-        if (e) return pgt_cli_fail(verb, "cannot write %s: %s", path, strerror(e));
+        char why[128];
+        if (pgt_output_check(path, why, sizeof why))
+            return pgt_cli_fail(verb, "cannot write %s: %s", path, why);
     }
     return 0;
 }
@@ -365,7 +333,7 @@ int pgt_cli_name_list(const char *verb, const char *flag, const char *text, char
     }
 }
 
-const char *pgt_cli_mesh_label(const char *name) { return file_name_of(name); }
+const char *pgt_cli_mesh_label(const char *name) { return pgt_path_name(name); }
 
 void pgt_cli_comment_text(FILE *f, const char *s) {
     for (; *s; ++s) fputc((unsigned char)*s < 0x20u || *s == 0x7F ? '?' : *s, f);
@@ -477,7 +445,7 @@ int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, cons
                                 "with a smoke run's numbers: give %s FILE",
                                 flag[k], def[k], flag[k]);
     for (int k = 0; k < n; ++k) /* pgt_cli_bench_close's OUT.failed must fit too */
-        if (strlen(file_name_of(out[k])) + strlen(".failed") > PGT_NAME_MAX)
+        if (strlen(pgt_path_name(out[k])) + strlen(".failed") > PGT_NAME_MAX)
             return pgt_cli_fail(verb,
                                 "%s %s: a file name of at most %d bytes (a run with failures "
                                 "writes its rows to NAME.failed beside it)",
@@ -493,8 +461,8 @@ int pgt_cli_quick_outs(const char *verb, int quick, const char *const *out, cons
     int made[MAX_OUTS] = {0}, may[MAX_OUTS] = {0};
     struct stat st;
     for (int k = 0; k < n; ++k) {
-        folder_of(out[k], dir[k], sizeof dir[k]);
-        folder_of(dir[k], parent, sizeof parent);
+        pgt_path_folder(out[k], dir[k], sizeof dir[k]);
+        pgt_path_folder(dir[k], parent, sizeof parent);
         may[k] = stat(parent, &st) == 0 && S_ISDIR(st.st_mode);
     }
     for (int k = 0; k < n; ++k) made[k] = may[k] && mkdir(dir[k], 0777) == 0;
@@ -524,7 +492,7 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
     if (s->count == PGT_CLI_STAGE_MAX) return NULL;
     /* the staging folder inside path's folder */
     char folder[4096], dir[4200];
-    folder_of(path, folder, sizeof folder);
+    pgt_path_folder(path, folder, sizeof folder);
     snprintf(dir, sizeof dir, "%s/.pgt-stage.%ld", folder, (long)getpid());
     uint32_t d = 0;
     while (d < s->dir_count && strcmp(s->dir[d], dir)) ++d;
@@ -537,7 +505,7 @@ const char *pgt_cli_stage_add(pgt_cli_stage *s, const char *path) {
         s->dir_count++;
     }
     char *tmp = s->tmp[s->count];
-    snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, file_name_of(path));
+    snprintf(tmp, sizeof s->tmp[0], "%s/%s", dir, pgt_path_name(path));
     pgt_cli_cleanup_add(tmp, PGT_CLI_CLEANUP_FILE);
     s->path[s->count++] = path;
     cli_active_stage = s;

@@ -1092,6 +1092,15 @@ one_line facade_mesh_and_city_one_line "exactly one of"
 expect datasets_city_zero 2 "$gen" city 0 5 -o gen0.scene
 expect datasets_city_missing_grammar 2 "$gen" city 2 1 -o gm.scene --grammar nothere.grammar
 one_line datasets_city_missing_grammar_one_line "nothere.grammar: cannot open"
+# an -o that cannot be written is refused before the city or tower is generated (exit 2; the
+# write at the end would fail with 1), naming the path and why
+expect datasets_city_out_missing_folder 2 "$gen" city 1000 1 -o nofolder/c.scene
+one_line datasets_city_out_missing_folder_one_line "^pgt_datasets: city: cannot write nofolder/c.scene: No such file or directory$"
+expect datasets_city_out_long_name 2 "$gen" city 2 1 -o "$(printf 'c%.0s' $(seq 250)).scene"
+one_line datasets_city_out_long_name_one_line "cannot write c*\.scene: File name too long$"
+mkdir -p tower_dir.obj
+expect datasets_tower_out_folder 2 "$gen" tower -o tower_dir.obj
+one_line datasets_tower_out_folder_one_line "^pgt_datasets: tower: cannot write tower_dir.obj: it is a folder, not a regular file$"
 # outputs never replace inputs or each other: a grammar the scene names, -o as --save-scene,
 # bench facade's --out as its --grammar; pgt_datasets tower writes through a temporary file
 printf 'grammar g own_fc.grammar\nbuilding g 0 19.2 7 E6D2B4 : 0 0 0 12 22 12 22 0\n' >own_fc.scene

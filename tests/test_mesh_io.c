@@ -1121,6 +1121,49 @@ static void test_tmp_name(void) {
     scratch_remove();
 }
 
+/* The path helpers every output check uses: a path's file name and folder (the folder of a
+ * bare name is ".", of a file at the root "/"; one past the buffer is refused, not cut), and
+ * pgt_output_check's answers for a new name, an existing file, a folder, a missing folder, a
+ * file in the folder's place and a name over PGT_NAME_MAX bytes. */
+static void test_output_check(void) {
+    char dir[16], why[128], path[600];
+    CHECK(!strcmp(pgt_path_name("a/b/c.ply"), "c.ply") && !strcmp(pgt_path_name("c.ply"), "c.ply"));
+    CHECK(!strcmp(pgt_path_name("a/"), ""));
+    CHECK(pgt_path_folder("a/b/c.ply", dir, sizeof dir) == 0 && !strcmp(dir, "a/b"));
+    CHECK(pgt_path_folder("c.ply", dir, sizeof dir) == 0 && !strcmp(dir, "."));
+    CHECK(pgt_path_folder("/c.ply", dir, sizeof dir) == 0 && !strcmp(dir, "/"));
+    CHECK(pgt_path_folder("0123456789abcde/c", dir, sizeof dir) == 0 &&
+          !strcmp(dir, "0123456789abcde"));
+    CHECK(pgt_path_folder("0123456789abcdef/c", dir, sizeof dir) == -1 && !strcmp(dir, "."));
+
+    scratch_make_for("outcheck");
+    REQUIRE(scratch[0]);
+    snprintf(path, sizeof path, "%s/new.ply", scratch);
+    CHECK(pgt_output_check(path, why, sizeof why) == 0); /* a new name in a folder */
+    FILE *f = fopen(path, "wb");
+    REQUIRE(f);
+    fclose(f);
+    CHECK(pgt_output_check(path, why, sizeof why) == 0); /* an existing file */
+    CHECK(pgt_output_check(scratch, why, sizeof why) != 0 &&
+          !strcmp(why, "it is a folder, not a regular file"));
+    CHECK(pgt_output_check("/dev/null", why, sizeof why) != 0 &&
+          !strcmp(why, "it is a device, fifo or socket, not a regular file"));
+    snprintf(path, sizeof path, "%s/missing/new.ply", scratch);
+    CHECK(pgt_output_check(path, why, sizeof why) != 0 && !strcmp(why, strerror(ENOENT)));
+    snprintf(path, sizeof path, "%s/new.ply/x.ply", scratch); /* a file where a folder should be */
+    CHECK(pgt_output_check(path, why, sizeof why) != 0 && !strcmp(why, strerror(ENOTDIR)));
+    char name[PGT_NAME_MAX + 2];
+    memset(name, 'n', sizeof name - 1);
+    name[PGT_NAME_MAX] = '\0'; /* the longest name: writable */
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    CHECK(pgt_output_check(path, why, sizeof why) == 0);
+    name[PGT_NAME_MAX] = 'n', name[PGT_NAME_MAX + 1] = '\0'; /* one byte more */
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    CHECK(pgt_output_check(path, why, sizeof why) != 0 && !strcmp(why, strerror(ENAMETOOLONG)));
+    CHECK(scratch_count() == 1); /* the check writes nothing */
+    scratch_remove();
+}
+
 /* pgt_mesh_repeated_faces: a rotation of a face's corners repeats it, the other orientation does
  * not; the first repeat is reported with the face it repeats; the shared meshes have none. */
 static void test_repeated_faces(void) {
@@ -1161,6 +1204,7 @@ static void test_repeated_faces(void) {
 static const pgt_test_case cases[] = {
     {"replace_file", test_replace_file},
     {"tmp_name", test_tmp_name},
+    {"output_check", test_output_check},
     {"long_numbers", test_long_numbers},
     {"repeated_faces", test_repeated_faces},
     {"malformed_corpus", test_malformed_corpus},

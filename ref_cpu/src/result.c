@@ -94,3 +94,48 @@ int pgt_replace_file(const char *tmp, const char *path) {
     }
     return rename(tmp, path) == 0 ? 0 : -1;
 }
+
+const char *pgt_path_name(const char *path) {
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+int pgt_path_folder(const char *path, char *buf, size_t size) {
+    const char *slash = strrchr(path, '/');
+    const size_t len = !slash ? 1u : slash == path ? 1u : (size_t)(slash - path);
+    if (len >= size) {
+        snprintf(buf, size, ".");
+        return -1;
+    }
+    if (!slash)
+        snprintf(buf, size, ".");
+    else if (slash == path)
+        snprintf(buf, size, "/");
+    else
+        snprintf(buf, size, "%.*s", (int)len, path);
+    return 0;
+}
+
+int pgt_output_check(const char *path, char *why, size_t why_size) {
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (S_ISREG(st.st_mode)) return 0;
+        snprintf(why, why_size, "it is %s, not a regular file",
+                 S_ISDIR(st.st_mode) ? "a folder" : "a device, fifo or socket");
+        return 1;
+    }
+    int e = 0;
+    char dir[4096];
+    if (errno == ENAMETOOLONG || strlen(pgt_path_name(path)) > PGT_NAME_MAX ||
+        pgt_path_folder(path, dir, sizeof dir) != 0)
+        e = ENAMETOOLONG; /* also on a file system that answers ENOENT for a name it cannot hold */
+    else if (stat(dir, &st) != 0)
+        e = errno;
+    else if (!S_ISDIR(st.st_mode))
+        e = ENOTDIR;
+    else if (access(dir, W_OK | X_OK) != 0)
+        e = errno;
+    if (!e) return 0;
+    snprintf(why, why_size, "%s", strerror(e));
+    return 1;
+}

@@ -75,6 +75,20 @@ int pgt_tmp_name(char *tmp, size_t tmp_size, const char *path);
  * root, the device would be gone), so every pgt writer refuses such a path. */
 int pgt_replace_file(const char *tmp, const char *path);
 
+/* The file-name part of path: what follows its last '/', or path itself. */
+const char *pgt_path_name(const char *path);
+
+/* The folder part of path into buf: "." without a '/', "/" for a file at the root. Returns 0, or
+ * -1 (buf holding ".") when it does not fit size. */
+int pgt_path_folder(const char *path, char *buf, size_t size);
+
+/* Before a long run: 0 when path can be written as far as can be told now (an existing regular
+ * file, or a new name of at most PGT_NAME_MAX bytes in an existing folder this process may write
+ * to); else nonzero with the reason in why ("it is a folder, not a regular file", or strerror's
+ * words, those the final write would use). The final write still checks: the file system may
+ * change meanwhile. */
+int pgt_output_check(const char *path, char *why, size_t why_size);
+
 #ifdef __cplusplus
 }
 #endif
