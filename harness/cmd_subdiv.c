@@ -47,13 +47,14 @@ static const char *subdiv_usage =
  * degenerate face, the line (binary PLY: the byte offset) of the face record the error is about,
  * found again with the reference's adjacency (only on this error path; every backend checks its
  * input with pgt_adjacency_require_manifold); for a coordinate beyond the limit, the vertex's
- * record (or the face's, for a UV); else the path alone. */
+ * record (for a UV the record it was read from: an OBJ vt line, a PLY vertex's u v, or the face's
+ * texcoord list); else the path alone. */
 static const char *error_place(const pgt_mesh *in, const pgt_mesh_origin *origin, const char *path,
                                pgt_result code, char *buf, size_t size) {
     uint32_t k = 0;
     const int far = code == PGT_ERROR_LIMIT ? pgt_sqrt3_far_coordinate(in, &k, NULL) : 0;
     if (far == 1) return pgt_mesh_origin_vertex_where(origin, path, k, buf, size);
-    if (far == 2) return pgt_mesh_origin_where(origin, path, k, buf, size);
+    if (far == 2) return pgt_mesh_origin_uv_where(origin, in, path, k, buf, size);
     if (code != PGT_ERROR_NON_MANIFOLD && code != PGT_ERROR_DEGENERATE) return path;
     pgt_adjacency adj;
     if (pgt_adjacency_build(&adj, in, 1, NULL) != PGT_OK) return path;
@@ -177,15 +178,20 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     opts.protected_faces = prot;
     opts.progress = prog.progress; /* the reference's iterations (a GPU backend: the stage) */
     pgt_cli_progress_stagef(prog.progress, "sqrt(3) on %s", pgt_backend_kind_name(kind));
-    if (kind != PGT_BACKEND_CPU && in.uvs)
+    /* what the backend subdivides: a GPU backend gets the mesh without its UVs, which it would
+     * drop, so that a UV it never reads (one beyond the coordinate limit) is not refused */
+    pgt_mesh view = in;
+    if (kind != PGT_BACKEND_CPU && in.uvs) {
         fprintf(stderr,
                 "pgt subdiv: note: the %s backend does not carry UVs; %s is written "
                 "without them (use --backend cpu to keep them)\n",
                 pgt_backend_kind_name(kind), out_path);
-    if (pgt_backend_sqrt3(&backend, &out, &in, &opts, NULL, &err) != PGT_OK) {
+        view.uvs = NULL;
+    }
+    if (pgt_backend_sqrt3(&backend, &out, &view, &opts, NULL, &err) != PGT_OK) {
         char place[4200];
         pgt_cli_fail(verb, "%s: %s",
-                     error_place(&in, &origin, in_path, err.code, place, sizeof(place)),
+                     error_place(&view, &origin, in_path, err.code, place, sizeof(place)),
                      err.message);
         goto done;
     }

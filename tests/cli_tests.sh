@@ -179,14 +179,27 @@ one_line quad_mesh_folder_one_line "dir_in.obj: read error: Is a directory"
   for i in $(seq 1 9); do echo "3 0 $i $((i + 1))"; done; } > bowtie19.off
 expect bowtie_valence_19 2 "$pgt" subdiv bowtie19.off --iters 1 -o bt.off
 one_line bowtie_valence_19_one_line "bowtie19.off:25: sqrt3 input: non-manifold vertex 0"
-# a coordinate beyond the subdivision's limit (1e18) names the vertex's line, or the face's for a
-# UV, or in binary PLY the vertex record's byte offset (header bytes + 12 per vertex)
+# a coordinate beyond the subdivision's limit (1e18) names the vertex's line, or for a UV the
+# line it was read from (OBJ vt, a PLY vertex's u v, a PLY face's texcoord list), or in binary PLY
+# the record's byte offset (header bytes + 12 per vertex)
 printf 'v 0 0 0\nv 1 0 0\n# c\nv 0 1 2e18\nf 1 2 3\n' >far.obj
 expect subdiv_far_vertex 2 "$pgt" subdiv far.obj --iters 1 -o fo.obj
 one_line subdiv_far_vertex_line "^pgt subdiv: far.obj:4: sqrt3 input: vertex 2 (0-based): coordinate 2e+18 is beyond"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 3e18 1\n\nf 1/1 2/2 3/3\n' >far_uv.obj
 expect subdiv_far_uv 2 "$pgt" subdiv far_uv.obj --iters 1 -o fo.obj
-one_line subdiv_far_uv_line "^pgt subdiv: far_uv.obj:8: sqrt3 input: face 0 (0-based): UV 3e+18 is beyond"
+one_line subdiv_far_uv_line "^pgt subdiv: far_uv.obj:6: sqrt3 input: face 0 (0-based), corner 2: UV 3e+18 is beyond"
+# the GPU backends do not carry UVs (a note says so): a UV they never read is not refused
+for b in cl vk; do
+  expect subdiv_far_uv_$b 0 "$pgt" subdiv far_uv.obj --iters 1 -o fo_$b.obj --backend $b
+  one_line subdiv_far_uv_${b}_note "note: the $b backend does not carry UVs"
+  grep -q '^vt' fo_$b.obj && bad subdiv_far_uv_${b}_no_vt "$(cat fo_$b.obj)" || ok subdiv_far_uv_${b}_no_vt
+done
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n1 1 0 1 -4e18\n3 0 1 2\n3 1 3 2\n' >far_uv_vertex.ply
+expect subdiv_far_uv_ply_vertex 2 "$pgt" subdiv far_uv_vertex.ply --iters 1 -o fo.obj
+one_line subdiv_far_uv_ply_vertex_line "^pgt subdiv: far_uv_vertex.ply:15: sqrt3 input: face 1 (0-based), corner 1: UV -4e+18 is beyond"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 6 0 0 1 0 0 1\n3 0 2 1 6 0 0 0 1 5e18 0\n' >far_uv_face.ply
+expect subdiv_far_uv_ply_face 2 "$pgt" subdiv far_uv_face.ply --iters 1 -o fo.obj
+one_line subdiv_far_uv_ply_face_line "^pgt subdiv: far_uv_face.ply:15: sqrt3 input: face 1 (0-based), corner 2: UV 5e+18 is beyond"
 /usr/bin/python3 -c '
 import struct, sys
 h = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"

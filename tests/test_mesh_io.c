@@ -778,15 +778,22 @@ static void test_ply_groups_binary(void) {
 
 /* ---- where each face came from ---- */
 
+/* lines[0..n) into text, each ended by '\n'; returns the length. */
+static size_t join_lines(char *text, size_t size, const char *const *lines, size_t n) {
+    size_t len = 0;
+    for (size_t i = 0; i < n && len < size; ++i)
+        len += (size_t)snprintf(text + len, size - len, "%s\n", lines[i]);
+    CHECK(len < size); /* the fixture fits */
+    return len < size ? len : size - 1;
+}
+
 /* Reads text (lines[0..n), each ended by '\n') with an origin and checks that triangle t names
  * the line of face record k where faces[k] = (1-based line, corners): the lines are counted
  * here as the text is built, and a polygon of c corners is c - 2 triangles in file order. */
 static void check_text_origin(const char *name, const char *const *lines, size_t n,
                               const size_t (*faces)[2], size_t nf, const size_t *vertex_lines) {
     char text[1024];
-    size_t len = 0;
-    for (size_t i = 0; i < n; ++i)
-        len += (size_t)snprintf(text + len, sizeof(text) - len, "%s\n", lines[i]);
+    const size_t len = join_lines(text, sizeof text, lines, n);
     pgt_mesh m;
     pgt_mesh_origin o;
     memset(&o, 0xAB, sizeof(o));
@@ -817,6 +824,84 @@ static void check_text_origin(const char *name, const char *const *lines, size_t
     pgt_mesh_origin_destroy(&o);
     CHECK(o.vertex == NULL && o.vertex_count == 0);
     pgt_mesh_destroy(&m);
+}
+
+/* Reads text (lines[0..n), each ended by '\n') with an origin and checks that every corner's UV
+ * is named by the line it was read from, want[corner] (1-based, worked out by hand below). */
+static void check_uv_origin(const char *name, const char *const *lines, size_t n,
+                            const size_t *want, size_t corners) {
+    char text[1024];
+    const size_t len = join_lines(text, sizeof text, lines, n);
+    pgt_mesh m;
+    pgt_mesh_origin o;
+    const pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, &o};
+    pgt_error err = {0};
+    const pgt_result r = pgt_mesh_read_memory(&m, text, len, name, &ro, &err);
+    CHECK_MSG(r == PGT_OK, "%s: %s", name, err.message);
+    if (r != PGT_OK) return;
+    CHECK_MSG(m.uvs && 3u * m.face_count == corners, "%s: %u faces", name, m.face_count);
+    for (uint32_t c = 0; c < corners && c < 3u * m.face_count; ++c) {
+        char where[64], expect[64];
+        snprintf(expect, sizeof expect, "%s:%zu", name, want[c]);
+        pgt_mesh_origin_uv_where(&o, &m, name, c, where, sizeof where);
+        CHECK_MSG(!strcmp(where, expect), "%s: corner %u: %s, want %s", name, c, where, expect);
+    }
+    char where[64]; /* past the faces, or no origin: the name alone */
+    CHECK(!strcmp(pgt_mesh_origin_uv_where(&o, &m, name, (uint32_t)corners, where, sizeof where),
+                  name));
+    CHECK(!strcmp(pgt_mesh_origin_uv_where(NULL, &m, name, 0, where, sizeof where), name));
+    pgt_mesh_origin_destroy(&o);
+    CHECK(o.uv == NULL && o.uv_index == NULL && o.uv_count == 0 && !o.uv_of_vertex);
+    pgt_mesh_destroy(&m);
+}
+
+/* The record each corner's UV comes from: an OBJ vt line (shared between faces, in any order,
+ * through a fan-triangulated quad), a PLY vertex's u v (the vertex's line), a PLY face's
+ * texcoord list (the face's line). */
+static void test_uv_origins(void) {
+    static const char *const obj[] = {
+        "v 0 0 0", "v 1 0 0", "vt 0 0", "v 1 1 0",           "vt 1 0",       "# c",
+        "vt 1 1",  "v 0 1 0", "vt 0 1", "f 1/1 2/2 3/3 4/4", "f 4/1 2/3 3/2"};
+    /* vt 1..4 are lines 3, 5, 7, 9; the quad is (1 2 3), (1 3 4) */
+    static const size_t obj_want[9] = {3, 5, 7, 3, 7, 9, 3, 7, 5};
+    check_uv_origin("u.obj", obj, 11, obj_want, 9);
+    static const char *const ply_vertex[] = {"ply",
+                                             "format ascii 1.0",
+                                             "element vertex 4",
+                                             "property float x",
+                                             "property float y",
+                                             "property float z",
+                                             "property float u",
+                                             "property float v",
+                                             "element face 2",
+                                             "property list uchar int vertex_indices",
+                                             "end_header",
+                                             "0 0 0 0 0",
+                                             "1 0 0 1 0",
+                                             "1 1 0 1 1",
+                                             "0 1 0 0 1",
+                                             "4 0 1 2 3",
+                                             "3 3 1 0"};
+    /* vertices 0..3 on lines 12..15; triangles (0 1 2), (0 2 3), (3 1 0) */
+    static const size_t ply_vertex_want[9] = {12, 13, 14, 12, 14, 15, 15, 13, 12};
+    check_uv_origin("uv.ply", ply_vertex, 17, ply_vertex_want, 9);
+    static const char *const ply_face[] = {"ply",
+                                           "format ascii 1.0",
+                                           "element vertex 3",
+                                           "property float x",
+                                           "property float y",
+                                           "property float z",
+                                           "element face 2",
+                                           "property list uchar int vertex_indices",
+                                           "property list uchar float texcoord",
+                                           "end_header",
+                                           "0 0 0",
+                                           "1 0 0",
+                                           "0 1 0",
+                                           "3 0 1 2 6 0 0 1 0 0 1",
+                                           "3 0 2 1 6 0 0 0 1 1 0"};
+    static const size_t ply_face_want[6] = {14, 14, 14, 15, 15, 15};
+    check_uv_origin("uf.ply", ply_face, 15, ply_face_want, 6);
 }
 
 static void test_origins(void) {
@@ -1204,6 +1289,7 @@ static void test_repeated_faces(void) {
 static const pgt_test_case cases[] = {
     {"replace_file", test_replace_file},
     {"tmp_name", test_tmp_name},
+    {"uv_origins", test_uv_origins},
     {"output_check", test_output_check},
     {"long_numbers", test_long_numbers},
     {"repeated_faces", test_repeated_faces},

@@ -107,6 +107,8 @@ void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
     if (!origin) return;
     free(origin->face);
     free(origin->vertex);
+    free(origin->uv);
+    free(origin->uv_index);
     memset(origin, 0, sizeof(*origin));
 }
 
@@ -134,6 +136,18 @@ const char *pgt_mesh_origin_vertex_where(const pgt_mesh_origin *origin, const ch
     return origin ? record_where(origin->vertex, origin->vertex_count, origin->offsets, name,
                                  vertex, buf, size)
                   : record_where(NULL, 0, 0, name, 0, buf, size);
+}
+
+const char *pgt_mesh_origin_uv_where(const pgt_mesh_origin *origin, const pgt_mesh *mesh,
+                                     const char *name, uint32_t corner, char *buf, size_t size) {
+    const uint32_t face = corner / 3u;
+    if (!origin || face >= origin->face_count) return record_where(NULL, 0, 0, name, 0, buf, size);
+    if (origin->uv && origin->uv_index)
+        return record_where(origin->uv, origin->uv_count, origin->offsets, name,
+                            origin->uv_index[corner], buf, size);
+    if (origin->uv_of_vertex && mesh && face < mesh->face_count)
+        return pgt_mesh_origin_vertex_where(origin, name, mesh->indices[corner], buf, size);
+    return pgt_mesh_origin_where(origin, name, face, buf, size);
 }
 
 void pgt_io_note_fan(const char *name, size_t polygons, int quiet) {

@@ -130,10 +130,12 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
     tris.use_where = origin != NULL;
     tris.use_aux = 1;
     pgt_io_u32vec poly_v = {0}, poly_vt = {0};
+    pgt_io_u64vec vt_where = {0}; /* each vt record's line, for origin */
     size_t faces = 0, faces_with_vt = 0;
     obj_counts seen = {0, 0, 0};
     if (!positions || !vts ||
-        (tris.use_where && pgt_io_u64_reserve(&tris.vertex_where, total.v + 1) != 0)) {
+        (tris.use_where && (pgt_io_u64_reserve(&tris.vertex_where, total.v + 1) != 0 ||
+                            pgt_io_u64_reserve(&vt_where, total.vt + 1) != 0))) {
         r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu vertices", name,
                           total.v);
         goto done;
@@ -155,6 +157,7 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
             assert(seen.vt < total.vt);
             r = obj_numbers(p, end, 1, 3, 2, vts + 2 * seen.vt, "vt", name, t.line, err);
             if (r != PGT_OK) goto done;
+            if (tris.use_where) vt_where.data[vt_where.len++] = t.line;
             seen.vt++;
         } else if (pgt_io_token_is(tok, n, "vn")) {
             float unused[1];
@@ -252,11 +255,19 @@ pgt_result pgt_io_read_obj(pgt_mesh *out, const char *data, size_t size, const c
             out->uvs[2 * c] = vts[2 * (size_t)tris.aux.data[c]];
             out->uvs[2 * c + 1] = vts[2 * (size_t)tris.aux.data[c] + 1];
         }
+    if (r == PGT_OK && with_uvs && origin) { /* the vt places move over, as the others */
+        origin->uv = vt_where.data;
+        origin->uv_count = (uint32_t)vt_where.len;
+        origin->uv_index = tris.aux.data;
+        memset(&vt_where, 0, sizeof vt_where);
+        memset(&tris.aux, 0, sizeof tris.aux);
+    }
 done:
     free(positions);
     free(vts);
     free(poly_v.data);
     free(poly_vt.data);
+    free(vt_where.data);
     pgt_io_tris_free(&tris);
     return r;
 }

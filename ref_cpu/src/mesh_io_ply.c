@@ -737,7 +737,8 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
                                size - in.pos);
         goto done;
     }
-    if (!tris.use_uvs && h->vertex_uv) { /* each corner takes its vertex's coordinates */
+    const int vertex_uvs = !tris.use_uvs && h->vertex_uv;
+    if (vertex_uvs) { /* each corner takes its vertex's coordinates */
         tris.use_uvs = 1;
         if (pgt_io_f32_reserve(&tris.uvs, 6 * tris.triangle_count + 1) != 0) {
             r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
@@ -751,6 +752,7 @@ pgt_result pgt_io_read_ply(pgt_mesh *out, const char *data, size_t size, const c
     }
     pgt_io_note_fan(name, tris.polygon_count, quiet);
     r = pgt_io_finish(out, positions, (size_t)V, &tris, tris.use_uvs, origin, h->binary, name, err);
+    if (r == PGT_OK && origin) origin->uv_of_vertex = vertex_uvs;
 done:
     free(positions);
     free(vertex_uv);

@@ -829,8 +829,8 @@ pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_er
                              k, (double)c, (double)PGT_SQRT3_MAX_COORD);
     if (far == 2)
         return pgt_error_set(err, PGT_ERROR_LIMIT,
-                             "sqrt3 input: face %u (0-based): UV %g is beyond +-%g", k, (double)c,
-                             (double)PGT_SQRT3_MAX_COORD);
+                             "sqrt3 input: face %u (0-based), corner %u: UV %g is beyond +-%g",
+                             k / 3u, k % 3u, (double)c, (double)PGT_SQRT3_MAX_COORD);
     if (iterations > PGT_SQRT3_MAX_ITERATIONS)
         return pgt_error_set(err, PGT_ERROR_LIMIT, "sqrt3: %u iterations (at most %u)", iterations,
                              PGT_SQRT3_MAX_ITERATIONS);
@@ -843,7 +843,7 @@ int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index, float *value) 
     if ((*index = pgt_mesh_far_vertex(in, PGT_SQRT3_MAX_COORD, &v)) != PGT_NONE) far = 1;
     for (size_t i = 0; !far && in->uvs && i < 6u * (size_t)in->face_count; ++i)
         if (!(fabsf(in->uvs[i]) <= PGT_SQRT3_MAX_COORD))
-            *index = (uint32_t)(i / 6u), v = in->uvs[i], far = 2;
+            *index = (uint32_t)(i / 2u), v = in->uvs[i], far = 2;
     if (value) *value = v;
     return far;
 }

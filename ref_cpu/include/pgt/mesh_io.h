@@ -43,6 +43,14 @@ typedef struct pgt_mesh_origin {
     int offsets;           /* nonzero: face[] and vertex[] hold byte offsets (binary PLY) */
     uint64_t *vertex;      /* vertex_count entries, as face[] */
     uint32_t vertex_count; /* the mesh's vertex_count */
+    /* Where each corner's UV comes from (pgt_mesh_origin_uv_where): an OBJ `vt` line (uv[] has
+     * one line per vt record, uv_index[] 3 per face: the corner's vt record), a PLY vertex's
+     * `u v` (uv_of_vertex: its vertex's record), or else the face's record (a PLY texcoord
+     * list). */
+    uint64_t *uv;       /* uv_count entries, or NULL */
+    uint32_t uv_count;  /* the OBJ's vt records */
+    uint32_t *uv_index; /* 3 * face_count entries when uv is not NULL */
+    int uv_of_vertex;   /* nonzero: a corner's UV is its vertex's (PLY u v) */
 } pgt_mesh_origin;
 
 typedef struct pgt_mesh_read_options {
@@ -64,6 +72,11 @@ const char *pgt_mesh_origin_where(const pgt_mesh_origin *origin, const char *nam
 /* pgt_mesh_origin_where of vertex `vertex`'s record. */
 const char *pgt_mesh_origin_vertex_where(const pgt_mesh_origin *origin, const char *name,
                                          uint32_t vertex, char *buf, size_t size);
+
+/* pgt_mesh_origin_where of the record corner `corner`'s UV was read from (the corner of face
+ * corner / 3 at corner % 3 in mesh, the mesh the origin was read with). */
+const char *pgt_mesh_origin_uv_where(const pgt_mesh_origin *origin, const pgt_mesh *mesh,
+                                     const char *name, uint32_t corner, char *buf, size_t size);
 
 typedef struct pgt_mesh_write_options {
     pgt_mesh_format format; /* 0: from the extension */

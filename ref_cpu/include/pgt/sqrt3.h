@@ -53,14 +53,15 @@ typedef struct pgt_sqrt3_options {
 
 /* The checks of an input that every backend makes before it builds the adjacency, in this
  * order: arrays present, coordinates within +-PGT_SQRT3_MAX_COORD (PGT_ERROR_LIMIT naming the
- * vertex, or the face of a UV), iterations at most PGT_SQRT3_MAX_ITERATIONS, output sizes within
- * bounds (pgt_sqrt3_bound). */
+ * vertex, or the face and corner of a UV), iterations at most PGT_SQRT3_MAX_ITERATIONS, output
+ * sizes within bounds (pgt_sqrt3_bound). */
 pgt_result pgt_sqrt3_check_input(const pgt_mesh *in, uint32_t iterations, pgt_error *err);
 
 /* The first vertex with a coordinate beyond +-PGT_SQRT3_MAX_COORD (NaN included), and when there
- * is none the first face with such a UV: the element pgt_sqrt3_check_input's coordinate error
- * is about, so that a caller can say where it is in the input file. Returns 1 (vertex), 2 (face,
- * its UVs) or 0 (none), the index in *index and the value in *value (value may be NULL). */
+ * is none the first corner with such a UV: the element pgt_sqrt3_check_input's coordinate error
+ * is about, so that a caller can say where it is in the input file. Returns 1 (vertex), 2
+ * (corner: face *index / 3, its corner *index % 3) or 0 (none), the index in *index and the
+ * value in *value (value may be NULL). */
 int pgt_sqrt3_far_coordinate(const pgt_mesh *in, uint32_t *index, float *value);
 
 /* Upper bound of the output sizes for k iterations (exact when no face is protected and the mesh
