@@ -875,6 +875,26 @@ static void test_malformed_corpus(void) {
     CHECK_MSG(on_disk == files, "%d image files on disk, %d in MANIFEST", on_disk, files);
 }
 
+/* Two channels of one name: OpenEXRCore drops the list ("'channels' attribute not found");
+ * pgt's header scan names the channel, from a file and from memory. */
+static void test_exr_duplicate_channel(void) {
+    char path[512];
+    snprintf(path, sizeof(path), "%s/malformed_images/exr_duplicate_channel.exr",
+             PGT_TEST_DATA_DIR);
+    pgt_image img;
+    pgt_error err = {0};
+    CHECK(pgt_image_read_exr(&img, path, &err) == PGT_ERROR_PARSE);
+    char want[600];
+    snprintf(want, sizeof want, "%s: two channels named 'R'", path);
+    CHECK_MSG(!strcmp(err.message, want), "%s", err.message);
+    size_t size = 0;
+    unsigned char *data = load_file(path, &size);
+    REQUIRE(data != NULL);
+    CHECK(read_mem(&img, data, size, "dup.exr", &err) == PGT_ERROR_PARSE);
+    CHECK_MSG(!strcmp(err.message, "dup.exr: two channels named 'R'"), "%s", err.message);
+    free(data);
+}
+
 /* Tiles may be larger than the image (OpenEXRCore clips them): a tile's pixel count in 32 bits
  * (2^31 here) wrapped the parallel decode's weights, and threads 1 and 2 read zeros or half of
  * the image (tests/data/valid_images, written by make_corpus.py: pixel y holds y % 7 + 1). */
@@ -1340,6 +1360,7 @@ static const pgt_test_case cases[] = {
     {"exr_garbage_and_mutations", test_exr_garbage_and_mutations},
     {"exr_threads_damaged", test_exr_threads_damaged},
     {"malformed_corpus", test_malformed_corpus},
+    {"exr_duplicate_channel", test_exr_duplicate_channel},
     {"tiles_larger_than_image", test_tiles_larger_than_image},
     {"one_part_multipart", test_one_part_multipart},
     {"png_round_trip", test_png_round_trip},

@@ -288,19 +288,42 @@ static int scan_byte(scan_cursor *c, unsigned char *out) {
     return 1;
 }
 
-/* A NUL-terminated name of at most 255 characters. 1: read (*len its length), 0: the file ended,
- * -1: a read error, -2: malformed (too long). */
-static int scan_name(scan_cursor *c, size_t *len) {
+/* A NUL-terminated name of at most 255 characters, copied to out (256 bytes) when out is not
+ * NULL. 1: read (*len its length), 0: the file ended, -1: a read error, -2: malformed (too
+ * long). */
+static int scan_name(scan_cursor *c, size_t *len, char *out) {
     for (size_t n = 0; n < 256; ++n) {
         unsigned char b = 0;
         int got = scan_byte(c, &b);
         if (got <= 0) return got;
+        if (out) out[n] = (char)b;
         if (b == 0) {
             *len = n;
             return 1;
         }
     }
     return -2;
+}
+
+/* The first name that a channel list (a chlist value of size bytes at c->pos: entries of a name
+ * and 16 bytes, ended by an empty name) holds twice, into dup (256 bytes); 1 when there is one,
+ * else 0 (also when the list is malformed or longer than pgt reads: the library or the layout
+ * check says so). OpenEXRCore drops such a list and reports "'channels' attribute not found". */
+static int scan_duplicate_channel(scan_cursor *c, int32_t size, char *dup) {
+    enum { MAX_NAMES = PGT_IMAGE_MAX_CHANNELS + 1 }; /* one more than pgt reads: refused anyway */
+    char(*names)[256] = malloc(MAX_NAMES * sizeof *names);
+    if (!names) return 0;
+    const uint64_t end = c->pos + (uint64_t)size;
+    int found = 0;
+    for (int n = 0; n < MAX_NAMES && !found && c->pos < end; ++n) {
+        size_t len = 0;
+        if (scan_name(c, &len, names[n]) != 1 || len == 0 || c->pos + 16u > end) break;
+        for (int k = 0; k < n && !found; ++k)
+            if (!strcmp(names[k], names[n])) found = 1, memcpy(dup, names[n], len + 1);
+        c->pos += 16u; /* pixel type, pLinear, reserved, x and y sampling */
+    }
+    free(names);
+    return found;
 }
 
 /* Sets *header_end to the offset just past the headers, or 0 when they look malformed (the
@@ -323,7 +346,8 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipa
     c.pos = 8;
     for (int part = 0, attr = 0;;) {
         size_t len = 0;
-        int got = scan_name(&c, &len); /* an attribute's name, or the NUL that ends a header */
+        char attr_name[256], type_name[256];
+        int got = scan_name(&c, &len, attr_name); /* an attribute's name, or a header's end */
         if (got == 1 && len == 0) {
             if (!multipart || attr == 0) {
                 *header_end = c.pos;
@@ -333,12 +357,18 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipa
             attr = 0;
             continue;
         }
-        if (got == 1) got = scan_name(&c, &len); /* its type */
+        if (got == 1) got = scan_name(&c, &len, type_name); /* its type */
         unsigned char size[4];
         for (int i = 0; i < 4 && got == 1; ++i) got = scan_byte(&c, &size[i]);
         if (got == 1 && le_i32(size) < 0) got = -2;
         if (got == 1) {
-            c.pos += (uint64_t)le_i32(size); /* its value */
+            const uint64_t value = c.pos;
+            char dup[256];
+            if (!strcmp(attr_name, "channels") && !strcmp(type_name, "chlist") &&
+                scan_duplicate_channel(&c, le_i32(size), dup))
+                return pgt_error_set(err, PGT_ERROR_PARSE, "%s: two channels named '%s'", s->name,
+                                     dup);
+            c.pos = value + (uint64_t)le_i32(size); /* past its value */
             if (c.pos > s->size) got = 0;
         }
         if (got == 0)

@@ -224,6 +224,10 @@ def corpus():
          header_only_exr(two, (-2000000000, -5, 2000000000, 5))),
         ("exr_no_channels.exr", "parse", header_only_exr([], (0, 0, 0, 0))),
         ("exr_bad_pixel_type.exr", "parse", header_only_exr([("R", 7, 1, 1)], (0, 0, 0, 0))),
+        # two channels of one name (OpenEXRCore drops the list and says "'channels' attribute
+        # not found"; pgt's header scan names the channel)
+        ("exr_duplicate_channel.exr", "parse",
+         header_only_exr([("R", FLOAT, 1, 1), ("R", FLOAT, 1, 1)], (0, 0, 0, 0))),
         ("exr_bad_compression.exr", "parse", header_only_exr(two, (0, 0, 0, 0), compression=42)),
         ("exr_uncompressed_size.exr", "parse", scanline_exr(height=1, chunk_data=b"\0" * 36)),
         ("exr_version_3.exr", "parse", MAGIC + struct.pack("<I", 3) + valid[8:]),
