@@ -745,5 +745,6 @@ int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint
                             "the same order (%u such faces): their charts would lie at one place",
                             place, face, first, n);
     }
+    pgt_mesh_origin_keep_vertices(origin); /* the build names vertices only */
     return 0;
 }

@@ -203,7 +203,8 @@ void pgt_cli_skip_mesh(const char *verb, const char *name, const char *msg);
  * mesh without UVs (`hint` ends that message) and one with repeated faces
  * (pgt_mesh_repeated_faces: their charts lie at one place in 3D, and every pointer search
  * tests them all; 150,000 copies of one triangle, a 2 MB OBJ, ran for minutes). origin (may be
- * NULL) gets the records' places (pgt_cli_load_named_origin) for pgt_atlas_options.origin. 0,
+ * NULL) gets the vertices' places (pgt_cli_load_named_origin, then
+ * pgt_mesh_origin_keep_vertices: the build names vertices only) for pgt_atlas_options.origin. 0,
  * or PGT_EXIT_USAGE after one error line (*out and *origin then zeroed). */
 int pgt_cli_load_atlas_mesh(const char *verb, const char *path, const char *hint, pgt_mesh *out,
                             struct pgt_mesh_origin *origin);

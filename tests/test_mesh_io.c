@@ -850,6 +850,12 @@ static void check_uv_origin(const char *name, const char *const *lines, size_t n
     CHECK(!strcmp(pgt_mesh_origin_uv_where(&o, &m, name, (uint32_t)corners, where, sizeof where),
                   name));
     CHECK(!strcmp(pgt_mesh_origin_uv_where(NULL, &m, name, 0, where, sizeof where), name));
+    /* keeping the vertices' places only: a UV or face is then named by the file alone */
+    const uint32_t vertices = o.vertex_count;
+    pgt_mesh_origin_keep_vertices(&o);
+    CHECK(!strcmp(pgt_mesh_origin_uv_where(&o, &m, name, 0, where, sizeof where), name));
+    CHECK(!strcmp(pgt_mesh_origin_where(&o, name, 0, where, sizeof where), name));
+    CHECK(o.vertex && o.vertex_count == vertices && o.face == NULL && o.face_count == 0);
     pgt_mesh_origin_destroy(&o);
     CHECK(o.uv == NULL && o.uv_index == NULL && o.uv_count == 0 && !o.uv_of_vertex);
     pgt_mesh_destroy(&m);

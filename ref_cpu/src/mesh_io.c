@@ -112,6 +112,15 @@ void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
     memset(origin, 0, sizeof(*origin));
 }
 
+void pgt_mesh_origin_keep_vertices(pgt_mesh_origin *origin) {
+    if (!origin) return;
+    free(origin->face);
+    free(origin->uv);
+    free(origin->uv_index);
+    origin->face = NULL, origin->face_count = 0;
+    origin->uv = NULL, origin->uv_index = NULL, origin->uv_count = 0, origin->uv_of_vertex = 0;
+}
+
 /* "NAME:LINE", "NAME: byte offset N", or NAME when the record is not known. */
 static const char *record_where(const uint64_t *place, uint32_t count, int offsets,
                                 const char *name, uint32_t k, char *buf, size_t size) {

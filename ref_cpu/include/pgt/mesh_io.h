@@ -60,8 +60,13 @@ typedef struct pgt_mesh_read_options {
                                 zeroed on failure */
 } pgt_mesh_read_options;
 
-/* Frees the array and zeroes the struct; NULL or a zeroed origin is a no-op. */
+/* Frees the arrays and zeroes the struct; NULL or a zeroed origin is a no-op. */
 void pgt_mesh_origin_destroy(pgt_mesh_origin *origin);
+
+/* Frees the faces' and UVs' places and keeps the vertices': for a caller that has checked the
+ * faces and holds the origin through a long build only to name a vertex (atlas, ivy). Face and
+ * UV places are then named by the file name alone. NULL is a no-op. */
+void pgt_mesh_origin_keep_vertices(pgt_mesh_origin *origin);
 
 /* Writes where face `face` comes from as the readers' messages name places: "NAME:LINE" or
  * "NAME: byte offset N", or NAME alone when origin is NULL or does not cover the face. Returns
