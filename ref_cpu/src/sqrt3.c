@@ -301,25 +301,42 @@ static void s3_uv_map(const float ga[2], const float gb[2], const float fa[2], c
  * on one side) would otherwise throw the point far across the atlas (seen on spot.obj). */
 #define S3_SEAM_MAX_STRETCH 3.0
 
+/* Twice the signed area of UV triangle (p, q, r). */
+static double s3_uv_turn(const float p[2], const float q[2], const float r[2]) {
+    return ((double)q[0] - p[0]) * ((double)r[1] - p[1]) -
+           ((double)q[1] - p[1]) * ((double)r[0] - p[0]);
+}
+
+/* The triangles emitted with z keep the face's orientation: (a, z, q), and (b, q, z) too when
+ * both_sides. */
+static int s3_uv_unfolded(const float fa[2], const float fb[2], const float q[2], double orient,
+                          int both_sides, const float z[2]) {
+    return s3_uv_turn(fa, z, q) * orient > 0.0 &&
+           (!both_sides || s3_uv_turn(fb, q, z) * orient > 0.0);
+}
+
 /* z is the neighbour's new point carried into this chart across seam (fa, fb); q is this face's
- * new point; the triangle emitted is (a, z, q) with a at fa, and orient is the sign of this
- * face's UV area. z must lie beyond the seam, on the other side from q, no farther than
- * S3_SEAM_MAX_STRETCH times q's distance, and (a, z, q) must keep the face's orientation; else z
- * becomes q's mirror image across the seam. */
-static void s3_uv_seam_guard(const float fa[2], const float fb[2], const float q[2], double orient,
-                             float z[2]) {
+ * new point; the triangles emitted with z are (a, z, q) with a at fa and, when both lie in this
+ * chart (both_sides: s3_uv_tent), (b, q, z) with b at fb; orient is the sign of this face's UV
+ * area. z must lie beyond the seam, on the other side from q, no farther than
+ * S3_SEAM_MAX_STRETCH times q's distance, and those triangles must keep the face's orientation;
+ * else z becomes q's mirror image across the seam. Returns nonzero when the triangles with the
+ * final z keep the orientation (the mirror image may not: q's foot off the seam edge). */
+static int s3_uv_seam_guard(const float fa[2], const float fb[2], const float q[2], double orient,
+                            int both_sides, float z[2]) {
     double ex = (double)fb[0] - fa[0], ey = (double)fb[1] - fa[1], e2 = ex * ex + ey * ey;
-    if (e2 == 0.0) return;
+    if (e2 == 0.0) return s3_uv_unfolded(fa, fb, q, orient, both_sides, z);
     /* signed distances (times |e|) from the seam line */
     double sq = ex * ((double)q[1] - fa[1]) - ey * ((double)q[0] - fa[0]);
     double sz = ex * ((double)z[1] - fa[1]) - ey * ((double)z[0] - fa[0]);
-    double turn = ((double)z[0] - fa[0]) * ((double)q[1] - fa[1]) -
-                  ((double)z[1] - fa[1]) * ((double)q[0] - fa[0]); /* area of (a, z, q) x2 */
-    if (sq * sz < 0.0 && fabs(sz) <= S3_SEAM_MAX_STRETCH * fabs(sq) && turn * orient > 0.0) return;
+    if (sq * sz < 0.0 && fabs(sz) <= S3_SEAM_MAX_STRETCH * fabs(sq) &&
+        s3_uv_unfolded(fa, fb, q, orient, both_sides, z))
+        return 1;
     double px = (double)q[0] - fa[0], py = (double)q[1] - fa[1];
     double t = 2.0 * (px * ex + py * ey) / e2;
     z[0] = (float)(fa[0] + (t * ex - px));
     z[1] = (float)(fa[1] + (t * ey - py));
+    return s3_uv_unfolded(fa, fb, q, orient, both_sides, z);
 }
 
 /* ---- pass 3: old vertices ------------------------------------------------------------------ */
@@ -582,6 +599,53 @@ static S3_HOT s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
     return nb;
 }
 
+/* Edges of face f that are chart seams (a neighbour whose corners disagree on the edge's UVs). */
+static uint32_t s3_uv_seams(const s3_level *in, uint32_t f) {
+    uint32_t n = 0;
+    for (uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+        const uint32_t o = in->opp[h];
+        n += o != PGT_NONE &&
+             (!s3_uv_equal(in->uv, h, s3_next(o)) || !s3_uv_equal(in->uv, s3_next(h), o));
+    }
+    return n;
+}
+
+/* The UV of Q(opp(h)) carried into face(h)'s chart across the seam at h (s3_uv_map, then
+ * s3_uv_seam_guard with face(h)'s point): computed from h's side only, so that both triangles
+ * that use it get the same bits. Returns s3_uv_seam_guard's answer. */
+static int s3_uv_carry(const s3_step *s, uint32_t h, int both_sides, float out[2]) {
+    const s3_level *in = s->in;
+    const uint32_t o = in->opp[h];
+    float ga[2], gb[2], fa[2], fb[2], uq[2];
+    s3_uv_Q(s, o, out);
+    s3_uv_Q(s, h, uq);
+    s3_uv_get(in, s3_next(o), ga);
+    s3_uv_get(in, o, gb);
+    s3_uv_get(in, h, fa);
+    s3_uv_get(in, s3_next(h), fb);
+    const double af = s3_uv_area2(in->uv, h / 3);
+    const int mirror = (af > 0.0) != (s3_uv_area2(in->uv, o / 3) > 0.0);
+    s3_uv_map(ga, gb, fa, fb, mirror, out);
+    return s3_uv_seam_guard(fa, fb, uq, af, both_sides, out);
+}
+
+/* A flipped seam edge between two faces that are both split at their centroids gives two
+ * triangles that straddle the seam, (a, Q(o), Q(h)) and (b, Q(h), Q(o)); both go into the chart of
+ * one face, the one of lower index, so that the seam becomes the tent a - Q - b through the other
+ * face's point, each triangle next to it having one seam edge. (One triangle per face, in its
+ * face's chart, makes a zigzag whose teeth have two seam edges each: at the next iteration every
+ * tooth left a one-triangle chart, and the cube-sphere's 6 charts became 222 at k = 2, spot's 13
+ * became 3005 at k = 3.) Not where the carried point would fold one of the two triangles over
+ * even as its mirror image: that edge keeps one triangle per face. The answer is the same from
+ * either side. Returns nonzero when h's edge is such a tent; *keeps is then the half-edge (h or o)
+ * whose face keeps both triangles, and *carried the other face's point in its chart. */
+static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps, float carried[2]) {
+    if (s3_kind(s, h / 3) != KIND_CENTROID || s3_kind(s, o / 3) != KIND_CENTROID) return 0;
+    const uint32_t nh = s3_uv_seams(s->in, h / 3), no = s3_uv_seams(s->in, o / 3);
+    *keeps = nh > no ? h : nh < no ? o : h / 3 < o / 3 ? h : o;
+    return s3_uv_carry(s, *keeps, 1, carried);
+}
+
 /* The triangle of half-edge h (a -> b) of subdivided face f, in slot h % 3; nb describes h's
  * neighbour, pnb that of prev(h). */
 static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, const s3_nb *nb,
@@ -595,23 +659,26 @@ static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, co
 
     if (out->uv) {
         float ua[2], ub[2], uq[2];
-        s3_uv_old(s, h, ua);
-        s3_uv_Q(s, h, uq);
-        if (nb->flip) {
-            s3_uv_Q(s, o, ub); /* in g's chart: carry it across the seam when there is one */
-            if (!s3_uv_equal(in->uv, h, s3_next(o)) || !s3_uv_equal(in->uv, s3_next(h), o)) {
-                float ga[2], gb[2], fa[2], fb[2];
-                s3_uv_get(in, s3_next(o), ga);
-                s3_uv_get(in, o, gb);
-                s3_uv_get(in, h, fa);
-                s3_uv_get(in, s3_next(h), fb);
-                const double af = s3_uv_area2(in->uv, f);
-                const int mirror = (af > 0.0) != (s3_uv_area2(in->uv, o / 3) > 0.0);
-                s3_uv_map(ga, gb, fa, fb, mirror, ub);
-                s3_uv_seam_guard(fa, fb, uq, af, ub);
-            }
+        uint32_t keeps = h;
+        float carried[2];
+        const int seam = nb->flip && (!s3_uv_equal(in->uv, h, s3_next(o)) ||
+                                      !s3_uv_equal(in->uv, s3_next(h), o));
+        const int tent = seam && s3_uv_tent(s, h, o, &keeps, carried);
+        if (tent && keeps == o) { /* (a, Q(o), Q(h)) in g's chart: a as g's corner */
+            s3_uv_old(s, s3_next(o), ua);
+            s3_uv_Q(s, o, ub);
+            memcpy(uq, carried, sizeof uq);
         } else {
-            s3_uv_old(s, s3_next(h), ub);
+            s3_uv_old(s, h, ua);
+            s3_uv_Q(s, h, uq);
+            if (tent)
+                memcpy(ub, carried, sizeof ub);
+            else if (seam)
+                s3_uv_carry(s, h, 0, ub);
+            else if (nb->flip)
+                s3_uv_Q(s, o, ub);
+            else
+                s3_uv_old(s, s3_next(h), ub);
         }
         s3_emit_uv(s, t, ua, ub, uq);
     }
