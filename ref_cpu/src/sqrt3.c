@@ -635,14 +635,17 @@ static int s3_uv_carry(const s3_step *s, uint32_t h, int both_sides, float out[2
  * face's point, each triangle next to it having one seam edge. (One triangle per face, in its
  * face's chart, makes a zigzag whose teeth have two seam edges each: at the next iteration every
  * tooth left a one-triangle chart, and the cube-sphere's 6 charts became 222 at k = 2, spot's 13
- * became 3005 at k = 3.) Not where the carried point would fold one of the two triangles over
- * even as its mirror image: that edge keeps one triangle per face. The answer is the same from
- * either side. Returns nonzero when h's edge is such a tent; *keeps is then the half-edge (h or o)
- * whose face keeps both triangles, and *carried the other face's point in its chart. */
+ * became 3005 at k = 3.) Where the carried point would fold one of the two triangles over even
+ * as its mirror image, the other face keeps both if its chart takes them unfolded; else the edge
+ * keeps one triangle per face. The answer is the same from either side. Returns nonzero when h's
+ * edge is such a tent; *keeps is then the half-edge (h or o) whose face keeps both triangles, and
+ * *carried the other face's point in its chart. */
 static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps, float carried[2]) {
     if (s3_kind(s, h / 3) != KIND_CENTROID || s3_kind(s, o / 3) != KIND_CENTROID) return 0;
     const uint32_t nh = s3_uv_seams(s->in, h / 3), no = s3_uv_seams(s->in, o / 3);
     *keeps = nh > no ? h : nh < no ? o : h / 3 < o / 3 ? h : o;
+    if (s3_uv_carry(s, *keeps, 1, carried)) return 1;
+    *keeps = *keeps == h ? o : h; /* the other face, when its chart takes both unfolded */
     return s3_uv_carry(s, *keeps, 1, carried);
 }
 
