@@ -600,14 +600,16 @@ static S3_HOT s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
 }
 
 /* Edges of face f that are chart seams (a neighbour whose corners disagree on the edge's UVs). */
+/* Half-edge h lies on a chart seam: its neighbour disagrees on one of the edge's two UVs. */
+static int s3_uv_is_seam(const s3_level *in, uint32_t h) {
+    const uint32_t o = in->opp[h];
+    return o != PGT_NONE &&
+           (!s3_uv_equal(in->uv, h, s3_next(o)) || !s3_uv_equal(in->uv, s3_next(h), o));
+}
+
 static uint32_t s3_uv_seams(const s3_level *in, uint32_t f) {
-    uint32_t n = 0;
-    for (uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-        const uint32_t o = in->opp[h];
-        n += o != PGT_NONE &&
-             (!s3_uv_equal(in->uv, h, s3_next(o)) || !s3_uv_equal(in->uv, s3_next(h), o));
-    }
-    return n;
+    return (uint32_t)(s3_uv_is_seam(in, 3 * f) + s3_uv_is_seam(in, 3 * f + 1) +
+                      s3_uv_is_seam(in, 3 * f + 2));
 }
 
 /* The UV of Q(opp(h)) carried into face(h)'s chart across the seam at h (s3_uv_map, then
@@ -629,24 +631,59 @@ static int s3_uv_carry(const s3_step *s, uint32_t h, int both_sides, float out[2
     return s3_uv_seam_guard(fa, fb, uq, af, both_sides, out);
 }
 
-/* A flipped seam edge between two faces that are both split at their centroids gives two
- * triangles that straddle the seam, (a, Q(o), Q(h)) and (b, Q(h), Q(o)); both go into the chart of
- * one face, the one of lower index, so that the seam becomes the tent a - Q - b through the other
- * face's point, each triangle next to it having one seam edge. (One triangle per face, in its
- * face's chart, makes a zigzag whose teeth have two seam edges each: at the next iteration every
- * tooth left a one-triangle chart, and the cube-sphere's 6 charts became 222 at k = 2, spot's 13
- * became 3005 at k = 3.) Where the carried point would fold one of the two triangles over even
- * as its mirror image, the other face keeps both if its chart takes them unfolded; else the edge
- * keeps one triangle per face. The answer is the same from either side. Returns nonzero when h's
- * edge is such a tent; *keeps is then the half-edge (h or o) whose face keeps both triangles, and
- * *carried the other face's point in its chart. */
-static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps, float carried[2]) {
+/* The first choice of s3_uv_tent for seam half-edge h (opposite o): the face with more seam
+ * edges keeps both triangles, then the one of lower index; where the carried point would fold one
+ * of them over even as its mirror image, the other face, if its chart takes both unfolded. */
+static int s3_uv_tent_first(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps,
+                            float carried[2]) {
     if (s3_kind(s, h / 3) != KIND_CENTROID || s3_kind(s, o / 3) != KIND_CENTROID) return 0;
     const uint32_t nh = s3_uv_seams(s->in, h / 3), no = s3_uv_seams(s->in, o / 3);
     *keeps = nh > no ? h : nh < no ? o : h / 3 < o / 3 ? h : o;
     if (s3_uv_carry(s, *keeps, 1, carried)) return 1;
-    *keeps = *keeps == h ? o : h; /* the other face, when its chart takes both unfolded */
+    *keeps = *keeps == h ? o : h;
     return s3_uv_carry(s, *keeps, 1, carried);
+}
+
+/* A flipped seam edge between two faces that are both split at their centroids gives two
+ * triangles that straddle the seam, (a, Q(o), Q(h)) and (b, Q(h), Q(o)); both go into the chart of
+ * one face (s3_uv_tent_first), so that the seam becomes the tent a - Q - b through the other
+ * face's point, each triangle next to it having one seam edge. (One triangle per face, in its
+ * face's chart, makes a zigzag whose teeth have two seam edges each: at the next iteration every
+ * tooth left a one-triangle chart, and the cube-sphere's 6 charts became 222 at k = 2, spot's 13
+ * became 3005 at k = 3.)
+ *
+ * A face that would give its point to two neighbours of one chart across two of its edges (the
+ * neighbours agree on the UV of the vertex the edges share) would have it carried there twice,
+ * through two seam maps: two UVs for one vertex in one chart, and UV triangles that overlap
+ * (pizza's charts of a few triangles). Of two such edges, the one whose keeper has the higher
+ * face index goes to the face instead if its chart takes both triangles unfolded (not a face of
+ * zero UV area), so that the point is carried once. When no chart takes the two triangles
+ * unfolded, the edge keeps one triangle per face. The answer is the same from either side. Returns
+ * nonzero when h's edge is a tent; *keeps is then the half-edge (h or o) whose face keeps both
+ * triangles, and *carried the other face's point in its chart. */
+static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps, float carried[2]) {
+    if (!s3_uv_tent_first(s, h, o, keeps, carried)) return 0;
+    const s3_level *in = s->in;
+    const uint32_t k = *keeps, lose = k == h ? o : h;
+    int give_back = 0;
+    for (int side = 0; side < 2 && !give_back; ++side) {
+        /* the loser's edge after lose (sharing its end, where k's corner is k) or before it
+         * (sharing its start, where k's corner is next(k)) */
+        const uint32_t x = side == 0 ? s3_next(lose) : s3_next(s3_next(lose)), ox = in->opp[x];
+        uint32_t k2 = 0;
+        float unused[2];
+        if (ox == PGT_NONE || !s3_uv_is_seam(in, x) || !s3_uv_tent_first(s, x, ox, &k2, unused) ||
+            k2 != ox)
+            continue; /* the loser does not lose x too */
+        const int one_chart =
+            side == 0 ? s3_uv_equal(in->uv, k, s3_next(ox)) : s3_uv_equal(in->uv, s3_next(k), ox);
+        give_back = one_chart && (k / 3 > ox / 3 || (k / 3 == ox / 3 && k > ox));
+    }
+    float back[2];
+    if (!give_back || !s3_uv_carry(s, lose, 1, back)) return 1;
+    *keeps = lose;
+    memcpy(carried, back, sizeof back);
+    return 1;
 }
 
 /* The triangle of half-edge h (a -> b) of subdivided face f, in slot h % 3; nb describes h's
