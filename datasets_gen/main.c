@@ -49,7 +49,7 @@ static const char usage[] =
     "a city's grammar that cannot be read or compiled.\n";
 
 /* Before generating: 0 when out can be written as far as can be told now (pgt_output_check),
- * else one line "pgt_datasets VERB: cannot write OUT: why" and exit status 2, as pgt's verbs
+ * else one line "pgt_datasets: VERB: cannot write OUT: why" and exit status 2, as pgt's verbs
  * (a city of millions of buildings does not end on a typo in -o). */
 static int check_output(const char *verb, const char *out) {
     char why[128];

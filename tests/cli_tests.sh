@@ -1111,6 +1111,8 @@ expect datasets_city_out_missing_folder 2 "$gen" city 1000 1 -o nofolder/c.scene
 one_line datasets_city_out_missing_folder_one_line "^pgt_datasets: city: cannot write nofolder/c.scene: No such file or directory$"
 expect datasets_city_out_long_name 2 "$gen" city 2 1 -o "$(printf 'c%.0s' $(seq 250)).scene"
 one_line datasets_city_out_long_name_one_line "cannot write c*\.scene: File name too long$"
+expect datasets_tower_out_empty 2 "$gen" tower -o ''
+one_line datasets_tower_out_empty_one_line "^pgt_datasets: tower: cannot write : No such file or directory$"
 mkdir -p tower_dir.obj
 expect datasets_tower_out_folder 2 "$gen" tower -o tower_dir.obj
 one_line datasets_tower_out_folder_one_line "^pgt_datasets: tower: cannot write tower_dir.obj: it is a folder, not a regular file$"

@@ -876,7 +876,8 @@ static void test_malformed_corpus(void) {
 }
 
 /* Two channels of one name: OpenEXRCore drops the list ("'channels' attribute not found");
- * pgt's header scan names the channel, from a file and from memory. */
+ * pgt's header scan names the channel, from a file and from memory, and counts a list longer
+ * than pgt reads even when a name repeats. */
 static void test_exr_duplicate_channel(void) {
     char path[512];
     snprintf(path, sizeof(path), "%s/malformed_images/exr_duplicate_channel.exr",
@@ -890,9 +891,17 @@ static void test_exr_duplicate_channel(void) {
     size_t size = 0;
     unsigned char *data = load_file(path, &size);
     REQUIRE(data != NULL);
+    pgt_error_clear(&err);
     CHECK(read_mem(&img, data, size, "dup.exr", &err) == PGT_ERROR_PARSE);
     CHECK_MSG(!strcmp(err.message, "dup.exr: two channels named 'R'"), "%s", err.message);
     free(data);
+    /* seventy channels with a repeat past the 64th: the limit, with the list's true count */
+    snprintf(path, sizeof(path), "%s/malformed_images/exr_many_channels_repeated.exr",
+             PGT_TEST_DATA_DIR);
+    pgt_error_clear(&err);
+    CHECK(pgt_image_read_exr(&img, path, &err) == PGT_ERROR_LIMIT);
+    snprintf(want, sizeof want, "%s: 70 channels exceed the limit of 64", path);
+    CHECK_MSG(!strcmp(err.message, want), "%s", err.message);
 }
 
 /* Tiles may be larger than the image (OpenEXRCore clips them): a tile's pixel count in 32 bits

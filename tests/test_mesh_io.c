@@ -1239,6 +1239,7 @@ static void test_output_check(void) {
           !strcmp(why, "it is a folder, not a regular file"));
     CHECK(pgt_output_check("/dev/null", why, sizeof why) != 0 &&
           !strcmp(why, "it is a device, fifo or socket, not a regular file"));
+    CHECK(pgt_output_check("", why, sizeof why) != 0 && !strcmp(why, strerror(ENOENT)));
     snprintf(path, sizeof path, "%s/missing/new.ply", scratch);
     CHECK(pgt_output_check(path, why, sizeof why) != 0 && !strcmp(why, strerror(ENOENT)));
     snprintf(path, sizeof path, "%s/new.ply/x.ply", scratch); /* a file where a folder should be */

@@ -307,19 +307,24 @@ static int scan_name(scan_cursor *c, size_t *len, char *out) {
 
 /* The first name that a channel list (a chlist value of size bytes at c->pos: entries of a name
  * and 16 bytes, ended by an empty name) holds twice, into dup (256 bytes); 1 when there is one,
- * else 0 (also when the list is malformed or longer than pgt reads: the library or the layout
- * check says so). OpenEXRCore drops such a list and reports "'channels' attribute not found". */
-static int scan_duplicate_channel(scan_cursor *c, int32_t size, char *dup) {
-    enum { MAX_NAMES = PGT_IMAGE_MAX_CHANNELS + 1 }; /* one more than pgt reads: refused anyway */
-    char(*names)[256] = malloc(MAX_NAMES * sizeof *names);
+ * else 0 (also when the list is malformed: the library says how). *count gets the number of
+ * entries; names are compared among the first PGT_IMAGE_MAX_CHANNELS only (a longer list is
+ * refused whatever its names). OpenEXRCore drops a list with a repeated name and reports
+ * "'channels' attribute not found". */
+static int scan_duplicate_channel(scan_cursor *c, int32_t size, char *dup, uint32_t *count) {
+    enum { MAX_NAMES = PGT_IMAGE_MAX_CHANNELS };
+    *count = 0;
+    char(*names)[256] = malloc(MAX_NAMES * sizeof *names), other[256];
     if (!names) return 0;
     const uint64_t end = c->pos + (uint64_t)size;
     int found = 0;
-    for (int n = 0; n < MAX_NAMES && !found && c->pos < end; ++n) {
+    for (uint32_t n = 0; c->pos < end; ++n) {
         size_t len = 0;
-        if (scan_name(c, &len, names[n]) != 1 || len == 0 || c->pos + 16u > end) break;
-        for (int k = 0; k < n && !found; ++k)
-            if (!strcmp(names[k], names[n])) found = 1, memcpy(dup, names[n], len + 1);
+        char *name = n < MAX_NAMES ? names[n] : other;
+        if (scan_name(c, &len, name) != 1 || len == 0 || c->pos + 16u > end) break;
+        ++*count;
+        for (uint32_t k = 0; n < MAX_NAMES && k < n && !found; ++k)
+            if (!strcmp(names[k], name)) found = 1, memcpy(dup, name, len + 1);
         c->pos += 16u; /* pixel type, pLinear, reserved, x and y sampling */
     }
     free(names);
@@ -363,13 +368,22 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipa
         if (got == 1 && le_i32(size) < 0) got = -2;
         if (got == 1) {
             const uint64_t value = c.pos;
-            char dup[256];
-            if (!strcmp(attr_name, "channels") && !strcmp(type_name, "chlist") &&
-                scan_duplicate_channel(&c, le_i32(size), dup))
-                return pgt_error_set(err, PGT_ERROR_PARSE, "%s: two channels named '%s'", s->name,
-                                     dup);
             c.pos = value + (uint64_t)le_i32(size); /* past its value */
             if (c.pos > s->size) got = 0;
+        }
+        if (got == 1 && !strcmp(attr_name, "channels") && !strcmp(type_name, "chlist")) {
+            const uint64_t next = c.pos;
+            c.pos -= (uint64_t)le_i32(size);
+            char dup[256];
+            uint32_t count = 0;
+            const int found = scan_duplicate_channel(&c, le_i32(size), dup, &count);
+            if (count > PGT_IMAGE_MAX_CHANNELS) /* as read_layout says it, before the library */
+                return pgt_error_set(err, PGT_ERROR_LIMIT, "%s: %u channels exceed the limit of %u",
+                                     s->name, count, PGT_IMAGE_MAX_CHANNELS);
+            if (found)
+                return pgt_error_set(err, PGT_ERROR_PARSE, "%s: two channels named '%s'", s->name,
+                                     dup);
+            c.pos = next;
         }
         if (got == 0)
             return pgt_error_set(err, PGT_ERROR_TRUNCATED,

@@ -118,6 +118,10 @@ int pgt_path_folder(const char *path, char *buf, size_t size) {
 
 int pgt_output_check(const char *path, char *why, size_t why_size) {
     struct stat st;
+    if (!path[0]) { /* no file name at all */
+        snprintf(why, why_size, "%s", strerror(ENOENT));
+        return 1;
+    }
     if (stat(path, &st) == 0) {
         if (S_ISREG(st.st_mode)) return 0;
         snprintf(why, why_size, "it is %s, not a regular file",

@@ -228,6 +228,14 @@ def corpus():
         # not found"; pgt's header scan names the channel)
         ("exr_duplicate_channel.exr", "parse",
          header_only_exr([("R", FLOAT, 1, 1), ("R", FLOAT, 1, 1)], (0, 0, 0, 0))),
+        # seventy channels, the last repeating the first: more than pgt reads, whatever the names
+        ("exr_many_channels_repeated.exr", "limit",
+         header_only_exr([("c%02d" % i, HALF, 1, 1) for i in range(69)] + [("c00", HALF, 1, 1)],
+                         (0, 0, 0, 0))),
+        # a channel list with a repeated name whose declared size runs past the end of the file
+        ("exr_duplicate_channel_truncated.exr", "truncated",
+         MAGIC + version() + b"channels\0chlist\0" + struct.pack("<i", 1 << 30)
+         + chlist([("R", FLOAT, 1, 1), ("R", FLOAT, 1, 1)])),
         ("exr_bad_compression.exr", "parse", header_only_exr(two, (0, 0, 0, 0), compression=42)),
         ("exr_uncompressed_size.exr", "parse", scanline_exr(height=1, chunk_data=b"\0" * 36)),
         ("exr_version_3.exr", "parse", MAGIC + struct.pack("<I", 3) + valid[8:]),
