@@ -657,7 +657,8 @@ static int s3_uv_tent_first(const s3_step *s, uint32_t h, uint32_t o, uint32_t *
  * through two seam maps: two UVs for one vertex in one chart, and UV triangles that overlap
  * (pizza's charts of a few triangles). Of two such edges, the one whose keeper has the higher
  * face index goes to the face instead if its chart takes both triangles unfolded (not a face of
- * zero UV area), so that the point is carried once. When no chart takes the two triangles
+ * zero UV area), else the other one if its chart takes those, so that the point is carried
+ * once. When no chart takes the two triangles
  * unfolded, the edge keeps one triangle per face. The answer is the same from either side. Returns
  * nonzero when h's edge is a tent; *keeps is then the half-edge (h or o) whose face keeps both
  * triangles, and *carried the other face's point in its chart. */
@@ -665,7 +666,8 @@ static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps,
     if (!s3_uv_tent_first(s, h, o, keeps, carried)) return 0;
     const s3_level *in = s->in;
     const uint32_t k = *keeps, lose = k == h ? o : h;
-    int give_back = 0;
+    float back[2];
+    int give_back = 0, can = -1; /* can: the loser's chart takes this edge's triangles unfolded */
     for (int side = 0; side < 2 && !give_back; ++side) {
         /* the loser's edge after lose (sharing its end, where k's corner is k) or before it
          * (sharing its start, where k's corner is next(k)) */
@@ -677,10 +679,13 @@ static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps,
             continue; /* the loser does not lose x too */
         const int one_chart =
             side == 0 ? s3_uv_equal(in->uv, k, s3_next(ox)) : s3_uv_equal(in->uv, s3_next(k), ox);
-        give_back = one_chart && (k / 3 > ox / 3 || (k / 3 == ox / 3 && k > ox));
+        if (!one_chart) continue;
+        if (can < 0) can = s3_uv_carry(s, lose, 1, back);
+        /* the edge of the higher keeper goes back; the other one when that one cannot */
+        const int first = k / 3 > ox / 3 || (k / 3 == ox / 3 && k > ox);
+        give_back = can && (first || !s3_uv_carry(s, x, 1, unused));
     }
-    float back[2];
-    if (!give_back || !s3_uv_carry(s, lose, 1, back)) return 1;
+    if (!give_back) return 1;
     *keeps = lose;
     memcpy(carried, back, sizeof back);
     return 1;
