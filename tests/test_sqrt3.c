@@ -785,32 +785,63 @@ static void uvs_no_spikes_on_a_real_atlas(void) {
  * slit tips (count_half_agreeing_edges: spot 0, bob 6, human_neutral 75): a face point carried
  * into one chart through two seams did so on spot at k = 2 before s3_uv_tent gave such an edge
  * back. */
+/* pizza's charts of one triangle after each iteration, at most this share of the input's 1987:
+ * a few edges keep one triangle per face where no chart takes both unfolded, so a few such
+ * charts stay (measured 15, 5, 3), where one triangle per face everywhere made 14,313 at k = 1. */
+#define UV_SINGLE_CHARTS_MAX_SHARE 0.1
 static void uv_charts_stay_whole_on_real_atlases(void) {
-    static const char *const names[] = {"spot.obj", "bob_tri.obj", "human_neutral.obj"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+    /* pizza (4740 charts, 1987 of one triangle) is measured and printed (README "UVs and chart
+     * seams"); of its charts only those of one triangle are checked */
+    static const struct {
+        const char *name;
+        int whole;
+    } meshes[] = {{"spot.obj", 1}, {"bob_tri.obj", 1}, {"human_neutral.obj", 1}, {"pizza.obj", 0}};
+    for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
+        const char *name = meshes[i].name;
         char path[1024];
-        snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, names[i]);
+        snprintf(path, sizeof path, "%s/%s", PGT_SHARED_MESH_DIR, name);
         pgt_mesh m;
         pgt_mesh_read_options ro = {PGT_FORMAT_AUTO, 1, NULL};
         REQUIRE(pgt_mesh_read(&m, path, &ro, NULL) == PGT_OK && m.uvs);
-        uint32_t flat = 0;
-        const uint32_t want = count_charts_flat(&m, NULL, &flat) - flat,
+        uint32_t flat = 0, single_in = 0;
+        const uint32_t want = count_charts_flat(&m, &single_in, &flat) - flat,
                        tips = count_half_agreeing_edges(&m);
         for (uint32_t k = 1; k <= 3; ++k) {
             run r;
             REQUIRE(run_sqrt3(&r, &m, 1, 2, NULL));
+            /* one iteration a call and no protected face: every face gets its point, V + f */
+            REQUIRE(r.out.vertex_count == m.vertex_count + m.face_count);
             uint32_t single = 0;
-            const uint32_t charts = count_charts(&r.out, &single);
-            CHECK_MSG(charts == want && single == 0,
-                      "%s k=%u: %u charts (want %u), %u of one "
-                      "triangle",
-                      names[i], k, charts, want, single);
-            const uint32_t half = count_half_agreeing_edges(&r.out);
-            CHECK_MSG(half <= tips, "%s k=%u: %u edges agree on one end's UV (the input: %u)",
-                      names[i], k, half, tips);
+            const uint32_t charts = count_charts(&r.out, &single),
+                           half = count_half_agreeing_edges(&r.out);
+            if (meshes[i].whole) {
+                CHECK_MSG(charts == want && single == 0,
+                          "%s k=%u: %u charts (want %u), %u of one triangle", name, k, charts, want,
+                          single);
+                CHECK_MSG(half <= tips, "%s k=%u: %u edges agree on one end's UV (the input: %u)",
+                          name, k, half, tips);
+            } else {
+                CHECK_MSG(single <= UV_SINGLE_CHARTS_MAX_SHARE * single_in,
+                          "%s k=%u: %u charts of one triangle (the input: %u)", name, k, single,
+                          single_in);
+            }
+            /* fold-overs: an output UV triangle whose orientation is that of none of the input
+             * faces it joins (the one it comes from, those whose points it has) */
+            uint32_t folded = 0;
+            for (uint32_t t = 0; t < r.out.face_count; ++t) {
+                const double area = uv_area2(&r.out, t);
+                int agrees = (area > 0.0) == (uv_area2(&m, r.parent[t]) > 0.0);
+                for (int c = 0; c < 3; ++c) {
+                    const uint32_t v = r.out.indices[3 * (size_t)t + (size_t)c];
+                    if (v >= m.vertex_count)
+                        agrees |= (area > 0.0) == (uv_area2(&m, v - m.vertex_count) > 0.0);
+                }
+                folded += area != 0.0 && !agrees;
+            }
             printf("  %s, iteration %u: %u charts (the input's %u less %u of zero UV area), %u "
-                   "edges agreeing on one end's UV\n",
-                   names[i], k, charts, want + flat, flat, half);
+                   "of one triangle, %u edges agreeing on one end's UV, %u of %u UV triangles "
+                   "folded\n",
+                   name, k, charts, want + flat, flat, single, half, folded, r.out.face_count);
             pgt_mesh_destroy(&m);
             m = r.out;
             r.out.positions = NULL, r.out.indices = NULL, r.out.uvs = NULL, r.out.labels = NULL;
