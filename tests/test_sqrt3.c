@@ -62,6 +62,14 @@ static void run_free(run *r) {
     free(r->opp), free(r->prot), free(r->parent);
 }
 
+/* The next iteration's input: *m (destroyed) becomes r's output, and r is freed. */
+static void run_next_input(run *r, pgt_mesh *m) {
+    pgt_mesh_destroy(m);
+    *m = r->out;
+    memset(&r->out, 0, sizeof r->out);
+    run_free(r);
+}
+
 /* Half-edges where the adjacency sqrt3 derived disagrees with one rebuilt from its output. */
 static uint32_t adjacency_mismatches(const run *r) {
     pgt_adjacency a;
@@ -712,10 +720,7 @@ static void uvs_across_seams_stay_an_atlas(void) {
         REQUIRE(run_sqrt3(&r, &m, k, 2, NULL));
         uint32_t folded = 0;
         for (uint32_t f = 0; f < r.out.face_count; ++f) {
-            const float *u = r.out.uvs + 6 * (size_t)f;
-            double area = ((double)u[2] - u[0]) * ((double)u[5] - u[1]) -
-                          ((double)u[4] - u[0]) * ((double)u[3] - u[1]);
-            folded += !(area > 0.0);
+            folded += !(uv_area2(&r.out, f) > 0.0);
         }
         uint32_t single = 0;
         const uint32_t charts = count_charts(&r.out, &single);
@@ -769,10 +774,7 @@ static void uvs_no_spikes_on_a_real_atlas(void) {
         CHECK_MSG(worst <= UV_SEAM_MAX_GROWTH, "k=%u: a UV triangle %.2f x its input faces", k,
                   worst);
         printf("  spot, iteration %u: the largest UV triangle %.2f x its input faces\n", k, worst);
-        pgt_mesh_destroy(&m);
-        m = r.out; /* the next iteration's input */
-        r.out.positions = NULL, r.out.indices = NULL, r.out.uvs = NULL, r.out.labels = NULL;
-        run_free(&r);
+        run_next_input(&r, &m);
     }
     pgt_mesh_destroy(&m);
 }
@@ -842,10 +844,7 @@ static void uv_charts_stay_whole_on_real_atlases(void) {
                    "of one triangle, %u edges agreeing on one end's UV, %u of %u UV triangles "
                    "folded\n",
                    name, k, charts, want + flat, flat, single, half, folded, r.out.face_count);
-            pgt_mesh_destroy(&m);
-            m = r.out;
-            r.out.positions = NULL, r.out.indices = NULL, r.out.uvs = NULL, r.out.labels = NULL;
-            run_free(&r);
+            run_next_input(&r, &m);
         }
         pgt_mesh_destroy(&m);
     }
@@ -919,10 +918,7 @@ static void uv_patches_stay_whole(void) {
                       "seed %u k=%u: %u charts of %u patches, %u of one triangle, %u edges "
                       "agreeing on one end's UV",
                       seed, k, charts, patches, single, half);
-            pgt_mesh_destroy(&m);
-            m = r.out;
-            r.out.positions = NULL, r.out.indices = NULL, r.out.uvs = NULL, r.out.labels = NULL;
-            run_free(&r);
+            run_next_input(&r, &m);
         }
         pgt_mesh_destroy(&m);
     }

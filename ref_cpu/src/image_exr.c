@@ -366,14 +366,9 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipa
         unsigned char size[4];
         for (int i = 0; i < 4 && got == 1; ++i) got = scan_byte(&c, &size[i]);
         if (got == 1 && le_i32(size) < 0) got = -2;
-        if (got == 1) {
-            const uint64_t value = c.pos;
-            c.pos = value + (uint64_t)le_i32(size); /* past its value */
-            if (c.pos > s->size) got = 0;
-        }
+        const uint64_t next = c.pos + (uint64_t)(got == 1 ? le_i32(size) : 0);
+        if (got == 1 && next > s->size) got = 0; /* its value */
         if (got == 1 && !strcmp(attr_name, "channels") && !strcmp(type_name, "chlist")) {
-            const uint64_t next = c.pos;
-            c.pos -= (uint64_t)le_i32(size);
             char dup[256];
             uint32_t count = 0;
             const int found = scan_duplicate_channel(&c, le_i32(size), dup, &count);
@@ -383,8 +378,8 @@ static pgt_result scan_headers(exr_stream *s, uint64_t *header_end, int *multipa
             if (found)
                 return pgt_error_set(err, PGT_ERROR_PARSE, "%s: two channels named '%s'", s->name,
                                      dup);
-            c.pos = next;
         }
+        c.pos = next;
         if (got == 0)
             return pgt_error_set(err, PGT_ERROR_TRUNCATED,
                                  "%s: the file ends in its header (part %d, attribute %d)", s->name,

@@ -103,15 +103,6 @@ pgt_result pgt_io_finish(pgt_mesh *out, const float *positions, size_t vertex_co
     return PGT_OK;
 }
 
-void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
-    if (!origin) return;
-    free(origin->face);
-    free(origin->vertex);
-    free(origin->uv);
-    free(origin->uv_index);
-    memset(origin, 0, sizeof(*origin));
-}
-
 void pgt_mesh_origin_keep_vertices(pgt_mesh_origin *origin) {
     if (!origin) return;
     free(origin->face);
@@ -119,6 +110,13 @@ void pgt_mesh_origin_keep_vertices(pgt_mesh_origin *origin) {
     free(origin->uv_index);
     origin->face = NULL, origin->face_count = 0;
     origin->uv = NULL, origin->uv_index = NULL, origin->uv_count = 0, origin->uv_of_vertex = 0;
+}
+
+void pgt_mesh_origin_destroy(pgt_mesh_origin *origin) {
+    if (!origin) return;
+    pgt_mesh_origin_keep_vertices(origin);
+    free(origin->vertex);
+    memset(origin, 0, sizeof(*origin));
 }
 
 /* "NAME:LINE", "NAME: byte offset N", or NAME when the record is not known. */

@@ -102,17 +102,10 @@ const char *pgt_path_name(const char *path) {
 
 int pgt_path_folder(const char *path, char *buf, size_t size) {
     const char *slash = strrchr(path, '/');
-    const size_t len = !slash ? 1u : slash == path ? 1u : (size_t)(slash - path);
-    if (len >= size) {
-        snprintf(buf, size, ".");
-        return -1;
-    }
-    if (!slash)
-        snprintf(buf, size, ".");
-    else if (slash == path)
-        snprintf(buf, size, "/");
-    else
-        snprintf(buf, size, "%.*s", (int)len, path);
+    if (!slash || slash == path) return snprintf(buf, size, slash ? "/" : "."), 0;
+    const size_t len = (size_t)(slash - path);
+    if (len >= size) return snprintf(buf, size, "."), -1;
+    snprintf(buf, size, "%.*s", (int)len, path);
     return 0;
 }
 

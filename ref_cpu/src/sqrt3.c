@@ -599,7 +599,6 @@ static S3_HOT s3_nb s3_neighbour(const s3_step *s, uint32_t h) {
     return nb;
 }
 
-/* Edges of face f that are chart seams (a neighbour whose corners disagree on the edge's UVs). */
 /* Half-edge h lies on a chart seam: its neighbour disagrees on one of the edge's two UVs. */
 static int s3_uv_is_seam(const s3_level *in, uint32_t h) {
     const uint32_t o = in->opp[h];
@@ -607,6 +606,7 @@ static int s3_uv_is_seam(const s3_level *in, uint32_t h) {
            (!s3_uv_equal(in->uv, h, s3_next(o)) || !s3_uv_equal(in->uv, s3_next(h), o));
 }
 
+/* Edges of face f that are chart seams. */
 static uint32_t s3_uv_seams(const s3_level *in, uint32_t f) {
     return (uint32_t)(s3_uv_is_seam(in, 3 * f) + s3_uv_is_seam(in, 3 * f + 1) +
                       s3_uv_is_seam(in, 3 * f + 2));
@@ -658,10 +658,10 @@ static int s3_uv_tent_first(const s3_step *s, uint32_t h, uint32_t o, uint32_t *
  * (pizza's charts of a few triangles). Of two such edges, the one whose keeper has the higher
  * face index goes to the face instead if its chart takes both triangles unfolded (not a face of
  * zero UV area), else the other one if its chart takes those, so that the point is carried
- * once. When no chart takes the two triangles
- * unfolded, the edge keeps one triangle per face. The answer is the same from either side. Returns
- * nonzero when h's edge is a tent; *keeps is then the half-edge (h or o) whose face keeps both
- * triangles, and *carried the other face's point in its chart. */
+ * once. When no chart takes the two triangles unfolded, the edge keeps one triangle per face.
+ * The answer is the same from either side. Returns nonzero when h's edge is a tent; *keeps is
+ * then the half-edge (h or o) whose face keeps both triangles, and *carried the other face's
+ * point in its chart. */
 static int s3_uv_tent(const s3_step *s, uint32_t h, uint32_t o, uint32_t *keeps, float carried[2]) {
     if (!s3_uv_tent_first(s, h, o, keeps, carried)) return 0;
     const s3_level *in = s->in;
@@ -706,8 +706,7 @@ static S3_HOT void s3_face_triangle(const s3_step *s, uint32_t h, uint32_t q, co
         float ua[2], ub[2], uq[2];
         uint32_t keeps = h;
         float carried[2];
-        const int seam = nb->flip && (!s3_uv_equal(in->uv, h, s3_next(o)) ||
-                                      !s3_uv_equal(in->uv, s3_next(h), o));
+        const int seam = nb->flip && s3_uv_is_seam(in, h);
         const int tent = seam && s3_uv_tent(s, h, o, &keeps, carried);
         if (tent && keeps == o) { /* (a, Q(o), Q(h)) in g's chart: a as g's corner */
             s3_uv_old(s, s3_next(o), ua);
