@@ -109,6 +109,47 @@ pgt_result pgt_backend_sqrt3(pgt_backend *b, pgt_mesh *out, const pgt_mesh *in,
     return pgt_sqrt3_subdivide(out, in, opts, err);
 }
 
+int pgt_backend_has_march(const pgt_backend *b) { return b->kind != PGT_BACKEND_VK; }
+
+pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
+                             float length, uint32_t steps, uint32_t count, pgt_march_state *states,
+                             pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
+                             pgt_gpu_times *times, pgt_error *err) {
+    if (times) memset(times, 0, sizeof(*times));
+#if PGT_HAVE_CL
+    if (b->kind == PGT_BACKEND_CL)
+        return pgt_cl_march(b->cl, a, o, length, steps, count, states, rec_states, rec_events,
+                            out_taken, times, err);
+#endif
+    if (b->kind != PGT_BACKEND_CPU)
+        return pgt_error_set(err, PGT_ERROR_BACKEND, "%s: marching has no %s version yet", b->name,
+                             pgt_backend_kind_name(b->kind));
+    if (!(length > 0.0f && length <= PGT_MARCH_MAX_LENGTH))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "step length %g is outside (0, %g] texels", (double)length,
+                             (double)PGT_MARCH_MAX_LENGTH);
+    for (uint32_t i = 0; i < count; ++i) {
+        uint32_t k = 0;
+        for (; k < steps; ++k) {
+            pgt_march_info info;
+            const pgt_march_event ev = pgt_march_step(a, o, &states[i], length, 0.0f, &info);
+            if (rec_states) {
+                const size_t r = (size_t)i * steps + k;
+                rec_states[r] = states[i];
+                rec_events[r] = PGT_BACKEND_MARCH_EVENT(ev, info.stop, info.jumps);
+            }
+            if (ev == PGT_MARCH_STOP) break;
+        }
+        if (out_taken) out_taken[i] = k;
+        if (rec_states)
+            for (uint32_t j = k + 1; j < steps; ++j) {
+                rec_states[(size_t)i * steps + j] = states[i];
+                rec_events[(size_t)i * steps + j] = rec_events[(size_t)i * steps + k];
+            }
+    }
+    return PGT_OK;
+}
+
 typedef struct kernel_row {
     const char *name;
     uint32_t launches;

@@ -6,28 +6,42 @@
 #include "cli.h"
 #include "diff.h"
 #include "gen.h"
+#include "pgt/atlas_build.h"
+#include "pgt/image.h"
 #include "pgt/rng.h"
 
 static const char *diff_usage =
     "usage: pgt diff ALGO --backend cl|vk [INPUTS...] [--device N] [--iters LIST]\n"
-    "                [--protected LIST] [--shared DIR] [--profile] [--json]\n"
+    "                [--protected LIST] [--walkers N] [--steps N] [--step S] [--res N]\n"
+    "                [--shared DIR] [--profile] [--json]\n"
     "\n"
     "Runs the C reference and a backend on the same input and compares their outputs element\n"
     "by element: integer and topological outputs must be equal (the count of mismatches is\n"
     "printed); floats get the largest absolute error, the largest ULP distance and the worst\n"
-    "element, and a verdict against the tolerance table (harness/tolerances.h).\n"
+    "element, and a verdict against the tolerance table (harness/tolerances.h). march: the\n"
+    "backend's walkers record every step; the reference re-runs each step from the backend's\n"
+    "state before it (event, stop, crossings, chart and the no-bounce memory must be equal,\n"
+    "positions and directions within the tolerance), for the paper's marching, without 5.1,\n"
+    "without rotation, with the Jacobian rotation and with a sparse random mask.\n"
     "\n"
-    "  ALGO            sqrt3, or all (every algorithm with a GPU version, on its default\n"
-    "                  inputs: sqrt3 today)\n"
+    "  ALGO            sqrt3, march, or all (every algorithm with a version on that backend:\n"
+    "                  sqrt3 on cl and vk, march on cl)\n"
     "  INPUTS          meshes: generated dataset names (pgt_datasets --list), files, or file\n"
-    "                  names in the shared folder. Default: every generated default dataset and\n"
-    "                  every mesh of the shared folder the project uses.\n"
+    "                  names in the shared folder; march also takes atlases (.exr, as pgt atlas\n"
+    "                  writes them) and builds one of a mesh with UVs (--res). Defaults: sqrt3\n"
+    "                  every generated default dataset and every mesh of the shared folder the\n"
+    "                  project uses; march cube_sphere_8 and the shared meshes with UVs. Under\n"
+    "                  all, an input an algorithm cannot take is skipped with a note.\n"
     "  --backend B     cl (OpenCL) or vk (Vulkan); cpu compares the reference with itself\n"
     "  --device N      device index of that API (see pgt devices; default 0)\n"
     "  --iters LIST    sqrt3 iterations per case, comma-separated (default 1,2,3)\n"
     "  --protected L   protection patterns, comma-separated: none, quarter (faces whose\n"
     "                  counter-based hash of (seed 3, face) falls in the lowest quarter are\n"
     "                  protected) (default none,quarter)\n"
+    "  --walkers N     march: seeded random walkers per case (default 2048)\n"
+    "  --steps N       march: steps per walker (default 100)\n"
+    "  --step S        march: step length in texels (default 2)\n"
+    "  --res N         march: atlas resolution for a mesh input (default 1024)\n"
     "  --shared DIR    shared mesh folder (default ../shared/datasets/meshes beside the repo)\n"
     "  --profile       print the per-kernel table (launches, total and median device ms)\n"
     "  --json          one JSON object per case, then a summary object\n"
@@ -48,7 +62,21 @@ typedef struct diff_cfg {
     uint32_t n_inputs, iters[DIFF_MAX_LIST], n_iters;
     int protect_none, protect_quarter, json, profile;
     const char *shared_dir;
+    int explicit_inputs;
+    uint32_t walkers, steps, res;
+    float step;
 } diff_cfg;
+
+/* march's default inputs: the generated cube-sphere and the shared meshes with UVs. */
+static const char *const diff_march_inputs[] = {"cube_sphere_8",     "spot.obj",
+                                                "bob_tri.obj",       "ogre_bs_rest.obj",
+                                                "human_neutral.obj", "pizza.obj"};
+
+/* Seeds of march's walkers (pgt_march_random_starts) and of its random mask: any fixed values. */
+#define DIFF_MARCH_SEED 11u
+#define DIFF_MARCH_MASK_SEED 5u
+/* Share of the mask's texels that reject a step: a few walkers of each case stop there. */
+#define DIFF_MARCH_MASK_SHARE 0.002f
 
 static int diff_list(const char *flag, const char *text, diff_cfg *c, int iters) {
     char buf[1024];
@@ -77,9 +105,14 @@ static int diff_list(const char *flag, const char *text, diff_cfg *c, int iters)
 
 /* sqrt3 over every input x pattern x k; returns the number of failing cases, or -1 on an error
  * that stops the run (message printed). */
-static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases, uint32_t *refused) {
+static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, int all, uint32_t *cases,
+                      uint32_t *refused) {
     int failures = 0;
     for (uint32_t i = 0; i < c->n_inputs; ++i) {
+        if (all && pgt_cli_ends_with_ci(c->inputs[i], ".exr")) {
+            printf("sqrt3 %s: skipped (an atlas, not a mesh)\n", c->inputs[i]);
+            continue;
+        }
         pgt_mesh m = {0};
         pgt_error err = {0};
         if (pgt_cli_load_named(c->inputs[i], c->shared_dir, &m, &err) != PGT_OK) {
@@ -128,6 +161,102 @@ static int diff_sqrt3(pgt_backend *b, const diff_cfg *c, uint32_t *cases, uint32
     return failures;
 }
 
+/* The atlas of a march input: an .exr is read as it is; a mesh is built at --res. 1 when `all`
+ * skips it (a mesh without UVs), 0 when loaded, -1 on an error (message printed). */
+static int diff_march_atlas(const diff_cfg *c, const char *name, int all, pgt_march_atlas *out) {
+    pgt_image img;
+    memset(&img, 0, sizeof img);
+    pgt_error err = {0};
+    pgt_result r;
+    if (pgt_cli_ends_with_ci(name, ".exr")) {
+        r = pgt_image_read_exr_threads(&img, name, pgt_cli_cpu_count(), &err);
+    } else {
+        pgt_mesh m = {0};
+        if (pgt_cli_load_named(name, c->shared_dir, &m, &err) != PGT_OK) {
+            pgt_cli_fail("diff", "%s", err.message);
+            return -1;
+        }
+        if (!m.uvs) {
+            pgt_mesh_destroy(&m);
+            if (all) {
+                printf("march %s: skipped (no UVs to build an atlas of)\n", name);
+                return 1;
+            }
+            pgt_cli_fail("diff", "%s: march needs UVs to build an atlas of (or give an .exr atlas)",
+                         name);
+            return -1;
+        }
+        pgt_atlas_options opt;
+        memset(&opt, 0, sizeof opt);
+        opt.width = opt.height = c->res;
+        opt.threads = pgt_cli_cpu_count();
+        opt.what = name;
+        r = pgt_atlas_build(&img, &m, &opt, NULL, &err);
+        pgt_mesh_destroy(&m);
+    }
+    if (r == PGT_OK) r = pgt_march_atlas_create(out, &img, name, &err);
+    pgt_image_destroy(&img);
+    if (r != PGT_OK) {
+        pgt_cli_fail("diff", "%s", err.message);
+        return -1;
+    }
+    return 0;
+}
+
+/* march over every input x option set; returns the number of failing cases, or -1 on an error
+ * that stops the run (message printed). */
+static int diff_march(pgt_backend *b, const diff_cfg *c, int all, uint32_t *cases) {
+    const char *const *inputs = c->inputs;
+    uint32_t n = c->n_inputs;
+    if (!c->explicit_inputs)
+        inputs = diff_march_inputs, n = sizeof diff_march_inputs / sizeof *inputs;
+    int failures = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        pgt_march_atlas a;
+        memset(&a, 0, sizeof a);
+        const int got = diff_march_atlas(c, inputs[i], all, &a);
+        if (got < 0) return -1;
+        if (got > 0) continue;
+        const size_t texels = (size_t)a.width * a.height;
+        float *mask = malloc(texels * sizeof(float));
+        if (!mask) {
+            pgt_march_atlas_destroy(&a);
+            pgt_cli_fail("diff", "out of memory");
+            return -1;
+        }
+        for (size_t t = 0; t < texels; ++t)
+            mask[t] =
+                pgt_rng_float(DIFF_MARCH_MASK_SEED, 0, t) < DIFF_MARCH_MASK_SHARE ? 1.0f : 0.0f;
+        static const char *const sets[] = {"paper", "no-best-pointer", "no-rotation", "jacobian",
+                                           "mask"};
+        for (uint32_t s = 0; s < sizeof sets / sizeof *sets; ++s) {
+            pgt_march_options o;
+            memset(&o, 0, sizeof o);
+            o.no_best_pointer = s == 1, o.no_rotation = s == 2;
+            o.rotation = s == 3 ? PGT_MARCH_ROTATION_JACOBIAN : PGT_MARCH_ROTATION_ATLAS;
+            o.mask = s == 4 ? mask : NULL;
+            char label[512];
+            snprintf(label, sizeof label, "%s %ux%u %s step=%g", inputs[i], a.width, a.height,
+                     sets[s], (double)c->step);
+            pgt_diff_march d;
+            pgt_error err = {0};
+            if (pgt_diff_march_run(b, &a, &o, c->step, c->steps, c->walkers, DIFF_MARCH_SEED, &d,
+                                   &err) != PGT_OK) {
+                pgt_cli_fail("diff", "%s: %s", label, err.message);
+                free(mask), pgt_march_atlas_destroy(&a);
+                return -1;
+            }
+            pgt_diff_march_print(stdout, label, &d, c->json);
+            fflush(stdout);
+            (*cases)++;
+            failures += !d.pass;
+        }
+        free(mask);
+        pgt_march_atlas_destroy(&a);
+    }
+    return failures;
+}
+
 int pgt_cmd_diff(int argc, char **argv) {
     const char *verb = "diff";
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
@@ -135,11 +264,14 @@ int pgt_cmd_diff(int argc, char **argv) {
         return argc < 2 ? PGT_EXIT_USAGE : PGT_EXIT_OK;
     }
     const char *algo = argv[1];
-    if (strcmp(algo, "sqrt3") != 0 && strcmp(algo, "all") != 0)
-        return pgt_cli_fail(verb, "unknown algorithm '%s' (known: sqrt3, all)", algo);
+    const int all = !strcmp(algo, "all"), want_sqrt3 = all || !strcmp(algo, "sqrt3"),
+              want_march = all || !strcmp(algo, "march");
+    if (!want_sqrt3 && !want_march)
+        return pgt_cli_fail(verb, "unknown algorithm '%s' (known: sqrt3, march, all)", algo);
     diff_cfg c;
     memset(&c, 0, sizeof c);
     c.shared_dir = PGT_CLI_SHARED_MESH_DIR;
+    c.walkers = 2048, c.steps = 100, c.res = PGT_ATLAS_DEFAULT_RES, c.step = 2.0f;
     int have_backend = 0;
     pgt_backend_kind kind = PGT_BACKEND_CPU;
     uint32_t device = 0;
@@ -164,6 +296,22 @@ int pgt_cmd_diff(int argc, char **argv) {
             c.protect_none = c.protect_quarter = 0;
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) || diff_list(a, v, &c, 0))
                 return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--walkers")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 1u << 20, &c.walkers))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--steps")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 1, 1u << 16, &c.steps))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--step")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_float(verb, a, v, 0.0f, PGT_MARCH_MAX_LENGTH, &c.step))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--res")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, PGT_ATLAS_MIN_RES, PGT_ATLAS_MAX_RES, &c.res))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--shared")) {
             if (!(c.shared_dir = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--profile")) {
@@ -181,6 +329,7 @@ int pgt_cmd_diff(int argc, char **argv) {
     if (!have_backend) return pgt_cli_fail(verb, "no backend: give --backend cl or vk");
     if (c.n_iters == 0) c.iters[0] = 1, c.iters[1] = 2, c.iters[2] = 3, c.n_iters = 3;
     if (!c.protect_none && !c.protect_quarter) c.protect_none = c.protect_quarter = 1;
+    c.explicit_inputs = c.n_inputs > 0;
     if (c.n_inputs == 0) {
         for (uint32_t g = 0; g < pgt_gen_default_count() && c.n_inputs < DIFF_MAX_LIST; ++g)
             c.inputs[c.n_inputs++] = pgt_gen_default_name(g);
@@ -195,8 +344,20 @@ int pgt_cmd_diff(int argc, char **argv) {
     if (!c.json) printf("diff: reference vs %s\n", b.name);
     uint32_t cases = 0, refused = 0;
     const double t0 = pgt_cli_now_ms();
-    const int failures =
-        diff_sqrt3(&b, &c, &cases, &refused); /* every algorithm pgt has: sqrt3 today */
+    int failures = want_sqrt3 ? diff_sqrt3(&b, &c, all, &cases, &refused) : 0;
+    if (failures >= 0 && want_march) {
+        if (pgt_backend_has_march(&b)) {
+            const int f = diff_march(&b, &c, all, &cases);
+            failures = f < 0 ? f : failures + f;
+        } else if (all) {
+            if (!c.json)
+                printf("march: no %s version yet (skipped)\n", pgt_backend_kind_name(kind));
+        } else {
+            pgt_cli_fail(verb, "march has no %s version yet (pgt diff march --backend cl)",
+                         pgt_backend_kind_name(kind));
+            failures = -1;
+        }
+    }
     const double ms = pgt_cli_now_ms() - t0;
     if (failures >= 0) {
         if (c.json) {

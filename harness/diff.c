@@ -210,3 +210,146 @@ void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, i
             (unsigned long long)d->positions.outside, d->max_ulp, d->max_abs_rel, d->ref_ms,
             d->got_ms, verdict);
 }
+
+/* ---- march ---------------------------------------------------------------------------------- */
+
+/* The float fields of a state the diff compares, in this order. */
+#define DIFF_MARCH_FLOATS 6u
+static void march_floats(const pgt_march_state *s, float *out) {
+    out[0] = s->x, out[1] = s->y, out[2] = s->dx, out[3] = s->dy, out[4] = s->in_dx;
+    out[5] = s->in_dy;
+}
+
+pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
+                              float length, uint32_t steps, uint32_t walkers, uint32_t seed,
+                              pgt_diff_march *d, pgt_error *err) {
+    memset(d, 0, sizeof(*d));
+    d->walkers = walkers, d->steps_per_walker = steps;
+    d->first_walker = d->first_step = UINT64_MAX;
+    d->tolerance = pgt_tolerance_find("march", "state");
+    const uint64_t records = (uint64_t)walkers * steps;
+    if (records > UINT32_MAX)
+        return pgt_error_set(err, PGT_ERROR_LIMIT, "march diff: %u walkers x %u steps is too many",
+                             walkers, steps);
+    pgt_march_state *start = calloc(walkers ? walkers : 1, sizeof *start),
+                    *got = calloc(walkers ? walkers : 1, sizeof *got),
+                    *rec = malloc((size_t)(records ? records : 1) * sizeof *rec);
+    uint32_t *ev = malloc((size_t)(records ? records : 1) * 4);
+    float *x = malloc((size_t)(walkers ? walkers : 1) * 4 * sizeof(float));
+    uint32_t *chart = malloc((size_t)(walkers ? walkers : 1) * 4);
+    pgt_result r = PGT_OK;
+    if (!start || !got || !rec || !ev || !x || !chart) {
+        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "march diff: out of memory");
+        goto done;
+    }
+    float *y = x + walkers, *dx = y + walkers, *dy = dx + walkers;
+    if (pgt_march_random_starts(a, seed, walkers, x, y, dx, dy, chart) != 0) {
+        r = pgt_error_set(err, PGT_ERROR_EMPTY, "march diff: no inner texel to start from");
+        goto done;
+    }
+    for (uint32_t i = 0; i < walkers; ++i) {
+        pgt_march_state s = {x[i], y[i], dx[i], dy[i], chart[i], 0u, 0.0f, 0.0f, 0u};
+        start[i] = got[i] = s;
+    }
+    double t0 = pgt_cli_now_ms();
+    r = pgt_backend_march(b, a, o, length, steps, walkers, got, rec, ev, NULL, NULL, err);
+    d->got_ms = pgt_cli_now_ms() - t0;
+    if (r != PGT_OK) goto done;
+    t0 = pgt_cli_now_ms();
+    r = pgt_diff_march_compare(d, a, o, length, steps, walkers, start, rec, ev, err);
+    d->ref_ms = pgt_cli_now_ms() - t0;
+done:
+    free(start), free(got), free(rec), free(ev), free(x), free(chart);
+    return r;
+}
+
+pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
+                                  const pgt_march_options *o, float length, uint32_t steps,
+                                  uint32_t walkers, const pgt_march_state *start,
+                                  const pgt_march_state *rec, const uint32_t *ev, pgt_error *err) {
+    const double ref_ms = d->ref_ms, got_ms = d->got_ms;
+    memset(d, 0, sizeof(*d));
+    d->ref_ms = ref_ms, d->got_ms = got_ms;
+    d->walkers = walkers, d->steps_per_walker = steps;
+    d->first_walker = d->first_step = UINT64_MAX;
+    d->tolerance = pgt_tolerance_find("march", "state");
+    const uint64_t records = (uint64_t)walkers * steps;
+    float *fr = malloc((size_t)(records ? records : 1) * DIFF_MARCH_FLOATS * sizeof(float)),
+          *fg = malloc((size_t)(records ? records : 1) * DIFF_MARCH_FLOATS * sizeof(float));
+    if (!fr || !fg) {
+        free(fr), free(fg);
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "march diff: out of memory");
+    }
+    /* every recorded step, re-run by the reference from the backend's state before it */
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < walkers; ++i)
+        for (uint32_t k = 0; k < steps; ++k) {
+            const size_t at = (size_t)i * steps + k;
+            pgt_march_state s = k ? rec[at - 1] : start[i];
+            pgt_march_info info;
+            const pgt_march_event e = pgt_march_step(a, o, &s, length, 0.0f, &info);
+            const uint32_t want = PGT_BACKEND_MARCH_EVENT(e, info.stop, info.jumps);
+            const pgt_march_state *g = &rec[at];
+            if (want != ev[at] || s.chart != g->chart || s.from != g->from ||
+                s.bounces != g->bounces) {
+                if (!d->discrete) {
+                    d->first_walker = i, d->first_step = k;
+                    d->ref_event = want, d->got_event = ev[at];
+                }
+                d->discrete++;
+            }
+            march_floats(&s, fr + n * DIFF_MARCH_FLOATS);
+            march_floats(g, fg + n * DIFF_MARCH_FLOATS);
+            n++;
+            d->crossings += info.jumps > 0;
+            if (e == PGT_MARCH_STOP || (ev[at] & 0xFFu) == PGT_MARCH_STOP) {
+                d->stops++;
+                break;
+            }
+        }
+    d->steps = n;
+    pgt_diff_floats_run(&d->state, fr, fg, n * DIFF_MARCH_FLOATS, d->tolerance->max_ulp,
+                        d->tolerance->max_abs_rel);
+    d->pass = d->discrete == 0 && d->state.outside == 0;
+    free(fr), free(fg);
+    return PGT_OK;
+}
+
+void pgt_diff_march_print(FILE *f, const char *label, const pgt_diff_march *d, int json) {
+    static const char *const field[DIFF_MARCH_FLOATS] = {"x", "y", "dx", "dy", "in_dx", "in_dy"};
+    const uint64_t w = d->state.worst;
+    if (json) {
+        fprintf(f, "{\"algorithm\":\"march\",\"case\":");
+        pgt_cli_json_string(f, label);
+        fprintf(f,
+                ",\"pass\":%s,\"walkers\":%u,\"steps\":%llu,\"crossings\":%llu,\"stops\":%llu,"
+                "\"discrete_mismatches\":%llu,\"state\":{\"max_abs\":",
+                d->pass ? "true" : "false", d->walkers, (unsigned long long)d->steps,
+                (unsigned long long)d->crossings, (unsigned long long)d->stops,
+                (unsigned long long)d->discrete);
+        json_number(f, d->state.max_abs);
+        fprintf(f,
+                ",\"max_ulp\":%llu,\"outside\":%llu},\"tolerance\":{\"max_ulp\":%u,"
+                "\"max_abs\":%g},\"reference_ms\":%.3f,\"backend_ms\":%.3f}\n",
+                (unsigned long long)d->state.max_ulp, (unsigned long long)d->state.outside,
+                d->tolerance->max_ulp, d->tolerance->max_abs_rel, d->ref_ms, d->got_ms);
+        return;
+    }
+    fprintf(f,
+            "march %s: %u walkers, %llu steps (%llu crossing charts, %llu stops); discrete "
+            "mismatches %llu",
+            label, d->walkers, (unsigned long long)d->steps, (unsigned long long)d->crossings,
+            (unsigned long long)d->stops, (unsigned long long)d->discrete);
+    if (d->discrete)
+        fprintf(f, " (first: walker %llu step %llu, event word ref 0x%x got 0x%x)",
+                (unsigned long long)d->first_walker, (unsigned long long)d->first_step,
+                d->ref_event, d->got_event);
+    fprintf(f,
+            "; state: max abs %.3g, max ulp %llu (step %llu.%s ref %.9g got %.9g), %llu outside "
+            "%u ulp / %.0e; %.1f vs %.1f ms: %s\n",
+            d->state.max_abs, (unsigned long long)d->state.max_ulp,
+            (unsigned long long)(w / DIFF_MARCH_FLOATS), field[w % DIFF_MARCH_FLOATS],
+            d->state.worst_ref, d->state.worst_got, (unsigned long long)d->state.outside,
+            d->tolerance->max_ulp, d->tolerance->max_abs_rel, d->ref_ms, d->got_ms,
+            d->pass ? "ok" : "FAIL");
+}

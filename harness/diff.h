@@ -69,4 +69,38 @@ pgt_result pgt_diff_sqrt3_run(pgt_backend *b, const pgt_mesh *in, uint32_t itera
 /* One line (or one JSON object) describing a case; `label` names the input and options. */
 void pgt_diff_sqrt3_print(FILE *f, const char *label, const pgt_diff_sqrt3 *d, int json);
 
+/* One march case: `walkers` seeded random walkers (pgt_march_random_starts) take up to `steps`
+ * steps of `length` texels on the backend, which records every step; each step is then re-run
+ * by the reference (pgt_march_step) from the backend's state before it and compared: discrete
+ * outcomes must be equal, floats within the "march" tolerance. */
+typedef struct pgt_diff_march {
+    uint32_t walkers, steps_per_walker;
+    uint64_t steps;     /* steps compared (a STOP counts; nothing after it) */
+    uint64_t crossings; /* of those, steps that crossed a chart border */
+    uint64_t stops;
+    uint64_t discrete; /* steps whose event, stop, crossings, chart, from or bounces differ */
+    uint64_t first_walker, first_step; /* the first such step (UINT64_MAX: none) */
+    uint32_t ref_event, got_event;     /* its event words (PGT_BACKEND_MARCH_EVENT) */
+    pgt_diff_floats state;             /* x, y, dx, dy, in_dx, in_dy of every compared step */
+    const pgt_tolerance *tolerance;
+    int pass;
+    double ref_ms, got_ms;
+} pgt_diff_march;
+
+/* Runs a march case (seed: pgt_march_random_starts's). PGT_OK when the comparison was made; an
+ * error when the backend fails or memory runs out. */
+pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
+                              float length, uint32_t steps, uint32_t walkers, uint32_t seed,
+                              pgt_diff_march *d, pgt_error *err);
+
+/* The comparison of pgt_diff_march_run after the backend's run: walker i started at start[i];
+ * rec and ev are its walkers x steps records (pgt_backend_march). Fills d (its ms kept). */
+pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
+                                  const pgt_march_options *o, float length, uint32_t steps,
+                                  uint32_t walkers, const pgt_march_state *start,
+                                  const pgt_march_state *rec, const uint32_t *ev, pgt_error *err);
+
+/* One line (or one JSON object) describing a march case. */
+void pgt_diff_march_print(FILE *f, const char *label, const pgt_diff_march *d, int json);
+
 #endif

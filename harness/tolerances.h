@@ -36,6 +36,20 @@ static const pgt_tolerance pgt_tolerances[] = {
     {"sqrt3", "positions", 16u, 1e-6,
      "division may be 2.5 ulp on OpenCL/Vulkan devices; k <= 3 convex relaxations do not "
      "amplify; 1e-6 x diagonal floors coordinates near 0"},
+    /* Marching: the state after each step (x, y, dx, dy and the no-bounce memory's in_dx,
+     * in_dy), compared step by step from the backend's own state before it, so errors do not
+     * carry from step to step. The kernel runs the reference's float operations in its order
+     * with contraction off, and the rot's cosine and sine come from the host's cosf and sinf, so
+     * an IEEE device gives the same bits. A step holds at most PGT_MARCH_MAX_JUMPS jumps, each a
+     * few divisions and square roots (the remaining length, the Jacobian rotation's solve, the
+     * direction's normalisation) that the APIs let a real GPU round 2.5-3 ulp off; 16 ulp covers
+     * a jump's chain of them. 1e-6 is the absolute floor for a direction component near 0 (a
+     * unit vector: 8x float epsilon) and, in texels, for a position (far below the 1/256 texel
+     * that decides which texel a point lies in). Discrete outcomes (event, stop, crossings,
+     * chart, the no-bounce memory's texel and count) have no entry: they must be equal. */
+    {"march", "state", 16u, 1e-6,
+     "a jump's divisions and square roots may be 2.5-3 ulp each on OpenCL/Vulkan devices; "
+     "1e-6 floors direction components and texel coordinates near 0"},
 };
 
 /* Each sqrt(3) iteration past the 3 the table's entry covers adds one division-rounded weight per

@@ -75,7 +75,7 @@ expect devices_json 0 "$pgt" devices --json
 /usr/bin/python3 -c 'import json,sys; d=json.load(open("out.txt")); assert set(d)=={"cl","vk"}' \
   && ok devices_json_parses || bad devices_json_parses "$(cat out.txt)"
 expect diff_help 0 "$pgt" diff --help
-for flag in --backend --device --iters --protected --shared --profile --json; do
+for flag in --backend --device --iters --protected --walkers --steps --step --res --shared --profile --json; do
   grep -q -- "$flag" out.txt && ok "diff_help_documents_$flag" || bad "diff_help_documents_$flag" "missing"
 done
 expect diff_no_backend 2 "$pgt" diff sqrt3 "$ico"
@@ -100,6 +100,29 @@ cases=[r for r in rows if "case" in r]
 assert len(cases)==8 and all(r["pass"] and r["positions"]["max_ulp"]==0 for r in cases), rows
 assert rows[-1]["summary"] and rows[-1]["cases"]==8 and rows[-1]["failed"]==0' \
   && ok diff_cpu_self_json || bad diff_cpu_self_json "$(head -c 400 out.txt)"
+# march: the reference against itself on a built atlas and on an atlas file, five option sets
+expect diff_march_cpu_self 0 "$pgt" diff march --backend cpu cube_sphere_8 --res 128 --walkers 64 --steps 20 --json
+/usr/bin/python3 -c '
+import json
+rows=[json.loads(l) for l in open("out.txt")]
+cases=[r for r in rows if "case" in r]
+assert len(cases)==5 and all(r["pass"] and r["algorithm"]=="march" and r["state"]["max_ulp"]==0
+                             and r["discrete_mismatches"]==0 and r["steps"]>0 for r in cases), rows
+assert rows[-1]["summary"] and rows[-1]["cases"]==5 and rows[-1]["failed"]==0' \
+  && ok diff_march_cpu_self_json || bad diff_march_cpu_self_json "$(head -c 400 out.txt)"
+expect diff_march_atlas_written 0 "$pgt" atlas cube_sphere_8 --res 128 -o march_diff_atlas.exr
+expect diff_march_exr_input 0 "$pgt" diff march --backend cpu march_diff_atlas.exr --walkers 16 --steps 5
+grep -c "^march march_diff_atlas.exr 128x128 .*: ok$" out.txt | grep -qx 5 \
+  && ok diff_march_exr_five_cases || bad diff_march_exr_five_cases "$(cat out.txt)"
+expect diff_march_no_uvs 2 "$pgt" diff march --backend cpu "$ico"
+one_line diff_march_no_uvs_one_line "march needs UVs"
+expect diff_march_bad_walkers 2 "$pgt" diff march --backend cpu cube_sphere_8 --walkers 0
+one_line diff_march_bad_walkers_one_line "--walkers"
+expect diff_march_bad_step 2 "$pgt" diff march --backend cpu cube_sphere_8 --step 0
+# under all, an input march cannot take is skipped with a note, sqrt3 still runs on it
+expect diff_all_skips_for_march 0 "$pgt" diff all --backend cpu "$ico" --iters 1 --protected none
+grep -q "^march .*: skipped (no UVs" out.txt && grep -q "^sqrt3 .*: ok$" out.txt \
+  && ok diff_all_skip_note || bad diff_all_skip_note "$(cat out.txt)"
 
 # pgt atlas, pgt march (their algorithms are test_atlas / test_march)
 expect atlas_help 0 "$pgt" atlas --help

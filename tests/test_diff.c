@@ -9,6 +9,8 @@
 
 #include "cli.h"
 #include "diff.h"
+#include "gen.h"
+#include "pgt/atlas_build.h"
 #include "test_util.h"
 
 static float from_bits(uint32_t u) {
@@ -68,6 +70,9 @@ static void tolerance_table_entries(void) {
     REQUIRE(t != NULL);
     CHECK(t->max_ulp > 0 && t->max_abs_rel > 0.0 && t->why && strlen(t->why) > 20);
     CHECK(pgt_tolerance_find("sqrt3", "nothing") == NULL);
+    const pgt_tolerance *m = pgt_tolerance_find("march", "state");
+    REQUIRE(m != NULL);
+    CHECK(m->max_ulp > 0 && m->max_abs_rel > 0.0 && m->why && strlen(m->why) > 20);
     /* the entry's bounds hold for k <= 3 and grow, never shrink, with each further iteration */
     uint32_t ulp = 0, prev_ulp = 0;
     double rel = 0.0, prev_rel = 0.0;
@@ -204,12 +209,115 @@ static void compare_catches_each_output(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* The march comparison: the cpu backend's records of walkers on the cube-sphere's 6-chart atlas,
+ * compared with themselves (equal), then with one record (a walker's last) changed in each way
+ * a backend could
+ * differ: a position 2 ulp off (within the 16-ulp tolerance), one 1000 ulp off, a direction
+ * NaN, another chart, another no-bounce texel, another event word. Each is counted where it
+ * must be, the first discrete mismatch located. */
+#define MARCH_WALKERS 64u
+#define MARCH_STEPS 40u
+static void march_compare_catches_each_output(void) {
+    pgt_mesh m = {0};
+    pgt_image img = {0};
+    pgt_error err = {0};
+    REQUIRE(pgt_gen_cube_sphere(&m, 8, &err) == PGT_OK);
+    pgt_atlas_options ao = {0};
+    ao.width = ao.height = 128;
+    REQUIRE(pgt_atlas_build(&img, &m, &ao, NULL, &err) == PGT_OK);
+    pgt_march_atlas a;
+    REQUIRE(pgt_march_atlas_create(&a, &img, "cube-sphere", &err) == PGT_OK);
+    pgt_backend cpu;
+    REQUIRE(pgt_backend_open(&cpu, PGT_BACKEND_CPU, 0, 0, &err) == PGT_OK);
+    float x[4 * MARCH_WALKERS];
+    uint32_t chart[MARCH_WALKERS];
+    REQUIRE(pgt_march_random_starts(&a, 7, MARCH_WALKERS, x, x + MARCH_WALKERS,
+                                    x + 2 * MARCH_WALKERS, x + 3 * MARCH_WALKERS, chart) == 0);
+    static pgt_march_state start[MARCH_WALKERS], s[MARCH_WALKERS];
+    static pgt_march_state rec[MARCH_WALKERS * MARCH_STEPS], got[MARCH_WALKERS * MARCH_STEPS];
+    static uint32_t ev[MARCH_WALKERS * MARCH_STEPS], got_ev[MARCH_WALKERS * MARCH_STEPS];
+    for (uint32_t i = 0; i < MARCH_WALKERS; ++i) {
+        const pgt_march_state t = {x[i],
+                                   x[MARCH_WALKERS + i],
+                                   x[2 * MARCH_WALKERS + i],
+                                   x[3 * MARCH_WALKERS + i],
+                                   chart[i],
+                                   0u,
+                                   0.0f,
+                                   0.0f,
+                                   0u};
+        start[i] = s[i] = t;
+    }
+    const float length = 3.0f;
+    REQUIRE(pgt_backend_march(&cpu, &a, NULL, length, MARCH_STEPS, MARCH_WALKERS, s, rec, ev, NULL,
+                              NULL, &err) == PGT_OK);
+    /* the last record of a walker that jumped before it (its no-bounce memory is set) and did
+     * not stop: no step is re-run from it, so what is changed there is the only difference */
+    uint32_t jr = UINT32_MAX;
+    for (uint32_t w = 0; w < MARCH_WALKERS && jr == UINT32_MAX; ++w) {
+        const uint32_t r = w * MARCH_STEPS + MARCH_STEPS - 1u;
+        if (rec[r].from != 0u && (ev[r] & 0xFFu) != PGT_MARCH_STOP) jr = r;
+    }
+    REQUIRE(jr != UINT32_MAX);
+    const uint32_t jw = jr / MARCH_STEPS, js = jr % MARCH_STEPS;
+    pgt_diff_march d;
+    for (int kind = -1; kind < 6; ++kind) {
+        memcpy(got, rec, sizeof got);
+        memcpy(got_ev, ev, sizeof got_ev);
+        pgt_march_state *g = &got[jr];
+        switch (kind) {
+        case 0:
+            g->x = nextafterf(nextafterf(g->x, INFINITY), INFINITY);
+            break;
+        case 1: {
+            uint32_t u;
+            memcpy(&u, &g->y, sizeof u);
+            u += 1000u;
+            memcpy(&g->y, &u, sizeof u);
+            break;
+        }
+        case 2:
+            g->dx = NAN;
+            break;
+        case 3:
+            g->chart ^= 1u;
+            break;
+        case 4:
+            g->from += 1u;
+            break;
+        case 5:
+            got_ev[jr] ^= 1u; /* a jump reported as a search, or the other way */
+            break;
+        default:
+            break;
+        }
+        memset(&d, 0, sizeof d);
+        REQUIRE(pgt_diff_march_compare(&d, &a, NULL, length, MARCH_STEPS, MARCH_WALKERS, start, got,
+                                       got_ev, &err) == PGT_OK);
+        CHECK_MSG(d.pass == (kind <= 0), "kind %d: pass %d", kind, d.pass);
+        CHECK(d.steps > MARCH_WALKERS * (MARCH_STEPS / 2u) && d.crossings > 0);
+        const uint64_t outside = kind == 1 || kind == 2 ? 1u : 0u;
+        CHECK_MSG(d.state.outside == outside, "kind %d: %llu outside", kind,
+                  (unsigned long long)d.state.outside);
+        if (kind == 0) CHECK(d.state.max_ulp == 2u);
+        const uint64_t discrete = kind >= 3 ? 1u : 0u;
+        CHECK_MSG(d.discrete == discrete, "kind %d: %llu discrete", kind,
+                  (unsigned long long)d.discrete);
+        if (discrete) CHECK(d.first_walker == jw && d.first_step == js);
+    }
+    pgt_backend_close(&cpu);
+    pgt_march_atlas_destroy(&a);
+    pgt_image_destroy(&img);
+    pgt_mesh_destroy(&m);
+}
+
 static const pgt_test_case cases[] = {
     {"ulp_known_answers", ulp_known_answers},
     {"floats_find_the_worst", floats_find_the_worst},
     {"tolerance_table_entries", tolerance_table_entries},
     {"reference_against_itself", reference_against_itself},
     {"compare_catches_each_output", compare_catches_each_output},
+    {"march_compare_catches_each_output", march_compare_catches_each_output},
 };
 
 PGT_TEST_MAIN(cases)

@@ -8,6 +8,7 @@
 #define PGT_CL_H
 
 #include "host.h"
+#include "pgt/march.h"
 #include "pgt/mesh.h"
 #include "pgt/sqrt3.h"
 
@@ -35,6 +36,21 @@ const char *pgt_cl_device_name(const pgt_cl *ctx);
  * carried (out->uvs is NULL); labels are inherited through the parent faces. times may be NULL. */
 pgt_result pgt_cl_sqrt3(pgt_cl *ctx, pgt_mesh *out, const pgt_mesh *in,
                         const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err);
+
+/* pgt_march_step on the device: `count` walkers from `states` (updated in place), each taking
+ * up to `steps` steps of `length` texels with angle 0 and stopping at its first STOP, as
+ * pgt_march_batch's walkers do (every state field, the no-bounce memory included, is the
+ * reference's to the bit on an IEEE device; kernels/march.cl). Options as pgt_march_options
+ * (NULL: the paper's defaults); a condition callback is refused (PGT_ERROR_INVALID_ARGUMENT).
+ * out_taken (count, may be NULL): the steps each walker took (a STOP is not one). Records
+ * (both NULL, or both count x steps, walker-major: walker i's step k at i * steps + k): the
+ * state after the step (unchanged on STOP) and its event word (march_cl.h:
+ * PGT_CL_MARCH_EVENT(pgt_march_event, pgt_march_stop, chart crossings)); the records after a
+ * walker's STOP repeat it. times may be NULL. */
+pgt_result pgt_cl_march(pgt_cl *ctx, const pgt_march_atlas *a, const pgt_march_options *o,
+                        float length, uint32_t steps, uint32_t count, pgt_march_state *states,
+                        pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
+                        pgt_gpu_times *times, pgt_error *err);
 
 #ifdef __cplusplus
 }

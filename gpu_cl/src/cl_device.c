@@ -18,7 +18,7 @@ extern const unsigned long pgt_cl_program_source_size;
 
 const char *const pgt_cl_kernel_names[PGT_CL_KERNEL_COUNT] = {
     "s3_classify",        "s3_scan",         "s3_scan_add", "s3_vertices", "s3_faces",
-    "s3_vertices_closed", "s3_faces_closed",
+    "s3_vertices_closed", "s3_faces_closed", "march_walk",
 };
 
 double pgt_cl_now_ms(void) {
@@ -324,3 +324,20 @@ void pgt_cl_destroy(pgt_cl *c) {
 }
 
 const char *pgt_cl_device_name(const pgt_cl *c) { return c ? c->name : ""; }
+
+/* A device buffer of `bytes` (4 at least: OpenCL has no empty buffer). */
+pgt_result pgt_cl_buffer(pgt_cl *cl, cl_mem *out, uint64_t bytes, pgt_error *err) {
+    pgt_result r = PGT_OK;
+    cl_int rc = CL_SUCCESS;
+    if (bytes < 4) bytes = 4;
+    if (bytes > cl->max_alloc || bytes > (uint64_t)SIZE_MAX)
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
+                             "OpenCL: a buffer of %llu bytes exceeds what %s allocates at once "
+                             "(CL_DEVICE_MAX_MEM_ALLOC_SIZE %llu)",
+                             (unsigned long long)bytes, cl->name,
+                             (unsigned long long)cl->max_alloc);
+    PGT_CL_CHECK(
+        (*out = clCreateBuffer(cl->context, CL_MEM_READ_WRITE, (size_t)bytes, NULL, &rc), rc));
+cleanup:
+    return r;
+}

@@ -15,10 +15,12 @@ enum {
     PGT_CL_K_S3_FACES,
     PGT_CL_K_S3_VERTICES_CLOSED,
     PGT_CL_K_S3_FACES_CLOSED,
+    PGT_CL_K_MARCH_WALK,
     PGT_CL_KERNEL_COUNT
 };
 
-/* Kernel names, indexed by PGT_CL_K_*: as in kernels/sqrt3.cl, and in profile events. */
+/* Kernel names, indexed by PGT_CL_K_*: as in kernels/sqrt3.cl and kernels/march.cl, and in profile
+ * events. */
 extern const char *const pgt_cl_kernel_names[PGT_CL_KERNEL_COUNT];
 
 struct pgt_cl {
@@ -48,6 +50,10 @@ pgt_result pgt_cl_fail(pgt_error *err, const char *file, int line, const char *c
             goto cleanup;                                                                          \
         }                                                                                          \
     } while (0)
+
+/* A device buffer of `bytes` (4 at least: OpenCL has no empty buffer); a size beyond
+ * CL_DEVICE_MAX_MEM_ALLOC_SIZE is PGT_ERROR_OUT_OF_MEMORY naming it. */
+pgt_result pgt_cl_buffer(pgt_cl *cl, cl_mem *out, uint64_t bytes, pgt_error *err);
 
 /* Milliseconds of a monotonic clock (for the host-measured copy times). */
 double pgt_cl_now_ms(void);

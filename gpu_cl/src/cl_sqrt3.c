@@ -69,23 +69,6 @@ static void s3_scratch_release(s3_scratch *s) {
     s3_release(&s->kind), s3_release(&s->bslot), s3_release(&s->scan_a), s3_release(&s->scan_b);
 }
 
-/* A device buffer of `bytes` (4 at least: OpenCL has no empty buffer). */
-static pgt_result s3_buffer(pgt_cl *cl, cl_mem *out, uint64_t bytes, pgt_error *err) {
-    pgt_result r = PGT_OK;
-    cl_int rc = CL_SUCCESS;
-    if (bytes < 4) bytes = 4;
-    if (bytes > cl->max_alloc || bytes > (uint64_t)SIZE_MAX)
-        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY,
-                             "OpenCL: a buffer of %llu bytes exceeds what %s allocates at once "
-                             "(CL_DEVICE_MAX_MEM_ALLOC_SIZE %llu)",
-                             (unsigned long long)bytes, cl->name,
-                             (unsigned long long)cl->max_alloc);
-    PGT_CL_CHECK(
-        (*out = clCreateBuffer(cl->context, CL_MEM_READ_WRITE, (size_t)bytes, NULL, &rc), rc));
-cleanup:
-    return r;
-}
-
 /* Sets the arguments of kernel `k` and launches it over `count` elements (rounded up to whole
  * work-groups; every kernel guards its index). With profiling, the launch's event is kept. */
 static pgt_result s3_launch(s3_call *c, int k, const s3_arg *args, cl_uint n_args, uint32_t count,
@@ -139,10 +122,10 @@ static pgt_result s3_classify_and_scan(s3_call *c, const s3_level *in, pgt_s3_pa
         if (n[levels] == 1) break;
     }
     const uint64_t scan_bytes = ((uint64_t)off[levels] + 1) * sizeof(cl_uint);
-    if ((r = s3_buffer(cl, &sc->kind, (uint64_t)in->F * 4, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &sc->bslot, (uint64_t)in->F * 4, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &sc->scan_a, scan_bytes, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &sc->scan_b, scan_bytes, err)) != PGT_OK)
+    if ((r = pgt_cl_buffer(cl, &sc->kind, (uint64_t)in->F * 4, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &sc->bslot, (uint64_t)in->F * 4, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &sc->scan_a, scan_bytes, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &sc->scan_b, scan_bytes, err)) != PGT_OK)
         return r;
     cl_mem prot = flags & PGT_CL_S3_PROT ? in->prot : cl->placeholder;
     p.first = 0, p.count = in->F;
@@ -246,13 +229,13 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
 
     /* ---- upload level 0 ---- */
     t0 = pgt_cl_now_ms();
-    if ((r = s3_buffer(cl, &cur.pos, (uint64_t)V0 * 12, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &cur.idx, (uint64_t)F0 * 12, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &cur.opp, (uint64_t)F0 * 12, err)) != PGT_OK ||
-        (r = s3_buffer(cl, &cur.vh, (uint64_t)V0 * 4, err)) != PGT_OK ||
-        (n_protected && (r = s3_buffer(cl, &cur.prot, (uint64_t)F0 * 4, err)) != PGT_OK) ||
-        (want_parent && (r = s3_buffer(cl, &cur.parent, (uint64_t)F0 * 4, err)) != PGT_OK) ||
-        (r = s3_buffer(cl, &alpha_buf, (uint64_t)alpha_count * 4, err)) != PGT_OK)
+    if ((r = pgt_cl_buffer(cl, &cur.pos, (uint64_t)V0 * 12, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &cur.idx, (uint64_t)F0 * 12, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &cur.opp, (uint64_t)F0 * 12, err)) != PGT_OK ||
+        (r = pgt_cl_buffer(cl, &cur.vh, (uint64_t)V0 * 4, err)) != PGT_OK ||
+        (n_protected && (r = pgt_cl_buffer(cl, &cur.prot, (uint64_t)F0 * 4, err)) != PGT_OK) ||
+        (want_parent && (r = pgt_cl_buffer(cl, &cur.parent, (uint64_t)F0 * 4, err)) != PGT_OK) ||
+        (r = pgt_cl_buffer(cl, &alpha_buf, (uint64_t)alpha_count * 4, err)) != PGT_OK)
         goto cleanup;
     if (V0) {
         PGT_CL_CHECK(clEnqueueWriteBuffer(cl->queue, cur.pos, CL_FALSE, 0, (size_t)V0 * 12,
@@ -295,12 +278,15 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
             goto cleanup;
         nxt.V = cur.V + np, nxt.F = nf;
         assert(nxt.V <= v_bound && nxt.F <= f_bound);
-        if ((r = s3_buffer(cl, &nxt.pos, (uint64_t)nxt.V * 12, err)) != PGT_OK ||
-            (r = s3_buffer(cl, &nxt.idx, (uint64_t)nxt.F * 12, err)) != PGT_OK ||
-            (p.with_adj && (r = s3_buffer(cl, &nxt.opp, (uint64_t)nxt.F * 12, err)) != PGT_OK) ||
-            (p.with_adj && (r = s3_buffer(cl, &nxt.vh, (uint64_t)nxt.V * 4, err)) != PGT_OK) ||
-            (n_protected && (r = s3_buffer(cl, &nxt.prot, (uint64_t)nxt.F * 4, err)) != PGT_OK) ||
-            (want_parent && (r = s3_buffer(cl, &nxt.parent, (uint64_t)nxt.F * 4, err)) != PGT_OK))
+        if ((r = pgt_cl_buffer(cl, &nxt.pos, (uint64_t)nxt.V * 12, err)) != PGT_OK ||
+            (r = pgt_cl_buffer(cl, &nxt.idx, (uint64_t)nxt.F * 12, err)) != PGT_OK ||
+            (p.with_adj &&
+             (r = pgt_cl_buffer(cl, &nxt.opp, (uint64_t)nxt.F * 12, err)) != PGT_OK) ||
+            (p.with_adj && (r = pgt_cl_buffer(cl, &nxt.vh, (uint64_t)nxt.V * 4, err)) != PGT_OK) ||
+            (n_protected &&
+             (r = pgt_cl_buffer(cl, &nxt.prot, (uint64_t)nxt.F * 4, err)) != PGT_OK) ||
+            (want_parent &&
+             (r = pgt_cl_buffer(cl, &nxt.parent, (uint64_t)nxt.F * 4, err)) != PGT_OK))
             goto cleanup;
         /* Buffers a launch does not read are bound to the placeholder. */
         const cl_mem ph = cl->placeholder;

@@ -34,22 +34,6 @@
 
 #define MARCH_NONE UINT32_MAX
 
-/* Largest ratio of source to destination texel size (3D length of one texel of travel) trusted
- * at a jump. Neighbouring charts differ by a few times at most (spot's seams, the worst here:
- * 3 to 6). A finite-difference texel size over a sliver or a degenerate triangle can be ~0 and
- * would blow the remaining length up: beyond 8x, 8 destination texels per source texel left. */
-#define MARCH_MAX_LENGTH_RATIO 8.0f
-
-/* Smallest squared sine of the angle between the two columns of a destination Jacobian that
- * the Jacobian rotation trusts: below ~3 degrees the texel is a sliver of a nearly degenerate
- * triangle and its inverse would amplify the finite differences' noise ~20 times. */
-#define MARCH_MIN_JACOBIAN_SINE2 0.0025f
-/* The Jacobians' largest component within which transport_direction takes them as they are:
- * their 4th power (its determinant) stays in [1e-24, 1e24], far inside float's normal range
- * even times MARCH_MIN_JACOBIAN_SINE2 (a mesh 1e-3 across at 1024^2 has texels of 1e-6). */
-#define MARCH_JACOBIAN_SCALE_MIN 1e-6f
-#define MARCH_JACOBIAN_SCALE_MAX 1e6f
-
 const char *pgt_march_event_name(pgt_march_event e) {
     switch (e) {
     case PGT_MARCH_INNER:
@@ -366,7 +350,7 @@ static int transport_direction(const float sx_in[3], const float sy_in[3], const
                                float *out_dy) {
     /* the direction depends on the Jacobians' ratios only; det below is their 4th power, which
      * leaves float's range for texels under ~1e-9 or over ~1e9 (it fell back to rot there):
-     * outside [MARCH_JACOBIAN_SCALE_MIN, MAX] the four are scaled by their largest component
+     * outside [PGT_MARCH_JACOBIAN_SCALE_MIN, MAX] the four are scaled by their largest component
      * first (inside it nothing changes, so the paths of usual meshes keep their bytes) */
     float sx[3], sy[3], rx[3], ry[3], m = 0.0f;
     for (int i = 0; i < 3; ++i) {
@@ -374,7 +358,7 @@ static int transport_direction(const float sx_in[3], const float sy_in[3], const
         m = fmaxf(m, fmaxf(fmaxf(fabsf(sx[i]), fabsf(sy[i])), fmaxf(fabsf(rx[i]), fabsf(ry[i]))));
     }
     if (!(m > 0.0f) || !isfinite(m)) return 0;
-    if (m < MARCH_JACOBIAN_SCALE_MIN || m > MARCH_JACOBIAN_SCALE_MAX)
+    if (m < PGT_MARCH_JACOBIAN_SCALE_MIN || m > PGT_MARCH_JACOBIAN_SCALE_MAX)
         for (int i = 0; i < 3; ++i) sx[i] /= m, sy[i] /= m, rx[i] /= m, ry[i] /= m;
     float ns[3], nr[3], v[3], k[3], kv[3], t[3];
     texel_motion(sx, sy, dx, dy, v);
@@ -393,7 +377,7 @@ static int transport_direction(const float sx_in[3], const float sy_in[3], const
     const float a11 = dot3(rx, rx), a12 = dot3(rx, ry), a22 = dot3(ry, ry);
     const float b1 = dot3(rx, t), b2 = dot3(ry, t), det = a11 * a22 - a12 * a12;
     /* a nearly singular J' (a sliver texel) gives no trustworthy direction */
-    if (!(det > MARCH_MIN_JACOBIAN_SINE2 * a11 * a22)) return 0;
+    if (!(det > PGT_MARCH_MIN_JACOBIAN_SINE2 * a11 * a22)) return 0;
     const float ex = (a22 * b1 - a12 * b2) / det, ey = (a11 * b2 - a12 * b1) / det;
     const float l = sqrtf(ex * ex + ey * ey);
     if (!(l > 0.0f)) return 0;
@@ -863,10 +847,10 @@ step_crossing(const pgt_march_atlas *a, const pgt_march_options *o, pgt_march_st
             const float ld = has_ref ? norm3(vd) : 0.0f;
             if (!(ld > 0.0f))
                 rem_dst = rem_src; /* no destination Jacobian: same texel size */
-            else if (ld * MARCH_MAX_LENGTH_RATIO > lv)
+            else if (ld * PGT_MARCH_MAX_LENGTH_RATIO > lv)
                 rem_dst = rem3 / ld;
             else
-                rem_dst = rem_src * MARCH_MAX_LENGTH_RATIO;
+                rem_dst = rem_src * PGT_MARCH_MAX_LENGTH_RATIO;
         } else {
             const float ox = (float)p0x + 0.5f - cx, oy = (float)p0y + 0.5f - cy;
             rem_src = rem - (ox * dx + oy * dy);

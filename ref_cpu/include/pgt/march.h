@@ -135,6 +135,22 @@ extern "C" {
  * segment inside an image; longer steps are a caller error. */
 #define PGT_MARCH_MAX_LENGTH 32768.0f
 
+/* Largest ratio of source to destination texel size (3D length of one texel of travel) trusted
+ * at a jump. Neighbouring charts differ by a few times at most (spot's seams, the worst here:
+ * 3 to 6). A finite-difference texel size over a sliver or a degenerate triangle can be ~0 and
+ * would blow the remaining length up: beyond 8x, 8 destination texels per source texel left. */
+#define PGT_MARCH_MAX_LENGTH_RATIO 8.0f
+
+/* Smallest squared sine of the angle between the two columns of a destination Jacobian that
+ * the Jacobian rotation trusts: below ~3 degrees the texel is a sliver of a nearly degenerate
+ * triangle and its inverse would amplify the finite differences' noise ~20 times. */
+#define PGT_MARCH_MIN_JACOBIAN_SINE2 0.0025f
+/* The Jacobians' largest component within which the Jacobian rotation takes them as they are:
+ * their 4th power (its determinant) stays in [1e-24, 1e24], far inside float's normal range
+ * even times PGT_MARCH_MIN_JACOBIAN_SINE2 (a mesh 1e-3 across at 1024^2 has texels of 1e-6). */
+#define PGT_MARCH_JACOBIAN_SCALE_MIN 1e-6f
+#define PGT_MARCH_JACOBIAN_SCALE_MAX 1e6f
+
 /* Default mask threshold: a destination whose mask value is >= this rejects the step (a mask is
  * painted 0 = free, 1 = blocked; 0.5 is the midpoint of an 8-bit or float mask). */
 #define PGT_MARCH_MASK_THRESHOLD 0.5f
