@@ -2,8 +2,8 @@
 # scripts/ab_march.sh on a small atlas: a build against itself takes the same steps (with one
 # view and with a view per build); --two-views gives B its own view and without it B reads A's;
 # a build from before the ring masks gets a view per build by itself; a build whose marching
-# differs (MARCH_MAX_LENGTH_RATIO 8 -> 2: spot's seams join texels 3-6x apart in size) is
-# reported as taking other steps; a missing mesh is an error.
+# differs (PGT_MARCH_MAX_LENGTH_RATIO 8 -> 2 where march.c uses it: spot's seams join texels
+# 3-6x apart in size) is reported as taking other steps; a missing mesh is an error.
 #   ab_march_check.sh SOURCE_DIR BUILD_DIR SHARED_MESH_DIR
 set -u
 src=$1 build=$2 meshes=$3
@@ -34,7 +34,7 @@ if git -C "$src" cat-file -e a80c078:ref_cpu/src/march.c 2>/dev/null; then
 else
   echo "SKIP old_layout_two_views: no git history with a80c078 in $src"
 fi
-sed 's/#define MARCH_MAX_LENGTH_RATIO 8.0f/#define MARCH_MAX_LENGTH_RATIO 2.0f/' "$src/ref_cpu/src/march.c" >"$work/other.c"
+sed 's/ld \* PGT_MARCH_MAX_LENGTH_RATIO > lv/ld * 2.0f > lv/' "$src/ref_cpu/src/march.c" >"$work/other.c"
 cmp -s "$work/other.c" "$src/ref_cpu/src/march.c" && { echo "FAIL: the sed changed nothing"; exit 1; }
 run WORK "$work/other.c" "$mesh"
 check other_differs '[ $? -eq 0 ] && grep -q "the same: no" "$work/out.txt"'
