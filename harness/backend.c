@@ -136,7 +136,7 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
             if (rec_states) {
                 const size_t r = (size_t)i * steps + k;
                 rec_states[r] = states[i];
-                rec_events[r] = PGT_BACKEND_MARCH_EVENT(ev, info.stop, info.jumps);
+                rec_events[r] = PGT_MARCH_EVENT_WORD(ev, info.stop, info.jumps);
             }
             if (ev == PGT_MARCH_STOP) break;
         }

@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "host.h"
+#include "march_event.h"
 #include "pgt/march.h"
 #include "pgt/mesh.h"
 #include "pgt/sqrt3.h"
@@ -48,9 +49,10 @@ pgt_result pgt_backend_sqrt3(pgt_backend *b, pgt_mesh *out, const pgt_mesh *in,
 
 /* Marching (pgt_march_step with angle 0) of `count` walkers from `states` (updated in place),
  * up to `steps` steps of `length` texels each, a walker stopping at its first STOP, as
- * pgt_cl_march describes (records, out_taken and times may be NULL; the records after a STOP
- * repeat it). cpu: pgt_march_step walker by walker; cl: pgt_cl_march; vk: no version yet
- * (PGT_ERROR_BACKEND; pgt_backend_has_march says so beforehand). */
+ * pgt_cl_march describes (records, out_taken and times may be NULL; event words:
+ * PGT_MARCH_EVENT_WORD, gpu_shared/march_event.h; the records after a STOP repeat it). cpu:
+ * pgt_march_step walker by walker; cl: pgt_cl_march; vk: no version yet (PGT_ERROR_BACKEND;
+ * pgt_backend_has_march says so beforehand). */
 pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
                              float length, uint32_t steps, uint32_t count, pgt_march_state *states,
                              pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
@@ -58,11 +60,6 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
 
 /* Whether pgt_backend_march runs on this backend (cpu and cl; not vk yet). */
 int pgt_backend_has_march(const pgt_backend *b);
-
-/* A record's event word (cpu and cl alike): the pgt_march_event in bits 0-7, the pgt_march_stop
- * in bits 8-15, the chart crossings of the step (pgt_march_info.jumps) in bits 16-31. */
-#define PGT_BACKEND_MARCH_EVENT(ev, stop, jumps)                                                   \
-    ((uint32_t)(ev) | (uint32_t)(stop) << 8 | (uint32_t)(jumps) << 16)
 
 /* The --profile table of the events recorded since open: kernel, launches, total ms, median ms
  * (nothing for cpu). */

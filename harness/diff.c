@@ -224,9 +224,6 @@ pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pg
                               float length, uint32_t steps, uint32_t walkers, uint32_t seed,
                               pgt_diff_march *d, pgt_error *err) {
     memset(d, 0, sizeof(*d));
-    d->walkers = walkers, d->steps_per_walker = steps;
-    d->first_walker = d->first_step = UINT64_MAX;
-    d->tolerance = pgt_tolerance_find("march", "state");
     const uint64_t records = (uint64_t)walkers * steps;
     if (records > UINT32_MAX)
         return pgt_error_set(err, PGT_ERROR_LIMIT, "march diff: %u walkers x %u steps is too many",
@@ -251,13 +248,12 @@ pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pg
         pgt_march_state s = {x[i], y[i], dx[i], dy[i], chart[i], 0u, 0.0f, 0.0f, 0u};
         start[i] = got[i] = s;
     }
-    double t0 = pgt_cli_now_ms();
+    const double t0 = pgt_cli_now_ms();
     r = pgt_backend_march(b, a, o, length, steps, walkers, got, rec, ev, NULL, NULL, err);
-    d->got_ms = pgt_cli_now_ms() - t0;
+    const double t1 = pgt_cli_now_ms();
     if (r != PGT_OK) goto done;
-    t0 = pgt_cli_now_ms();
     r = pgt_diff_march_compare(d, a, o, length, steps, walkers, start, rec, ev, err);
-    d->ref_ms = pgt_cli_now_ms() - t0;
+    d->got_ms = t1 - t0, d->ref_ms = pgt_cli_now_ms() - t1;
 done:
     free(start), free(got), free(rec), free(ev), free(x), free(chart);
     return r;
@@ -267,9 +263,7 @@ pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
                                   const pgt_march_options *o, float length, uint32_t steps,
                                   uint32_t walkers, const pgt_march_state *start,
                                   const pgt_march_state *rec, const uint32_t *ev, pgt_error *err) {
-    const double ref_ms = d->ref_ms, got_ms = d->got_ms;
     memset(d, 0, sizeof(*d));
-    d->ref_ms = ref_ms, d->got_ms = got_ms;
     d->walkers = walkers, d->steps_per_walker = steps;
     d->first_walker = d->first_step = UINT64_MAX;
     d->tolerance = pgt_tolerance_find("march", "state");
@@ -288,7 +282,7 @@ pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
             pgt_march_state s = k ? rec[at - 1] : start[i];
             pgt_march_info info;
             const pgt_march_event e = pgt_march_step(a, o, &s, length, 0.0f, &info);
-            const uint32_t want = PGT_BACKEND_MARCH_EVENT(e, info.stop, info.jumps);
+            const uint32_t want = PGT_MARCH_EVENT_WORD(e, info.stop, info.jumps);
             const pgt_march_state *g = &rec[at];
             if (want != ev[at] || s.chart != g->chart || s.from != g->from ||
                 s.bounces != g->bounces) {

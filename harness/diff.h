@@ -80,7 +80,7 @@ typedef struct pgt_diff_march {
     uint64_t stops;
     uint64_t discrete; /* steps whose event, stop, crossings, chart, from or bounces differ */
     uint64_t first_walker, first_step; /* the first such step (UINT64_MAX: none) */
-    uint32_t ref_event, got_event;     /* its event words (PGT_BACKEND_MARCH_EVENT) */
+    uint32_t ref_event, got_event;     /* its event words (PGT_MARCH_EVENT_WORD) */
     pgt_diff_floats state;             /* x, y, dx, dy, in_dx, in_dy of every compared step */
     const pgt_tolerance *tolerance;
     int pass;
@@ -94,7 +94,7 @@ pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pg
                               pgt_diff_march *d, pgt_error *err);
 
 /* The comparison of pgt_diff_march_run after the backend's run: walker i started at start[i];
- * rec and ev are its walkers x steps records (pgt_backend_march). Fills d (its ms kept). */
+ * rec and ev are its walkers x steps records (pgt_backend_march). Fills d (ms left 0). */
 pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
                                   const pgt_march_options *o, float length, uint32_t steps,
                                   uint32_t walkers, const pgt_march_state *start,

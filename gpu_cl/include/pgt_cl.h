@@ -44,8 +44,8 @@ pgt_result pgt_cl_sqrt3(pgt_cl *ctx, pgt_mesh *out, const pgt_mesh *in,
  * (NULL: the paper's defaults); a condition callback is refused (PGT_ERROR_INVALID_ARGUMENT).
  * out_taken (count, may be NULL): the steps each walker took (a STOP is not one). Records
  * (both NULL, or both count x steps, walker-major: walker i's step k at i * steps + k): the
- * state after the step (unchanged on STOP) and its event word (march_cl.h:
- * PGT_CL_MARCH_EVENT(pgt_march_event, pgt_march_stop, chart crossings)); the records after a
+ * state after the step (unchanged on STOP) and its event word (gpu_shared/march_event.h:
+ * PGT_MARCH_EVENT_WORD(pgt_march_event, pgt_march_stop, chart crossings)); the records after a
  * walker's STOP repeat it. times may be NULL. */
 pgt_result pgt_cl_march(pgt_cl *ctx, const pgt_march_atlas *a, const pgt_march_options *o,
                         float length, uint32_t steps, uint32_t count, pgt_march_state *states,

@@ -9,8 +9,12 @@
  * from the host (rotcs), computed with the reference's own cosf and sinf, whose last bit an
  * OpenCL cos may not match.
  *
- * The program is this file after gpu_shared/lang.h and march_cl.h (concatenated at build time,
- * see ../CMakeLists.txt): it includes nothing itself. One work item is one walker. */
+ * The program is this file after gpu_shared/lang.h, gpu_shared/march_event.h, the reference's
+ * ref_cpu/src/vec3_internal.h (dot3 and cross3, the reference's own source) and march_cl.h,
+ * concatenated at build time (see ../CMakeLists.txt), which turns the #include below into a
+ * comment. One work item is one walker. */
+
+#include "vec3_internal.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -81,16 +85,6 @@ static inline void pos3(const mc_atlas *a, uint t, float p[3]) {
 
 static inline uint pointer_of(const mc_atlas *a, uint t) {
     return (uint)a->jumps[t].v * a->p.width + a->jumps[t].u;
-}
-
-static inline float dot3(const float a[3], const float b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void cross3(const float a[3], const float b[3], float out[3]) {
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 static void position_rim(const mc_atlas *a, float x, float y, int i0, int j0, float fx, float fy,
@@ -267,11 +261,10 @@ static uint best_pointer(const mc_atlas *a, uint chart, float x, float y, uint c
     return best;
 }
 
-/* jump_direction for jump record t (its pointer and, from rotcs, its rot's cosine and sine). */
-static int jump_direction(const mc_atlas *a, uint t, int has_src, const float sx[3],
+/* jump_direction for the jump record jr of texel t (rotcs[t]: its rot's cosine and sine). */
+static int jump_direction(const mc_atlas *a, mc_jump jr, uint t, int has_src, const float sx[3],
                           const float sy[3], float dx, float dy, float *ndx, float *ndy,
                           float rx[3], float ry[3]) {
-    const mc_jump jr = a->jumps[t];
     const uint ref = (uint)jr.v * a->p.width + jr.u;
     const int has_ref = texel_jacobian(a, ref, rx, ry);
     *ndx = dx, *ndy = dy;
@@ -370,7 +363,7 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
         nb = bounce ? nb + 1u : 0u;
         const mc_jump jr = a->jumps[pi];
         const uint ref = (uint)jr.v * w + jr.u;
-        const int has_ref = jump_direction(a, pi, has_src, sx, sy, dx, dy, &ndx, &ndy, rx, ry);
+        const int has_ref = jump_direction(a, jr, pi, has_src, sx, sy, dx, dy, &ndx, &ndy, rx, ry);
         float rem_dst = 0.0f, rem_src = 0.0f;
         float v[3], vd[3];
         if (has_src) texel_motion(sx, sy, dx, dy, v);
@@ -419,7 +412,7 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
 /* Walker gid takes up to p.steps steps from states[gid] (it stops at its first STOP) and ends
  * there; taken[gid] gets the steps taken (a STOP is not one). With PGT_CL_MARCH_RECORD, record
  * gid * steps + k gets the state after step k (unchanged on STOP) and its event word
- * (PGT_CL_MARCH_EVENT); the records after a STOP repeat it. */
+ * (PGT_MARCH_EVENT_WORD); the records after a STOP repeat it. */
 __kernel void march_walk(__global const uint *codes, __global const mc_texel *texels,
                          __global const mc_jump *jumps, __global const ushort *rings,
                          __global const float2 *rotcs, __global const float *mask,
@@ -437,7 +430,7 @@ __kernel void march_walk(__global const uint *codes, __global const mc_texel *te
         if (p.flags & PGT_CL_MARCH_RECORD) {
             const uint r = gid * p.steps + k;
             rec_states[r] = s;
-            rec_events[r] = PGT_CL_MARCH_EVENT(ev, why, crossings);
+            rec_events[r] = PGT_MARCH_EVENT_WORD(ev, why, crossings);
         }
         if (ev == MC_STOP) break;
     }

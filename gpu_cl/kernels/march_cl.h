@@ -4,6 +4,7 @@
 #define PGT_CL_MARCH_CL_H
 
 #include "lang.h"
+#include "march_event.h"
 
 /* The reference's integer limits (ref_cpu/include/pgt/march.h; cl_march.c asserts that they are
  * equal). Its float constants come in pgt_cl_march_params, from the reference's own macros. */
@@ -22,10 +23,6 @@
 
 /* Work-group size of march_walk (walkers per group). */
 #define PGT_CL_MARCH_GROUP_SIZE 64u
-
-/* A record's event word: the pgt_march_event in bits 0-7, the pgt_march_stop in bits 8-15, the
- * chart crossings of the step (pgt_march_info.jumps) in bits 16-31. */
-#define PGT_CL_MARCH_EVENT(ev, stop, jumps) ((ev) | (stop) << 8 | (jumps) << 16)
 
 PGT_STRUCT(pgt_cl_march_params) {
     PGT_U32 width, height;

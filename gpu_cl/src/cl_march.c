@@ -70,13 +70,11 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
         return PGT_OK;
     }
     pgt_result r = PGT_OK;
-    cl_int rc = CL_SUCCESS;
     const uint64_t texels = (uint64_t)a->width * a->height;
     const uint64_t records = record ? (uint64_t)count * steps : 0;
     cl_mem codes = NULL, tex = NULL, jumps = NULL, rings = NULL, rotcs = NULL, mask = NULL;
     cl_mem st = NULL, rst = NULL, rev = NULL, taken = NULL;
     cl_event ev = NULL;
-    uint32_t *taken_host = NULL;
     float *cs = malloc((size_t)texels * 2 * sizeof(float));
     if (!cs) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "OpenCL march: out of memory");
     for (uint64_t t = 0; t < texels; ++t) {
@@ -140,15 +138,11 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
     }
 
     t0 = pgt_cl_now_ms();
-    taken_host = out_taken ? out_taken : malloc((size_t)count * 4);
-    if (!taken_host) {
-        r = pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "OpenCL march: out of memory");
-        goto cleanup;
-    }
     PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, st, CL_TRUE, 0, count * sizeof(pgt_march_state),
                                      states, 0, NULL, NULL));
-    PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, taken, CL_TRUE, 0, (size_t)count * 4, taken_host, 0,
-                                     NULL, NULL));
+    if (out_taken)
+        PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, taken, CL_TRUE, 0, (size_t)count * 4, out_taken,
+                                         0, NULL, NULL));
     if (record) {
         PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, rst, CL_TRUE, 0,
                                          (size_t)records * sizeof(pgt_march_state), rec_states, 0,
@@ -164,8 +158,6 @@ cleanup:
     cl_march_release(&rings), cl_march_release(&rotcs), cl_march_release(&mask);
     cl_march_release(&st), cl_march_release(&rst), cl_march_release(&rev);
     cl_march_release(&taken);
-    if (taken_host != out_taken) free(taken_host);
     free(cs);
-    (void)rc;
     return r;
 }

@@ -1,7 +1,8 @@
 /* pgt: the float32 3-vector helpers the reference's modules share (march, terminals, woven).
- * Private to ref_cpu. The operations are written in one fixed order (the reference is built
- * with -ffp-contract=off), so every module, and a GPU port written the same way, gets the same
- * bits. */
+ * Private to ref_cpu, and read as it is by the OpenCL marching kernel (gpu_cl/kernels/march.cl,
+ * concatenated into its program), so it must stay valid OpenCL C 1.2: no includes, float only.
+ * The operations are written in one fixed order (the reference is built with -ffp-contract=off),
+ * so every module and the kernel get the same bits. */
 #ifndef PGT_VEC3_INTERNAL_H
 #define PGT_VEC3_INTERNAL_H
 

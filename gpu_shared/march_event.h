@@ -1,0 +1,11 @@
+/* pgt: the event word of one recorded marching step, as every backend's pgt_backend_march
+ * records it (harness/backend.h; gpu_cl/kernels/march.cl). Read by C and OpenCL C: a #define
+ * only. Bits 0-7: the pgt_march_event; 8-15: the pgt_march_stop; 16-31: the step's chart
+ * crossings (pgt_march_info.jumps). */
+#ifndef PGT_GPU_MARCH_EVENT_H
+#define PGT_GPU_MARCH_EVENT_H
+
+#define PGT_MARCH_EVENT_WORD(ev, stop, jumps)                                                      \
+    ((unsigned)(ev) | (unsigned)(stop) << 8 | (unsigned)(jumps) << 16)
+
+#endif
