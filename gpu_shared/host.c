@@ -1,6 +1,7 @@
 /* pgt: host-side helpers shared by the GPU backends and the harness. */
 #include "host.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -87,5 +88,73 @@ pgt_result pgt_gpu_sqrt3_copy(pgt_mesh *out, const pgt_mesh *in, const pgt_sqrt3
     }
     if (opts->out_opposite && F)
         memcpy(opts->out_opposite, adj->opposite, (size_t)F * 3 * sizeof(uint32_t));
+    return PGT_OK;
+}
+
+_Static_assert(PGT_GPU_MARCH_MAX_JUMPS == PGT_MARCH_MAX_JUMPS, "march_layout.h follows march.h");
+_Static_assert(PGT_GPU_MARCH_BOUNCE_TEXELS == PGT_MARCH_BOUNCE_TEXELS,
+               "march_layout.h follows march.h");
+_Static_assert(PGT_GPU_MARCH_MAX_BOUNCES == PGT_MARCH_MAX_BOUNCES,
+               "march_layout.h follows march.h");
+_Static_assert(PGT_GPU_MARCH_SEARCH_ITERATIONS == PGT_MARCH_SEARCH_ITERATIONS,
+               "march_layout.h follows march.h");
+_Static_assert(PGT_GPU_MARCH_RING_EDGES == PGT_MARCH_RING_EDGES, "march_layout.h follows march.h");
+/* the kernels' texel, jump and state records, and 4-byte parameters with no padding (std430 and
+ * push constants lay them out so) */
+_Static_assert(sizeof(pgt_march_texel) == 16 && sizeof(pgt_march_jump) == 8 &&
+                   sizeof(pgt_march_state) == 36,
+               "the kernels read the reference's structs as they are");
+_Static_assert(sizeof(pgt_gpu_march_params) == 4 * 13, "pgt_gpu_march_params: 4-byte members");
+
+pgt_result pgt_gpu_march_prepare(const char *api, const pgt_march_atlas *a,
+                                 const pgt_march_options *o, float length, uint32_t steps,
+                                 uint32_t count, const pgt_march_state *rec_states,
+                                 const uint32_t *rec_events, uint32_t *out_taken,
+                                 pgt_gpu_march_params *out, float **out_rotcs, pgt_error *err) {
+    memset(out, 0, sizeof(*out));
+    *out_rotcs = NULL;
+    if (o && o->condition)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "%s: marching with a condition (a host function, such as a "
+                             "density) runs on the cpu backend only",
+                             api);
+    if (!(length > 0.0f && length <= PGT_MARCH_MAX_LENGTH))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "step length %g is outside (0, %g] texels", (double)length,
+                             (double)PGT_MARCH_MAX_LENGTH);
+    const int record = rec_states || rec_events;
+    if (record && (!rec_states || !rec_events))
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "%s march: records need both the states and the events", api);
+    if (record && (uint64_t)count * steps > UINT32_MAX)
+        return pgt_error_set(err, PGT_ERROR_LIMIT,
+                             "%s march: %u walkers x %u recorded steps exceed 2^32 records", api,
+                             count, steps);
+    out->width = a->width, out->height = a->height, out->count = count, out->steps = steps;
+    out->flags = (o && o->no_best_pointer ? PGT_GPU_MARCH_NO_BEST_POINTER : 0u) |
+                 (o && o->no_rotation ? PGT_GPU_MARCH_NO_ROTATION : 0u) |
+                 (o && o->rotation == PGT_MARCH_ROTATION_JACOBIAN ? PGT_GPU_MARCH_JACOBIAN : 0u) |
+                 (o && o->mask ? PGT_GPU_MARCH_MASK : 0u) | (record ? PGT_GPU_MARCH_RECORD : 0u);
+    out->step_length = length;
+    out->mask_threshold =
+        o && o->mask_threshold != 0.0f ? o->mask_threshold : PGT_MARCH_MASK_THRESHOLD;
+    out->max_length_ratio = PGT_MARCH_MAX_LENGTH_RATIO;
+    out->min_jacobian_sine2 = PGT_MARCH_MIN_JACOBIAN_SINE2;
+    out->jacobian_scale_min = PGT_MARCH_JACOBIAN_SCALE_MIN;
+    out->jacobian_scale_max = PGT_MARCH_JACOBIAN_SCALE_MAX;
+    out->max_length = PGT_MARCH_MAX_LENGTH;
+    if (count == 0 || steps == 0) { /* nothing runs: no table */
+        if (out_taken)
+            for (uint32_t i = 0; i < count; ++i) out_taken[i] = 0;
+        return PGT_OK;
+    }
+    const uint64_t texels = (uint64_t)a->width * a->height;
+    float *cs = malloc((size_t)texels * 2 * sizeof(float));
+    if (!cs) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "%s march: out of memory", api);
+    for (uint64_t t = 0; t < texels; ++t) {
+        const float rot = a->jumps[t].rot; /* 0 off indirection texels: (1, 0), never read */
+        cs[2 * t] = cosf(rot), cs[2 * t + 1] = sinf(rot);
+    }
+    *out_rotcs = cs;
     return PGT_OK;
 }

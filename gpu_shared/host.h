@@ -4,7 +4,9 @@
 
 #include <stdint.h>
 
+#include "march_layout.h"
 #include "pgt/adjacency.h"
+#include "pgt/march.h"
 #include "pgt/mesh.h"
 #include "pgt/result.h"
 #include "pgt/sqrt3.h"
@@ -76,6 +78,19 @@ void pgt_gpu_sqrt3_input_free(pgt_gpu_sqrt3_input *p);
  * outputs (protected flags, identity parents, the input adjacency). */
 pgt_result pgt_gpu_sqrt3_copy(pgt_mesh *out, const pgt_mesh *in, const pgt_sqrt3_options *opts,
                               const pgt_adjacency *adj, pgt_error *err);
+
+/* What every GPU backend's marching (pgt_cl_march, pgt_vk_march) prepares on the host: the
+ * checks of the call (a condition callback is refused: it is a host function; the step length; the
+ * records: both arrays or neither), the kernel's parameters (march_layout.h, with first = 0) and
+ * the cosine and sine of every texel's jump rot in *out_rotcs, computed with the reference's cosf
+ * and sinf (a device's cos may differ in the last bit, and a walker's path with it). With no
+ * walker or no step there is nothing to run: out_taken (when not NULL) is zeroed and *out_rotcs
+ * is NULL. `api` names the backend in messages. Free *out_rotcs with free(). */
+pgt_result pgt_gpu_march_prepare(const char *api, const pgt_march_atlas *a,
+                                 const pgt_march_options *o, float length, uint32_t steps,
+                                 uint32_t count, const pgt_march_state *rec_states,
+                                 const uint32_t *rec_events, uint32_t *out_taken,
+                                 pgt_gpu_march_params *out, float **out_rotcs, pgt_error *err);
 
 #ifdef __cplusplus
 }

@@ -3,7 +3,8 @@
  *
  * Only what all three share goes into a shared header: #define constants, and structs of 32-bit
  * scalars (uint, int, float) with no arrays, vectors or pointers, so that the C, OpenCL and std430
- * (or push-constant) layouts are the same: 4-byte members, in order, no padding. */
+ * (or push-constant) layouts are the same: 4-byte members, in order, no padding. PGT_UINT(x)
+ * converts to a 32-bit unsigned integer in each language (GLSL has no cast syntax). */
 #ifndef PGT_GPU_LANG_H
 #define PGT_GPU_LANG_H
 
@@ -14,6 +15,7 @@
 #define PGT_F32 float
 #define PGT_STRUCT(name) typedef struct name
 #define PGT_STRUCT_END(name) name
+#define PGT_UINT(x) ((uint)(x))
 #elif defined(GL_core_profile) || defined(GL_es_profile) || defined(VULKAN)
 #define PGT_LANG_GLSL 1
 #define PGT_U32 uint
@@ -21,6 +23,7 @@
 #define PGT_F32 float
 #define PGT_STRUCT(name) struct name
 #define PGT_STRUCT_END(name)
+#define PGT_UINT(x) uint(x)
 #else
 #define PGT_LANG_C 1
 #include <stdint.h>
@@ -29,6 +32,7 @@
 #define PGT_F32 float
 #define PGT_STRUCT(name) typedef struct name
 #define PGT_STRUCT_END(name) name
+#define PGT_UINT(x) ((uint32_t)(x))
 #endif
 
 /* An unsigned literal all three accept (GLSL and OpenCL C both take the u suffix). */

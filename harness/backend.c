@@ -109,8 +109,6 @@ pgt_result pgt_backend_sqrt3(pgt_backend *b, pgt_mesh *out, const pgt_mesh *in,
     return pgt_sqrt3_subdivide(out, in, opts, err);
 }
 
-int pgt_backend_has_march(const pgt_backend *b) { return b->kind != PGT_BACKEND_VK; }
-
 pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
                              float length, uint32_t steps, uint32_t count, pgt_march_state *states,
                              pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
@@ -121,9 +119,11 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
         return pgt_cl_march(b->cl, a, o, length, steps, count, states, rec_states, rec_events,
                             out_taken, times, err);
 #endif
-    if (b->kind != PGT_BACKEND_CPU)
-        return pgt_error_set(err, PGT_ERROR_BACKEND, "%s: marching has no %s version yet", b->name,
-                             pgt_backend_kind_name(b->kind));
+#if PGT_HAVE_VK
+    if (b->kind == PGT_BACKEND_VK)
+        return pgt_vk_march(b->vk, a, o, length, steps, count, states, rec_states, rec_events,
+                            out_taken, times, err);
+#endif
     if (!(length > 0.0f && length <= PGT_MARCH_MAX_LENGTH))
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "step length %g is outside (0, %g] texels", (double)length,

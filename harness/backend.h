@@ -51,15 +51,11 @@ pgt_result pgt_backend_sqrt3(pgt_backend *b, pgt_mesh *out, const pgt_mesh *in,
  * up to `steps` steps of `length` texels each, a walker stopping at its first STOP, as
  * pgt_cl_march describes (records, out_taken and times may be NULL; event words:
  * PGT_MARCH_EVENT_WORD, gpu_shared/march_event.h; the records after a STOP repeat it). cpu:
- * pgt_march_step walker by walker; cl: pgt_cl_march; vk: no version yet (PGT_ERROR_BACKEND;
- * pgt_backend_has_march says so beforehand). */
+ * pgt_march_step walker by walker; cl: pgt_cl_march; vk: pgt_vk_march. */
 pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt_march_options *o,
                              float length, uint32_t steps, uint32_t count, pgt_march_state *states,
                              pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
                              pgt_gpu_times *times, pgt_error *err);
-
-/* Whether pgt_backend_march runs on this backend (cpu and cl; not vk yet). */
-int pgt_backend_has_march(const pgt_backend *b);
 
 /* The --profile table of the events recorded since open: kernel, launches, total ms, median ms
  * (nothing for cpu). */

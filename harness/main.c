@@ -29,8 +29,8 @@ static const char *usage =
     "  --version      the version\n"
     "\n"
     "subdiv and diff take --backend cpu|cl|vk and --device N, bench subdiv --backends cl,vk|none\n"
-    "and --device N: sqrt(3) has OpenCL and Vulkan versions; the other algorithms run on the\n"
-    "CPU reference only.\n"
+    "and --device N: sqrt(3) and marching have OpenCL and Vulkan versions (diff march); the\n"
+    "other algorithms run on the CPU reference only.\n"
     "\n"
     "Exit codes: 0 success, 1 the work ran and found a problem, 2 bad flag, value or input.\n"
     "Meshes: OBJ, OFF, PLY (ascii or binary little-endian) in; OFF, OBJ, binary PLY out.\n";

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The cross-backend diff of every algorithm on every test mesh (pgt diff all: sqrt3 on the
 # generated default datasets and the shared manifold meshes, k = 1..3, with and without protected
-# faces; march, on cl, on the cube-sphere and the shared meshes with UVs, five option sets).
+# faces; march on the cube-sphere and the shared meshes with UVs, five option sets).
 #   backend_diff.sh API PGT     (API: cl or vk)
 # No device of that API: a skip (exit 77) on a developer machine, a failure under CI (CI=true),
 # where PoCL and lavapipe must be there.
@@ -20,13 +20,26 @@ out=$(mktemp)
 "$pgt" diff all --backend "$api" --profile | tee "$out"
 status=${PIPESTATUS[0]}
 [ "$status" = 0 ] || { rm -f "$out"; exit "$status"; }
-# march: 6 default inputs x 5 option sets on cl; vk has no version yet and says so
-if [ "$api" = cl ]; then
-  n=$(grep -c "^march .*: ok$" "$out")
-  [ "$n" = 30 ] || { echo "FAIL: $n march cases passed on cl, expected 30"; rm -f "$out"; exit 1; }
-else
-  grep -q "^march: no vk version yet (skipped)$" "$out" \
-    || { echo "FAIL: pgt diff all --backend vk did not say march was skipped"; rm -f "$out"; exit 1; }
+# march: 6 default inputs x 5 option sets
+n=$(grep -c "^march .*: ok$" "$out")
+[ "$n" = 30 ] || { echo "FAIL: $n march cases passed on $api, expected 30"; rm -f "$out"; exit 1; }
+# Vulkan's limits, lowered: dispatches cut in ranges of 2 and 3 work-groups (the march's `first`
+# push constant, sqrt(3)'s item ranges) give the same result; an array larger than a binding is
+# refused with its name (exit 2), not read past its end.
+if [ "$api" = vk ]; then
+  PGT_VK_MAX_GROUPS=2 "$pgt" diff march --backend vk cube_sphere_8 --res 256 --walkers 1000 \
+    --steps 30 --profile > "$out" || { cat "$out"; echo "FAIL: march in ranges"; rm -f "$out"; exit 1; }
+  # 16 groups of 64 walkers in dispatches of 2, for each of the 5 option sets
+  grep -q "^  march_walk  *40 " "$out" && [ "$(grep -c "^march .*: ok$" "$out")" = 5 ] \
+    || { cat "$out"; echo "FAIL: march in ranges: not 40 dispatches or not 5 ok"; rm -f "$out"; exit 1; }
+  PGT_VK_MAX_GROUPS=3 "$pgt" diff sqrt3 --backend vk icosphere_l2 > "$out" \
+    || { cat "$out"; echo "FAIL: sqrt3 in ranges"; rm -f "$out"; exit 1; }
+  PGT_VK_MAX_BINDING_BYTES=1000000 "$pgt" diff march --backend vk cube_sphere_8 --res 512 \
+    > /dev/null 2> "$out"
+  st=$?
+  [ "$st" = 2 ] && grep -q "march on vulkan: the texel codes array is 1048576 bytes, .* allows 1000000 bytes" "$out" \
+    || { cat "$out"; echo "FAIL: march over the binding limit: exit $st"; rm -f "$out"; exit 1; }
+  echo "vk limits: march and sqrt3 in ranges ok, an array over the binding limit refused"
 fi
 rm -f "$out"
 # pgt bench subdiv fills this backend's columns (device and end-to-end medians)

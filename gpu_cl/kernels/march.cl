@@ -10,7 +10,7 @@
  * OpenCL cos may not match.
  *
  * The program is this file after gpu_shared/lang.h, gpu_shared/march_event.h, the reference's
- * ref_cpu/src/vec3_internal.h (dot3 and cross3, the reference's own source) and march_cl.h,
+ * ref_cpu/src/vec3_internal.h (dot3 and cross3, the reference's own source) and march_layout.h,
  * concatenated at build time (see ../CMakeLists.txt), which turns the #include below into a
  * comment. One work item is one walker. */
 
@@ -53,13 +53,13 @@ typedef struct mc_state {
 
 /* pgt_march_atlas as the kernel reads it, plus the call's parameters. */
 typedef struct mc_atlas {
-    pgt_cl_march_params p;
+    pgt_gpu_march_params p;
     __global const uint *codes;
     __global const mc_texel *texels;
     __global const mc_jump *jumps;
     __global const ushort *rings;
     __global const float2 *rotcs; /* (cosf(rot), sinf(rot)) of every texel's jump record */
-    __global const float *mask;   /* when p.flags has PGT_CL_MARCH_MASK */
+    __global const float *mask;   /* when p.flags has PGT_GPU_MARCH_MASK */
 } mc_atlas;
 
 __constant int mc_ring_dx[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
@@ -186,7 +186,7 @@ static uint search_xy(const mc_atlas *a, uint chart, float x0, float y0, float x
                       uint *out_x, uint *out_y) {
     const uint tag = chart + 1u;
     float lo = 0.0f, hi = 1.0f;
-    for (uint i = 0; i < PGT_CL_MARCH_SEARCH_ITERATIONS; ++i) {
+    for (uint i = 0; i < PGT_GPU_MARCH_SEARCH_ITERATIONS; ++i) {
         const float m = 0.5f * (lo + hi);
         const float x = x0 + (x1 - x0) * m, y = y0 + (y1 - y0) * m;
         const uint t = texel_at(a, x, y);
@@ -206,7 +206,7 @@ static uint search_xy(const mc_atlas *a, uint chart, float x0, float y0, float x
 static uint nearest_inner(const mc_atlas *a, float x, float y, uint px, uint py, uint *out_x,
                           uint *out_y) {
     const uint w = a->p.width, ring = a->rings[py * w + px] & 0xFFu;
-    uint m = (ring & PGT_CL_MARCH_RING_EDGES) ? ring & PGT_CL_MARCH_RING_EDGES : ring;
+    uint m = (ring & PGT_GPU_MARCH_RING_EDGES) ? ring & PGT_GPU_MARCH_RING_EDGES : ring;
     uint near = MC_NONE, bx = 0, by = 0;
     float near_e2 = INFINITY;
     for (; m; m &= m - 1u) {
@@ -268,8 +268,8 @@ static int jump_direction(const mc_atlas *a, mc_jump jr, uint t, int has_src, co
     const uint ref = (uint)jr.v * a->p.width + jr.u;
     const int has_ref = texel_jacobian(a, ref, rx, ry);
     *ndx = dx, *ndy = dy;
-    if (a->p.flags & PGT_CL_MARCH_NO_ROTATION) return has_ref;
-    if ((a->p.flags & PGT_CL_MARCH_JACOBIAN) && has_src && has_ref &&
+    if (a->p.flags & PGT_GPU_MARCH_NO_ROTATION) return has_ref;
+    if ((a->p.flags & PGT_GPU_MARCH_JACOBIAN) && has_src && has_ref &&
         transport_direction(a, sx, sy, rx, ry, dx, dy, ndx, ndy))
         return has_ref;
     if (jr.rot != 0.0f) {
@@ -284,7 +284,7 @@ static inline int bounces(const mc_atlas *a, uint from, uint u, uint v) {
     if (f >= w * a->p.height) return 0;
     const uint fx = f % w, fy = f / w;
     const uint ex = u > fx ? u - fx : fx - u, ey = v > fy ? v - fy : fy - v;
-    return ex <= PGT_CL_MARCH_BOUNCE_TEXELS && ey <= PGT_CL_MARCH_BOUNCE_TEXELS &&
+    return ex <= PGT_GPU_MARCH_BOUNCE_TEXELS && ey <= PGT_GPU_MARCH_BOUNCE_TEXELS &&
            a->codes[f] == a->codes[v * w + u];
 }
 
@@ -323,7 +323,7 @@ static uint unbounced_pointer(const mc_atlas *a, uint chart, float x, float y, u
  * chart crossings to *crossings. */
 static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossings) {
     *why = MC_STOP_NONE, *crossings = 0u;
-    const float length = a->p.length;
+    const float length = a->p.step_length;
     float dx = s->dx, dy = s->dy;
     float cx = s->x, cy = s->y, rem = length, idx = s->in_dx, idy = s->in_dy;
     uint chart = s->chart, jumps = 0, from = s->from, nb = s->bounces;
@@ -346,10 +346,10 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
             if ((a->codes[p0] & 3u) == MC_KIND_DEAD_END) return *why = MC_STOP_DEAD_END, MC_STOP;
             event = MC_SEARCH;
         }
-        if (jumps == PGT_CL_MARCH_MAX_JUMPS) return *why = MC_STOP_TOO_MANY_JUMPS, MC_STOP;
+        if (jumps == PGT_GPU_MARCH_MAX_JUMPS) return *why = MC_STOP_TOO_MANY_JUMPS, MC_STOP;
         jumps++;
         const uint w = a->p.width, scx = (uint)cx, scy = (uint)cy, src = scy * w + scx;
-        const int best = !(a->p.flags & PGT_CL_MARCH_NO_BEST_POINTER);
+        const int best = !(a->p.flags & PGT_GPU_MARCH_NO_BEST_POINTER);
         uint pi = p0;
         if (best) pi = best_pointer(a, chart, cx, cy, src, p0, p0x, p0y);
         float sx[3], sy[3], rx[3], ry[3], ndx, ndy;
@@ -359,7 +359,7 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
             const uint alt = unbounced_pointer(a, chart, cx, cy, src, p0, p0x, p0y, dx, dy, from);
             if (alt != MC_NONE) pi = alt, bounce = 0;
         }
-        if (bounce && nb == PGT_CL_MARCH_MAX_BOUNCES) return *why = MC_STOP_BOUNCE, MC_STOP;
+        if (bounce && nb == PGT_GPU_MARCH_MAX_BOUNCES) return *why = MC_STOP_BOUNCE, MC_STOP;
         nb = bounce ? nb + 1u : 0u;
         const mc_jump jr = a->jumps[pi];
         const uint ref = (uint)jr.v * w + jr.u;
@@ -400,7 +400,7 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
         rem = rem_dst;
         if (!(rem > 0.0f)) break;
     }
-    if (a->p.flags & PGT_CL_MARCH_MASK) {
+    if (a->p.flags & PGT_GPU_MARCH_MASK) {
         const uint t = texel_at(a, cx, cy);
         if (a->mask[t] >= a->p.mask_threshold) return *why = MC_STOP_REJECTED, MC_STOP;
     }
@@ -410,16 +410,16 @@ static uint march_step(const mc_atlas *a, mc_state *s, uint *why, uint *crossing
 }
 
 /* Walker gid takes up to p.steps steps from states[gid] (it stops at its first STOP) and ends
- * there; taken[gid] gets the steps taken (a STOP is not one). With PGT_CL_MARCH_RECORD, record
+ * there; taken[gid] gets the steps taken (a STOP is not one). With PGT_GPU_MARCH_RECORD, record
  * gid * steps + k gets the state after step k (unchanged on STOP) and its event word
  * (PGT_MARCH_EVENT_WORD); the records after a STOP repeat it. */
 __kernel void march_walk(__global const uint *codes, __global const mc_texel *texels,
                          __global const mc_jump *jumps, __global const ushort *rings,
                          __global const float2 *rotcs, __global const float *mask,
-                         const pgt_cl_march_params p, __global mc_state *states,
+                         const pgt_gpu_march_params p, __global mc_state *states,
                          __global mc_state *rec_states, __global uint *rec_events,
                          __global uint *taken) {
-    const uint gid = (uint)get_global_id(0);
+    const uint gid = p.first + (uint)get_global_id(0);
     if (gid >= p.count) return;
     const mc_atlas a = {p, codes, texels, jumps, rings, rotcs, mask};
     mc_state s = states[gid];
@@ -427,7 +427,7 @@ __kernel void march_walk(__global const uint *codes, __global const mc_texel *te
     for (; k < p.steps; ++k) {
         uint why, crossings;
         const uint ev = march_step(&a, &s, &why, &crossings);
-        if (p.flags & PGT_CL_MARCH_RECORD) {
+        if (p.flags & PGT_GPU_MARCH_RECORD) {
             const uint r = gid * p.steps + k;
             rec_states[r] = s;
             rec_events[r] = PGT_MARCH_EVENT_WORD(ev, why, crossings);
@@ -436,7 +436,7 @@ __kernel void march_walk(__global const uint *codes, __global const mc_texel *te
     }
     states[gid] = s;
     taken[gid] = k;
-    if ((p.flags & PGT_CL_MARCH_RECORD) && k < p.steps) /* the records after a STOP repeat it */
+    if ((p.flags & PGT_GPU_MARCH_RECORD) && k < p.steps) /* the records after a STOP repeat it */
         for (uint j = k + 1u; j < p.steps; ++j) {
             rec_states[gid * p.steps + j] = s;
             rec_events[gid * p.steps + j] = rec_events[gid * p.steps + k];

@@ -8,6 +8,7 @@
 #define PGT_VK_H
 
 #include "host.h"
+#include "pgt/march.h"
 #include "pgt/mesh.h"
 #include "pgt/sqrt3.h"
 
@@ -41,6 +42,18 @@ uint32_t pgt_vk_validation_messages(const pgt_vk *ctx);
  * carried (out->uvs is NULL); labels are inherited through the parent faces. times may be NULL. */
 pgt_result pgt_vk_sqrt3(pgt_vk *ctx, pgt_mesh *out, const pgt_mesh *in,
                         const pgt_sqrt3_options *opts, pgt_gpu_times *times, pgt_error *err);
+
+/* pgt_march_step on the device, with pgt_cl_march's contract (gpu_cl/include/pgt_cl.h): `count`
+ * walkers from `states` (updated in place), each taking up to `steps` steps of `length` texels
+ * with angle 0 and stopping at its first STOP; options as pgt_march_options (NULL: the paper's
+ * defaults), a condition callback refused; out_taken, records (both NULL or both count x steps,
+ * walker-major, event words PGT_MARCH_EVENT_WORD) and times may be NULL. Every array goes through
+ * one storage-buffer binding: one larger than maxStorageBufferRange (the records of many walkers
+ * and steps, a large atlas) fails with PGT_ERROR_LIMIT naming it. */
+pgt_result pgt_vk_march(pgt_vk *ctx, const pgt_march_atlas *a, const pgt_march_options *o,
+                        float length, uint32_t steps, uint32_t count, pgt_march_state *states,
+                        pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
+                        pgt_gpu_times *times, pgt_error *err);
 
 #ifdef __cplusplus
 }

@@ -212,7 +212,7 @@ void pgt_vk_abandon(pgt_vk *ctx) {
 }
 
 pgt_result pgt_vk_dispatch(pgt_vk *ctx, pgt_vk_pipe pipe, const pgt_vk_binding *bindings,
-                           const pgt_vk_s3_push *push, uint32_t groups, pgt_error *err) {
+                           const void *push, uint32_t push_bytes, uint32_t groups, pgt_error *err) {
     pgt_result r = PGT_OK;
     const pgt_vk_fns *vk = &ctx->vk;
     if (groups == 0) return PGT_OK;
@@ -248,8 +248,8 @@ pgt_result pgt_vk_dispatch(pgt_vk *ctx, pgt_vk_pipe pipe, const pgt_vk_binding *
     vk->vkCmdBindPipeline(ctx->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, ctx->pipes[pipe]);
     vk->vkCmdBindDescriptorSets(ctx->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, ctx->pipe_layout, 0, 1,
                                 &set, 0, NULL);
-    vk->vkCmdPushConstants(ctx->cmd, ctx->pipe_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                           sizeof(*push), push);
+    vk->vkCmdPushConstants(ctx->cmd, ctx->pipe_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes,
+                           push);
     const uint32_t d = ctx->dispatches++;
     snprintf(ctx->names[d], sizeof(ctx->names[d]), "%s", pgt_vk_pipe_name(pipe));
     if (ctx->queries)

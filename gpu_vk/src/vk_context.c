@@ -13,9 +13,11 @@
 /* The SPIR-V of every pipeline, embedded at build time (CMakeLists.txt: glslc, then embed.cmake).
  */
 extern const unsigned char pgt_vk_spv_s3_classify[], pgt_vk_spv_s3_scan_local[],
-    pgt_vk_spv_s3_scan_add[], pgt_vk_spv_s3_vertices[], pgt_vk_spv_s3_faces[];
+    pgt_vk_spv_s3_scan_add[], pgt_vk_spv_s3_vertices[], pgt_vk_spv_s3_faces[],
+    pgt_vk_spv_march_walk[];
 extern const unsigned long pgt_vk_spv_s3_classify_size, pgt_vk_spv_s3_scan_local_size,
-    pgt_vk_spv_s3_scan_add_size, pgt_vk_spv_s3_vertices_size, pgt_vk_spv_s3_faces_size;
+    pgt_vk_spv_s3_scan_add_size, pgt_vk_spv_s3_vertices_size, pgt_vk_spv_s3_faces_size,
+    pgt_vk_spv_march_walk_size;
 
 static const struct {
     const char *name; /* the pgt_gpu_event name of its dispatches */
@@ -27,6 +29,7 @@ static const struct {
     {"s3_scan_add", pgt_vk_spv_s3_scan_add, &pgt_vk_spv_s3_scan_add_size},
     {"s3_vertices", pgt_vk_spv_s3_vertices, &pgt_vk_spv_s3_vertices_size},
     {"s3_faces", pgt_vk_spv_s3_faces, &pgt_vk_spv_s3_faces_size},
+    {"march_walk", pgt_vk_spv_march_walk, &pgt_vk_spv_march_walk_size},
 };
 
 const char *pgt_vk_pipe_name(pgt_vk_pipe p) { return vk_pipes[p].name; }
@@ -38,6 +41,12 @@ const char *pgt_vk_pipe_name(pgt_vk_pipe p) { return vk_pipes[p].name; }
 _Static_assert(sizeof(pgt_vk_s3_push) == 4 * (8 + 11),
                "pgt_vk_s3_push: 4-byte members, no padding");
 _Static_assert(sizeof(pgt_vk_s3_push) <= 128, "pgt_vk_s3_push: beyond the guaranteed 128 bytes");
+/* The pipeline layout's one push-constant range and one set layout serve every pipeline. */
+_Static_assert(sizeof(pgt_gpu_march_params) <= PGT_VK_PUSH_BYTES,
+               "the march's parameters fit the push-constant range");
+_Static_assert(PGT_VK_M_BINDINGS <= PGT_VK_S3_BINDINGS, "the march's bindings fit the set layout");
+_Static_assert(PGT_GPU_MARCH_GROUP_SIZE <= PGT_S3_GROUP_SIZE,
+               "pgt_vk_create checks the work-group size against PGT_S3_GROUP_SIZE");
 
 /* ---- errors -------------------------------------------------------------------------------- */
 
@@ -402,17 +411,23 @@ cleanup:
 
 /* PGT_VK_MAX_BINDING_BYTES lowers the binding limit (to test the split of large outputs on small
  * meshes); it never raises it. */
-static VkDeviceSize vk_binding_override(VkDeviceSize limit, VkDeviceSize align) {
-    const char *s = getenv("PGT_VK_MAX_BINDING_BYTES");
+/* A device limit lowered for tests by the environment variable `name` (a decimal number; never
+ * raised, never below `least`; anything else leaves the limit as it is). */
+static uint64_t vk_env_limit(const char *name, uint64_t limit, uint64_t least) {
+    const char *s = getenv(name);
     if (!s || !*s) return limit;
     char *end = NULL;
     unsigned long long v = strtoull(s, &end, 10);
     if (!end || *end) return limit;
-    /* a window must hold one face's writes (9 indices) past an aligned start */
-    const unsigned long long least = 64 + 2 * (unsigned long long)align;
     if (v < least) v = least;
-    v -= v % 4;
     return v < limit ? v : limit;
+}
+
+/* PGT_VK_MAX_BINDING_BYTES: a window must hold one face's writes (9 indices) past an aligned
+ * start; a multiple of 4 bytes. */
+static VkDeviceSize vk_binding_override(VkDeviceSize limit, VkDeviceSize align) {
+    const uint64_t v = vk_env_limit("PGT_VK_MAX_BINDING_BYTES", limit, 64 + 2 * (uint64_t)align);
+    return v - v % 4;
 }
 
 static pgt_result vk_create_pipelines(pgt_vk *ctx, pgt_error *err) {
@@ -432,7 +447,7 @@ static pgt_result vk_create_pipelines(pgt_vk *ctx, pgt_error *err) {
     dl.bindingCount = PGT_VK_S3_BINDINGS;
     dl.pBindings = b;
     PGT_VK_CHECK(ctx->vk.vkCreateDescriptorSetLayout(ctx->device, &dl, NULL, &ctx->set_layout));
-    VkPushConstantRange pcr = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(pgt_vk_s3_push)};
+    VkPushConstantRange pcr = {VK_SHADER_STAGE_COMPUTE_BIT, 0, PGT_VK_PUSH_BYTES};
     VkPipelineLayoutCreateInfo pl = {.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &ctx->set_layout;
@@ -524,7 +539,9 @@ static pgt_result vk_open_device(pgt_vk *ctx, uint32_t device, uint32_t api, pgt
         lim->minStorageBufferOffsetAlignment < 4 ? 4 : lim->minStorageBufferOffsetAlignment;
     ctx->max_binding = vk_binding_override(ctx->device_binding, ctx->binding_align);
     ctx->max_allocation = m3.maxMemoryAllocationSize;
-    ctx->max_groups = lim->maxComputeWorkGroupCount[0];
+    /* PGT_VK_MAX_GROUPS: tests the dispatches cut in ranges on small inputs */
+    ctx->max_groups =
+        (uint32_t)vk_env_limit("PGT_VK_MAX_GROUPS", lim->maxComputeWorkGroupCount[0], 1);
     ctx->timestamp_ns = lim->timestampPeriod;
     ctx->vk.vkGetPhysicalDeviceMemoryProperties(ctx->phys, &ctx->memory);
     ctx->queue_family = vk_compute_family(&ctx->vk, ctx->phys, &ts_bits);

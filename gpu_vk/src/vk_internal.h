@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <vulkan/vulkan.h> /* with VK_NO_PROTOTYPES: types only, the loader is opened at run time */
 
+#include "march_vk_layout.h"
 #include "pgt_vk.h"
 #include "s3_vk_layout.h"
 
@@ -128,6 +129,7 @@ typedef enum pgt_vk_pipe {
     PGT_VK_PIPE_S3_SCAN_ADD,
     PGT_VK_PIPE_S3_VERTICES,
     PGT_VK_PIPE_S3_FACES,
+    PGT_VK_PIPE_MARCH_WALK,
     PGT_VK_PIPE_COUNT
 } pgt_vk_pipe;
 
@@ -227,10 +229,15 @@ typedef struct pgt_vk_binding {
     VkDeviceSize offset, range;
 } pgt_vk_binding;
 
-/* Records one dispatch of `groups` work-groups with these bindings and push constants, timed
- * when profiling, followed by a barrier making its writes visible to what comes next. */
+/* The push-constant range of the pipeline layout, which every pipeline shares (the largest
+ * block: pgt_vk_s3_push). */
+#define PGT_VK_PUSH_BYTES ((uint32_t)sizeof(pgt_vk_s3_push))
+
+/* Records one dispatch of `groups` work-groups with these bindings (PGT_VK_S3_BINDINGS of them)
+ * and push constants (push_bytes <= PGT_VK_PUSH_BYTES, from offset 0), timed when profiling,
+ * followed by a barrier making its writes visible to what comes next. */
 pgt_result pgt_vk_dispatch(pgt_vk *ctx, pgt_vk_pipe pipe, const pgt_vk_binding *bindings,
-                           const pgt_vk_s3_push *push, uint32_t groups, pgt_error *err);
+                           const void *push, uint32_t push_bytes, uint32_t groups, pgt_error *err);
 /* Submits the open batch (if any), waits for it, collects its timestamps into the profile and
  * ctx->batch_ms, and frees its garbage. */
 pgt_result pgt_vk_flush(pgt_vk *ctx, pgt_error *err);

@@ -151,7 +151,8 @@ static pgt_result s3_pass(pgt_vk *ctx, pgt_vk_pipe pipe, pgt_vk_binding *bind, p
         }
         push->s3.first = e0;
         push->s3.count = e1 - e0;
-        PGT_VK_TRY(pgt_vk_dispatch(ctx, pipe, bind, push, (e1 - e0 + S3_G - 1) / S3_G, err));
+        PGT_VK_TRY(pgt_vk_dispatch(ctx, pipe, bind, push, sizeof(*push),
+                                   (e1 - e0 + S3_G - 1) / S3_G, err));
         e0 = e1;
     }
 cleanup:

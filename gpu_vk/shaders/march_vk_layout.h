@@ -1,0 +1,26 @@
+/* pgt: what the Vulkan host (src/vk_march.c) and shaders/march_walk.comp agree on beyond
+ * gpu_shared/march_layout.h: the binding of every storage buffer. Read by C and GLSL. The march
+ * uses the context's one descriptor set layout (PGT_VK_S3_BINDINGS storage buffers) and its
+ * push-constant range; the bindings it does not list hold the dummy buffer. */
+#ifndef PGT_VK_MARCH_LAYOUT_H
+#define PGT_VK_MARCH_LAYOUT_H
+
+#include "lang.h"
+
+#include "march_layout.h"
+
+/* The atlas view (ref_cpu/include/pgt/march.h), as the host holds it */
+#define PGT_VK_M_CODES 0u  /* uint per texel */
+#define PGT_VK_M_TEXELS 1u /* pgt_march_texel: x, y, z, code */
+#define PGT_VK_M_JUMPS 2u  /* pgt_march_jump: u | v << 16 (two uint16), rot */
+#define PGT_VK_M_RINGS 3u  /* uint16 per texel, two to a uint */
+#define PGT_VK_M_ROTCS 4u  /* (cosf(rot), sinf(rot)) per texel, from pgt_gpu_march_prepare */
+#define PGT_VK_M_MASK 5u   /* float per texel, read with PGT_GPU_MARCH_MASK */
+/* The walkers */
+#define PGT_VK_M_STATES 6u     /* pgt_march_state per walker, updated in place */
+#define PGT_VK_M_REC_STATES 7u /* count x steps pgt_march_state, with PGT_GPU_MARCH_RECORD */
+#define PGT_VK_M_REC_EVENTS 8u /* count x steps event words (PGT_MARCH_EVENT_WORD) */
+#define PGT_VK_M_TAKEN 9u      /* steps taken per walker */
+#define PGT_VK_M_BINDINGS 10u
+
+#endif
