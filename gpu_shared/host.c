@@ -104,7 +104,7 @@ _Static_assert(PGT_GPU_MARCH_RING_EDGES == PGT_MARCH_RING_EDGES, "march_layout.h
 _Static_assert(sizeof(pgt_march_texel) == 16 && sizeof(pgt_march_jump) == 8 &&
                    sizeof(pgt_march_state) == 36,
                "the kernels read the reference's structs as they are");
-_Static_assert(sizeof(pgt_gpu_march_params) == 4 * 13, "pgt_gpu_march_params: 4-byte members");
+_Static_assert(sizeof(pgt_gpu_march_params) == 4 * 15, "pgt_gpu_march_params: 4-byte members");
 
 pgt_result pgt_gpu_march_prepare(const char *api, const pgt_march_atlas *a,
                                  const pgt_march_options *o, float length, uint32_t steps,
@@ -131,6 +131,7 @@ pgt_result pgt_gpu_march_prepare(const char *api, const pgt_march_atlas *a,
                              "%s march: %u walkers x %u recorded steps exceed 2^32 records", api,
                              count, steps);
     out->width = a->width, out->height = a->height, out->count = count, out->steps = steps;
+    out->step_first = 0, out->step_count = steps;
     out->flags = (o && o->no_best_pointer ? PGT_GPU_MARCH_NO_BEST_POINTER : 0u) |
                  (o && o->no_rotation ? PGT_GPU_MARCH_NO_ROTATION : 0u) |
                  (o && o->rotation == PGT_MARCH_ROTATION_JACOBIAN ? PGT_GPU_MARCH_JACOBIAN : 0u) |

@@ -29,6 +29,9 @@ PGT_STRUCT(pgt_gpu_march_params) {
     PGT_U32 width, height;
     PGT_U32 count, steps; /* walkers of the call, steps per walker */
     PGT_U32 first;        /* walker of the dispatch's first invocation (dispatches in ranges) */
+    /* Vulkan: the steps [step_first, step_first + step_count) of `steps` that this dispatch
+     * runs (march_walk.comp; OpenCL runs them all in one launch: 0 and steps) */
+    PGT_U32 step_first, step_count;
     PGT_U32 flags;        /* PGT_GPU_MARCH_* */
     PGT_F32 step_length;  /* texels per step (not `length`: a GLSL method name) */
     PGT_F32 mask_threshold;

@@ -1,6 +1,7 @@
 /* pgt harness: the backend dispatcher (see backend.h). */
 #include "backend.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,6 +26,22 @@ int pgt_backend_parse(const char *verb, const char *text, pgt_backend_kind *out)
         *out = PGT_BACKEND_VK;
     } else {
         pgt_cli_fail(verb, "--backend: expected cpu, cl or vk, got '%s'", text);
+        return 1;
+    }
+    return 0;
+}
+
+int pgt_backend_flags(const char *verb, int argc, char **argv, int *i, pgt_backend_kind *kind,
+                      uint32_t *device) {
+    const char *a = argv[*i], *v;
+    if (!strcmp(a, "--backend")) {
+        if (!(v = pgt_cli_value(verb, argc, argv, i)) || pgt_backend_parse(verb, v, kind))
+            return -1;
+        return 1;
+    }
+    if (!strcmp(a, "--device")) {
+        if (!(v = pgt_cli_value(verb, argc, argv, i)) || pgt_cli_uint(verb, a, v, 0, 1024, device))
+            return -1;
         return 1;
     }
     return 0;
@@ -148,6 +165,16 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
             }
     }
     return PGT_OK;
+}
+
+int pgt_backend_march_record_valid(const pgt_march_atlas *a, const pgt_march_state *s,
+                                   uint32_t word) {
+    if ((word & 0xFFu) > PGT_MARCH_STOP || (word >> 8 & 0xFFu) > PGT_MARCH_STOP_BOUNCE) return 0;
+    if (!(isfinite(s->dx) && isfinite(s->dy) && isfinite(s->in_dx) && isfinite(s->in_dy))) return 0;
+    if (!(s->x >= 0.0f && s->y >= 0.0f && s->x < (float)a->width && s->y < (float)a->height))
+        return 0;
+    const uint32_t t = (uint32_t)s->y * a->width + (uint32_t)s->x;
+    return s->chart < a->chart_count && a->codes[t] == PGT_MARCH_CODE(PGT_TEXEL_INNER, s->chart);
 }
 
 typedef struct kernel_row {

@@ -35,6 +35,12 @@ const char *pgt_backend_kind_name(pgt_backend_kind kind);
 /* Parses --backend's value; on failure prints a one-line error for `verb` and returns nonzero. */
 int pgt_backend_parse(const char *verb, const char *text, pgt_backend_kind *out);
 
+/* The flags `--backend B` and `--device N` (0 to 1024) at argv[*i], as every verb that runs on a
+ * backend takes them: 1 when argv[*i] is one of them (parsed into *kind or *device, *i moved to
+ * its value), 0 when it is not, -1 after printing why its value is bad. */
+int pgt_backend_flags(const char *verb, int argc, char **argv, int *i, pgt_backend_kind *kind,
+                      uint32_t *device);
+
 /* Opens the backend on device `device` (GPU backends; ignored by cpu). Profiling records every
  * kernel launch (OpenCL events, Vulkan timestamps). Vulkan validation is on when the environment
  * sets PGT_VK_VALIDATION=1 (the tests do): any validation message fails the call. */
@@ -56,6 +62,13 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
                              float length, uint32_t steps, uint32_t count, pgt_march_state *states,
                              pgt_march_state *rec_states, uint32_t *rec_events, uint32_t *out_taken,
                              pgt_gpu_times *times, pgt_error *err);
+
+/* Whether a backend's recorded step is one the reference could have made, so that the reference
+ * may re-run a step from it or place it (pgt_march_step and pgt_march_position assert their
+ * contract): an event and a stop reason that exist, finite directions, and a position inside an
+ * inner texel of its chart. A backend cut short (a driver limit) or broken returns other things. */
+int pgt_backend_march_record_valid(const pgt_march_atlas *a, const pgt_march_state *s,
+                                   uint32_t word);
 
 /* The --profile table of the events recorded since open: kernel, launches, total ms, median ms
  * (nothing for cpu). */

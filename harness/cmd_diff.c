@@ -277,17 +277,13 @@ int pgt_cmd_diff(int argc, char **argv) {
     uint32_t device = 0;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i], *v;
+        int flag;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(diff_usage, stdout);
             return PGT_EXIT_OK;
-        } else if (!strcmp(a, "--backend")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_backend_parse(verb, v, &kind))
-                return PGT_EXIT_USAGE;
-            have_backend = 1;
-        } else if (!strcmp(a, "--device")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
-                pgt_cli_uint(verb, a, v, 0, 1024, &device))
-                return PGT_EXIT_USAGE;
+        } else if ((flag = pgt_backend_flags(verb, argc, argv, &i, &kind, &device)) != 0) {
+            if (flag < 0) return PGT_EXIT_USAGE;
+            have_backend |= !strcmp(a, "--backend");
         } else if (!strcmp(a, "--iters")) {
             c.n_iters = 0;
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) || diff_list(a, v, &c, 1))

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "backend.h"
 #include "cli.h"
 #include "gen.h"
 #include "pgt/atlas_build.h"
@@ -22,19 +23,20 @@
 
 /* Most steps of one pgt march: a CSV row is ~80 bytes, so 10^7 steps is ~1 GB of text. */
 #define MARCH_CLI_MAX_STEPS 10000000u
-/* The progress line's count moves every this many steps (a power of two: a mask test per step,
- * one atomic store every ~50 ms of rows). */
+/* pgt march runs its steps in chunks of this many on the backend (each recording its states and
+ * event words), and its progress line moves after each chunk. */
 #define MARCH_PROGRESS_STEPS 65536u
 
 /* Inner texels written by --dump for the 3D point cloud of a figure (about; every k-th texel
  * of every k-th row): enough to show the surface, small enough for matplotlib. */
 #define MARCH_DUMP_POINTS 40000.0
 
-static const char *march_usage =
+/* Two strings: C11 compilers need not take a literal longer than 4095 characters. */
+static const char *const march_usage[2] = {
     "usage: pgt march ATLAS.exr --from U,V --dir DU,DV --step S --steps N -o PATH.csv\n"
     "                 [--mask MASK] [--density DENSITY] [--seed S] [--no-best-pointer]\n"
     "                 [--no-rotation] [--rotation atlas|jacobian] [--dump PREFIX]\n"
-    "                 [--with-start]\n"
+    "                 [--with-start] [--backend cpu|cl|vk] [--device N]\n"
     "\n"
     "Marches one walker over an atlas written by pgt atlas (paper 000, sec. 5): N steps of S\n"
     "texels, jumping across charts through the indirection texels (the four cases of Fig. 3,\n"
@@ -75,7 +77,13 @@ static const char *march_usage =
     "  --no-rotation    do not rotate the direction at jumps (5.2 off)\n"
     "  --rotation R     atlas (default: the paper, the angle stored in the atlas's rot\n"
     "                   channel) or jacobian (the direction with the same 3D motion, from the\n"
-    "                   two charts' texel Jacobians; see march.h)\n"
+    "                   two charts' texel Jacobians; see march.h)\n",
+    "  --backend B      cpu (the C reference, default), cl (OpenCL) or vk (Vulkan): where\n"
+    "                   the steps run (pgt_backend_march; the GPU versions give the\n"
+    "                   reference's steps bit for bit, pgt diff march checks it); the 3D\n"
+    "                   positions of the rows come from the reference. --density is a host\n"
+    "                   function: cpu only\n"
+    "  --device N       device index of that API (see pgt devices; default 0; ignored by cpu)\n"
     "  --dump PREFIX    also write what a figure needs (paper_figs/march_path.py):\n"
     "                   PREFIX.atlas.png (the atlas, one pixel per texel: charts in colours,\n"
     "                   indirection texels darker, dead ends red, background white) and\n"
@@ -84,7 +92,7 @@ static const char *march_usage =
     "\n"
     "Prints one summary line, and a progress line on stderr every 5 s of work\n"
     "(PGT_PROGRESS_SECONDS: the period, 0: none). Exit 0 on success (a march that stops early\n"
-    "included), 2 on a bad flag, value or input.\n";
+    "included), 2 on a bad flag, value or input.\n"};
 
 /* A pastel colour per chart (golden-ratio hues). */
 static void chart_colour(uint32_t chart, uint8_t rgb[3]) {
@@ -187,14 +195,17 @@ int pgt_cmd_march(int argc, char **argv) {
     float from[2] = {0, 0}, dir[2] = {0, 0}, step = 0;
     uint32_t steps = 0;
     int have_from = 0, have_dir = 0, have_step = 0, have_steps = 0, with_start = 0;
+    pgt_backend_kind kind = PGT_BACKEND_CPU;
+    uint32_t device = 0;
     pgt_march_options opts = {0};
     /* -o and --dump's files appear together, none on failure (pgt_cli_stage) */
     pgt_cli_stage stage;
     stage.count = stage.dir_count = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
+        int flag;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(march_usage, stdout);
+            fputs(march_usage[0], stdout), fputs(march_usage[1], stdout);
             return PGT_EXIT_OK;
         } else if (!strcmp(a, "--from")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_cli_floats(verb, a, v, 2, from))
@@ -238,6 +249,8 @@ int pgt_cmd_march(int argc, char **argv) {
                                     dump);
         } else if (!strcmp(a, "--with-start")) {
             with_start = 1;
+        } else if ((flag = pgt_backend_flags(verb, argc, argv, &i, &kind, &device)) != 0) {
+            if (flag < 0) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--no-best-pointer")) {
             opts.no_best_pointer = 1;
         } else if (!strcmp(a, "--no-rotation")) {
@@ -266,6 +279,11 @@ int pgt_cmd_march(int argc, char **argv) {
     if (!have_step) return pgt_cli_fail(verb, "no step length: give --step S (texels)");
     if (!have_steps) return pgt_cli_fail(verb, "no step count: give --steps N");
     if (!out_path) return pgt_cli_fail(verb, "no output: give -o PATH.csv");
+    if (density_path && kind != PGT_BACKEND_CPU)
+        return pgt_cli_fail(verb,
+                            "--density is a host function (a condition callback): it runs on "
+                            "--backend cpu only, not %s",
+                            pgt_backend_kind_name(kind));
     dump_paths dumped;
     if (dump) dump_paths_of(dump, &dumped);
     {
@@ -281,6 +299,10 @@ int pgt_cmd_march(int argc, char **argv) {
     pgt_image img = {0};
     pgt_march_atlas atlas = {0};
     float *mask = NULL, *density = NULL;
+    pgt_march_state *rec = NULL;
+    uint32_t *words = NULL;
+    pgt_backend backend;
+    memset(&backend, 0, sizeof backend);
     int rc = PGT_EXIT_USAGE;
     pgt_cli_progress prog; /* a line every few seconds while the work runs (stderr) */
     if (pgt_cli_progress_start(&prog, verb)) return PGT_EXIT_USAGE;
@@ -321,6 +343,21 @@ int pgt_cmd_march(int argc, char **argv) {
         goto done;
     }
     if (dump && write_dump(&dumped, &atlas, &img, &stage)) goto done;
+    if (kind != PGT_BACKEND_CPU)
+        pgt_cli_progress_stagef(prog.progress, "opening the %s backend",
+                                pgt_backend_kind_name(kind));
+    if (pgt_backend_open(&backend, kind, device, 0, &err) != PGT_OK) {
+        pgt_cli_fail(verb, "%s", err.message);
+        goto done;
+    }
+    /* the steps run in chunks on the backend, each recording its states and event words */
+    const uint32_t chunk = steps < MARCH_PROGRESS_STEPS ? steps : MARCH_PROGRESS_STEPS;
+    rec = malloc((size_t)chunk * sizeof(*rec));
+    words = malloc((size_t)chunk * sizeof(*words));
+    if (!rec || !words) {
+        pgt_cli_fail(verb, "out of memory");
+        goto done;
+    }
     const double t1 = pgt_cli_now_ms();
 
     char tmp[4400];
@@ -339,19 +376,43 @@ int pgt_cmd_march(int argc, char **argv) {
     if (with_start)
         fprintf(f, "0,%.9g,%.9g,%u,%.9g,%.9g,%.9g,start\n", (double)s.x, (double)s.y, s.chart,
                 (double)p[0], (double)p[1], (double)p[2]);
-    for (uint32_t k = 1; k <= steps; ++k) {
-        pgt_march_info info;
-        const pgt_march_event e = pgt_march_step(&atlas, &opts, &s, step, 0.0f, &info);
-        counts[e]++;
-        pgt_march_position(&atlas, s.x, s.y, p);
-        fprintf(f, "%u,%.9g,%.9g,%u,%.9g,%.9g,%.9g,%s\n", k, (double)s.x, (double)s.y, s.chart,
-                (double)p[0], (double)p[1], (double)p[2], pgt_march_event_name(e));
-        if (e == PGT_MARCH_STOP) {
-            why = info.stop;
-            break;
+    int stopped = 0;
+    for (uint32_t k0 = 0; k0 < steps && !stopped; k0 += chunk) {
+        const uint32_t n = steps - k0 < chunk ? steps - k0 : chunk;
+        if (pgt_backend_march(&backend, &atlas, &opts, step, n, 1, &s, rec, words, NULL, NULL,
+                              &err) != PGT_OK) {
+            pgt_cli_fail(verb, "%s", err.message);
+            fclose(f);
+            remove(tmp);
+            goto done;
         }
-        done_steps = k;
-        if (!(k & (MARCH_PROGRESS_STEPS - 1u))) pgt_progress_raise(prog.progress, k);
+        for (uint32_t j = 0; j < n; ++j) {
+            const uint32_t k = k0 + j + 1, e = words[j] & 0xFFu;
+            if (!pgt_backend_march_record_valid(&atlas, &rec[j], words[j])) {
+                pgt_cli_fail(verb,
+                             "%s returned step %u as no step of the reference could end (event "
+                             "word 0x%x, at (%g, %g) in chart %u): a backend fault (pgt diff "
+                             "march --backend %s checks the backend); nothing written",
+                             backend.name, k, words[j], (double)rec[j].x, (double)rec[j].y,
+                             rec[j].chart, pgt_backend_kind_name(kind));
+                fclose(f);
+                remove(tmp);
+                rc = PGT_EXIT_FAIL;
+                goto done;
+            }
+            counts[e]++;
+            pgt_march_position(&atlas, rec[j].x, rec[j].y, p);
+            fprintf(f, "%u,%.9g,%.9g,%u,%.9g,%.9g,%.9g,%s\n", k, (double)rec[j].x, (double)rec[j].y,
+                    rec[j].chart, (double)p[0], (double)p[1], (double)p[2],
+                    pgt_march_event_name((pgt_march_event)e));
+            if (e == PGT_MARCH_STOP) {
+                why = (pgt_march_stop)(words[j] >> 8 & 0xFFu);
+                stopped = 1;
+                break;
+            }
+            done_steps = k;
+        }
+        pgt_progress_raise(prog.progress, k0 + n);
     }
     if (pgt_cli_table_close(f, tmp, out_staged, verb) || pgt_cli_stage_commit(&stage, verb))
         goto done;
@@ -363,11 +424,15 @@ int pgt_cmd_march(int argc, char **argv) {
            counts[PGT_MARCH_SEARCH]);
     if (why != PGT_MARCH_STOP_NONE)
         printf(", stopped at step %u (%s)", done_steps + 1, pgt_march_stop_name(why));
+    if (kind != PGT_BACKEND_CPU) printf(", on %s", backend.name);
     printf(" -> %s (read %.1f ms, march+write %.1f ms)\n", out_path, t1 - t0, t2 - t1);
     rc = PGT_EXIT_OK;
 done:
     pgt_cli_progress_stop(&prog);
     pgt_cli_stage_abort(&stage);
+    pgt_backend_close(&backend);
+    free(rec);
+    free(words);
     free(mask);
     free(density);
     pgt_march_atlas_destroy(&atlas);

@@ -71,6 +71,7 @@ int pgt_cmd_subdiv(int argc, char **argv) {
     int have_group = 0, json = 0, precise = 0, profile = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
+        int flag;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(subdiv_usage, stdout);
             return PGT_EXIT_OK;
@@ -90,13 +91,8 @@ int pgt_cmd_subdiv(int argc, char **argv) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_uint(verb, a, v, 1, 256, &threads))
                 return PGT_EXIT_USAGE;
-        } else if (!strcmp(a, "--backend")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) || pgt_backend_parse(verb, v, &kind))
-                return PGT_EXIT_USAGE;
-        } else if (!strcmp(a, "--device")) {
-            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
-                pgt_cli_uint(verb, a, v, 0, 1024, &device))
-                return PGT_EXIT_USAGE;
+        } else if ((flag = pgt_backend_flags(verb, argc, argv, &i, &kind, &device)) != 0) {
+            if (flag < 0) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--json")) {
             json = 1;
         } else if (!strcmp(a, "--profile")) {

@@ -284,7 +284,8 @@ pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
             const pgt_march_event e = pgt_march_step(a, o, &s, length, 0.0f, &info);
             const uint32_t want = PGT_MARCH_EVENT_WORD(e, info.stop, info.jumps);
             const pgt_march_state *g = &rec[at];
-            if (want != ev[at] || s.chart != g->chart || s.from != g->from ||
+            const int valid = pgt_backend_march_record_valid(a, g, ev[at]);
+            if (!valid || want != ev[at] || s.chart != g->chart || s.from != g->from ||
                 s.bounces != g->bounces) {
                 if (!d->discrete) {
                     d->first_walker = i, d->first_step = k;
@@ -292,6 +293,7 @@ pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
                 }
                 d->discrete++;
             }
+            if (!valid) break; /* nothing to re-run the next step from */
             march_floats(&s, fr + n * DIFF_MARCH_FLOATS);
             march_floats(g, fg + n * DIFF_MARCH_FLOATS);
             n++;

@@ -94,7 +94,10 @@ pgt_result pgt_diff_march_run(pgt_backend *b, const pgt_march_atlas *a, const pg
                               pgt_diff_march *d, pgt_error *err);
 
 /* The comparison of pgt_diff_march_run after the backend's run: walker i started at start[i];
- * rec and ev are its walkers x steps records (pgt_backend_march). Fills d (ms left 0). */
+ * rec and ev are its walkers x steps records (pgt_backend_march). Fills d (ms left 0). A record
+ * the reference cannot start from (pgt_backend_march_record_valid: an unknown event, a position
+ * off its chart's inner texels, a non-finite direction) is a discrete mismatch that ends the
+ * comparison of its walker. */
 pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
                                   const pgt_march_options *o, float length, uint32_t steps,
                                   uint32_t walkers, const pgt_march_state *start,

@@ -23,6 +23,23 @@ status=${PIPESTATUS[0]}
 # march: 6 default inputs x 5 option sets
 n=$(grep -c "^march .*: ok$" "$out")
 [ "$n" = 30 ] || { echo "FAIL: $n march cases passed on $api, expected 30"; rm -f "$out"; exit 1; }
+# Long walks: walkers of 3000 steps and one of 100000 (lavapipe ends a shader invocation's loops
+# after 65535 iterations in all, so the Vulkan host cuts a call's steps into dispatches: a walker
+# there went wrong after 1158-7250 steps before). pgt march on the backend writes the CSV the
+# reference does, byte for byte (its steps in chunks of 65536).
+"$pgt" diff march --backend "$api" spot.obj --res 512 --walkers 64 --steps 3000 > "$out" \
+  || { cat "$out"; echo "FAIL: long walks"; rm -f "$out"; exit 1; }
+[ "$(grep -c "^march .*: ok$" "$out")" = 5 ] || { cat "$out"; echo "FAIL: long walks: not 5 ok"; rm -f "$out"; exit 1; }
+work=$(mktemp -d)
+"$pgt" atlas cube_sphere_8 --res 512 -o "$work/cs.exr" > /dev/null || { rm -rf "$work" "$out"; exit 1; }
+for b in cpu "$api"; do # a closed mesh: the walker takes all its steps
+  "$pgt" march "$work/cs.exr" --from 100.5,100.5 --dir 1,0.3 --step 1 --steps 100000 \
+    --backend "$b" -o "$work/$b.csv" > /dev/null \
+    || { echo "FAIL: pgt march --backend $b"; rm -rf "$work" "$out"; exit 1; }
+done
+cmp "$work/cpu.csv" "$work/$api.csv" || { echo "FAIL: pgt march --backend $api differs from cpu"; rm -rf "$work" "$out"; exit 1; }
+echo "pgt march --backend $api: $(($(wc -l < "$work/cpu.csv") - 1)) steps, the reference's CSV byte for byte"
+rm -rf "$work"
 # Vulkan's limits, lowered: dispatches cut in ranges of 2 and 3 work-groups (the march's `first`
 # push constant, sqrt(3)'s item ranges) give the same result; an array larger than a binding is
 # refused with its name (exit 2), not read past its end.

@@ -305,6 +305,16 @@ one_line march_density_atlas_channels_one_line "no channel 'density', 'Y' or 'R'
 expect march_density_overwrite 2 "$pgt" "${march[@]}" -o d128.png --density d128.png
 one_line march_density_overwrite_one_line "never overwrites an input"
 expect march_bad_seed 2 "$pgt" "${march[@]}" -o px.csv --density d128.png --seed -1
+# --backend: cpu is the default's output; a GPU backend refuses --density (a host function)
+# before reading anything, and an unknown backend is a bad flag (tests/backend_diff.sh compares
+# the cl and vk CSVs with the reference's)
+expect march_backend_cpu 0 "$pgt" "${march[@]}" -o pbc.csv --backend cpu
+cmp -s pbc.csv p.csv && ok march_backend_cpu_is_default || bad march_backend_cpu_is_default "differ"
+expect march_density_on_gpu 2 "$pgt" "${march[@]}" -o pbg.csv --density d128.png --backend vk
+[ ! -e pbg.csv ] && one_line march_density_on_gpu_says_why \
+  "density is a host function.*--backend cpu only, not vk"
+expect march_bad_backend 2 "$pgt" "${march[@]}" -o pbb.csv --backend gpu
+expect march_bad_device 2 "$pgt" "${march[@]}" -o pbd.csv --backend cl --device x
 # --dump's two files are outputs too: they may not replace an input or -o (both ran, exit 0)
 cp d128.png dm.atlas.png
 expect march_dump_over_input 2 "$pgt" "${march[@]}" -o pdm.csv --density dm.atlas.png --dump dm

@@ -47,13 +47,9 @@ layout(std430, set = 0, binding = PGT_VK_M_RINGS) readonly buffer Rings { uint r
 layout(std430, set = 0, binding = PGT_VK_M_ROTCS) readonly buffer Rotcs { vec2 rotcs[]; };
 layout(std430, set = 0, binding = PGT_VK_M_MASK) readonly buffer Mask { float mask[]; };
 layout(std430, set = 0, binding = PGT_VK_M_STATES) buffer States { mc_state states[]; };
-layout(std430, set = 0, binding = PGT_VK_M_REC_STATES) writeonly buffer RecStates {
-    mc_state rec_states[];
-};
-layout(std430, set = 0, binding = PGT_VK_M_REC_EVENTS) writeonly buffer RecEvents {
-    uint rec_events[];
-};
-layout(std430, set = 0, binding = PGT_VK_M_TAKEN) writeonly buffer Taken { uint taken[]; };
+layout(std430, set = 0, binding = PGT_VK_M_REC_STATES) buffer RecStates { mc_state rec_states[]; };
+layout(std430, set = 0, binding = PGT_VK_M_REC_EVENTS) buffer RecEvents { uint rec_events[]; };
+layout(std430, set = 0, binding = PGT_VK_M_TAKEN) buffer Taken { uint taken[]; };
 
 #define MC_NONE 0xFFFFFFFFu
 #define MC_KIND_BACKGROUND 0u
@@ -457,32 +453,48 @@ uint march_step(inout mc_state s, out uint why, out uint crossings) {
     return event;
 }
 
-/* Walker gid takes up to p.steps steps from states[gid] (it stops at its first STOP) and ends
- * there; taken[gid] gets the steps taken (a STOP is not one). With PGT_GPU_MARCH_RECORD, record
- * gid * steps + k gets the state after step k (unchanged on STOP) and its event word
- * (PGT_MARCH_EVENT_WORD); the records after a STOP repeat it. */
+/* Walker gid takes the steps [step_first, step_first + step_count) of its p.steps from
+ * states[gid] (it stops at its first STOP) and ends there; taken[gid] gets the steps taken so far
+ * (a STOP is not one). With PGT_GPU_MARCH_RECORD, record gid * steps + k gets the state after
+ * step k (unchanged on STOP) and its event word (PGT_MARCH_EVENT_WORD); the records after a STOP
+ * repeat it. The host runs a call's steps in dispatches of at most PGT_VK_MARCH_DISPATCH_STEPS
+ * (lavapipe ends every loop of an invocation after 65535 iterations in all, see
+ * march_vk_layout.h); a walker that stopped in an earlier dispatch (taken < step_first) only
+ * repeats its STOP record over this one's steps. */
 void main() {
     const uint gid = p.first + gl_GlobalInvocationID.x;
     if (gid >= p.count) return;
     const bool record = (p.flags & PGT_GPU_MARCH_RECORD) != 0u;
+    const uint end = p.step_first + p.step_count, base = gid * p.steps;
+    if (p.step_first > 0u && taken[gid] < p.step_first) { /* stopped before this dispatch */
+        if (record) {
+            const uint at = base + taken[gid];
+            const mc_state s = rec_states[at];
+            const uint word = rec_events[at];
+            for (uint j = p.step_first; j < end; ++j) {
+                rec_states[base + j] = s;
+                rec_events[base + j] = word;
+            }
+        }
+        return;
+    }
     mc_state s = states[gid];
-    uint k = 0u, word = 0u;
-    for (; k < p.steps; ++k) {
+    uint k = p.step_first, word = 0u;
+    for (; k < end; ++k) {
         uint why, crossings;
         const uint ev = march_step(s, why, crossings);
         word = PGT_MARCH_EVENT_WORD(ev, why, crossings);
         if (record) {
-            const uint r = gid * p.steps + k;
-            rec_states[r] = s;
-            rec_events[r] = word;
+            rec_states[base + k] = s;
+            rec_events[base + k] = word;
         }
         if (ev == MC_STOP) break;
     }
     states[gid] = s;
     taken[gid] = k;
-    if (record && k < p.steps) /* the records after a STOP repeat it */
-        for (uint j = k + 1u; j < p.steps; ++j) {
-            rec_states[gid * p.steps + j] = s;
-            rec_events[gid * p.steps + j] = word;
+    if (record && k < end) /* the records after a STOP repeat it */
+        for (uint j = k + 1u; j < end; ++j) {
+            rec_states[base + j] = s;
+            rec_events[base + j] = word;
         }
 }

@@ -3,8 +3,9 @@
  * As pgt_cl_march: the atlas view's four arrays (ref_cpu/include/pgt/march.h) go up as they are,
  * with the cosine and sine of every texel's rot (pgt_gpu_march_prepare: the reference's cosf and
  * sinf); the walkers' states go up as pgt_march_state arrays; march_walk runs one invocation per
- * walker for all its steps, in dispatches of at most maxComputeWorkGroupCount groups (the push
- * constant `first` numbers a dispatch's first walker); the states, the steps taken and, with
+ * walker, in dispatches of at most maxComputeWorkGroupCount groups (the push constant `first`
+ * numbers a dispatch's first walker) and PGT_VK_MARCH_DISPATCH_STEPS steps (`step_first`,
+ * `step_count`: lavapipe's loop limit, march_vk_layout.h); the states, the steps taken and, with
  * records, every step's state and event word come back. Each array is bound whole, so each must
  * fit one storage-buffer binding. */
 #include <stdlib.h>
@@ -60,12 +61,18 @@ static pgt_result vm_device(pgt_vk *ctx, vm_array *arrays, uint32_t n_arrays,
     if (times) times->upload_ms = vm_now_ms() - t_up;
 
     const uint32_t groups = (p->count + PGT_GPU_MARCH_GROUP_SIZE - 1) / PGT_GPU_MARCH_GROUP_SIZE;
-    for (uint32_t g = 0; g < groups;) {
-        const uint32_t n = groups - g < ctx->max_groups ? groups - g : ctx->max_groups;
-        p->first = g * PGT_GPU_MARCH_GROUP_SIZE;
-        PGT_VK_TRY(
-            pgt_vk_dispatch(ctx, PGT_VK_PIPE_MARCH_WALK, bind, p, (uint32_t)sizeof(*p), n, err));
-        g += n;
+    const uint32_t steps = p->steps;
+    for (uint32_t k = 0; k < steps; k += PGT_VK_MARCH_DISPATCH_STEPS) {
+        p->step_first = k;
+        p->step_count =
+            steps - k < PGT_VK_MARCH_DISPATCH_STEPS ? steps - k : PGT_VK_MARCH_DISPATCH_STEPS;
+        for (uint32_t g = 0; g < groups;) {
+            const uint32_t n = groups - g < ctx->max_groups ? groups - g : ctx->max_groups;
+            p->first = g * PGT_GPU_MARCH_GROUP_SIZE;
+            PGT_VK_TRY(pgt_vk_dispatch(ctx, PGT_VK_PIPE_MARCH_WALK, bind, p, (uint32_t)sizeof(*p),
+                                       n, err));
+            g += n;
+        }
     }
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
 
