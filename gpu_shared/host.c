@@ -4,6 +4,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+double pgt_gpu_now_ms(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
 
 int pgt_gpu_profile_add(pgt_gpu_profile *p, const char *name, double ms) {
     if (!p) return 1;

@@ -31,6 +31,9 @@ typedef struct pgt_gpu_profile {
 int pgt_gpu_profile_add(pgt_gpu_profile *p, const char *name, double ms);
 void pgt_gpu_profile_free(pgt_gpu_profile *p);
 
+/* Milliseconds of a monotonic clock (the host-measured copy times of every GPU backend). */
+double pgt_gpu_now_ms(void);
+
 /* Times of one call of an algorithm on a backend, in milliseconds (0 when not measured). */
 typedef struct pgt_gpu_times {
     double device_ms;   /* sum of the kernels' device execution times */

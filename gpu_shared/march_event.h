@@ -9,5 +9,8 @@
 
 #define PGT_MARCH_EVENT_WORD(ev, stop, jumps)                                                      \
     (PGT_UINT(ev) | PGT_UINT(stop) << 8 | PGT_UINT(jumps) << 16)
+/* Its fields back. */
+#define PGT_MARCH_EVENT_OF(word) (PGT_UINT(word) & 0xFFu)
+#define PGT_MARCH_STOP_OF(word) (PGT_UINT(word) >> 8 & 0xFFu)
 
 #endif

@@ -169,7 +169,9 @@ pgt_result pgt_backend_march(pgt_backend *b, const pgt_march_atlas *a, const pgt
 
 int pgt_backend_march_record_valid(const pgt_march_atlas *a, const pgt_march_state *s,
                                    uint32_t word) {
-    if ((word & 0xFFu) > PGT_MARCH_STOP || (word >> 8 & 0xFFu) > PGT_MARCH_STOP_BOUNCE) return 0;
+    if (PGT_MARCH_EVENT_OF(word) > PGT_MARCH_STOP ||
+        PGT_MARCH_STOP_OF(word) > PGT_MARCH_STOP_BOUNCE)
+        return 0;
     if (!(isfinite(s->dx) && isfinite(s->dy) && isfinite(s->in_dx) && isfinite(s->in_dy))) return 0;
     if (!(s->x >= 0.0f && s->y >= 0.0f && s->x < (float)a->width && s->y < (float)a->height))
         return 0;

@@ -25,7 +25,7 @@
 #define MARCH_CLI_MAX_STEPS 10000000u
 /* pgt march runs its steps in chunks of this many on the backend (each recording its states and
  * event words), and its progress line moves after each chunk. */
-#define MARCH_PROGRESS_STEPS 65536u
+#define MARCH_CHUNK_STEPS 65536u
 
 /* Inner texels written by --dump for the 3D point cloud of a figure (about; every k-th texel
  * of every k-th row): enough to show the surface, small enough for matplotlib. */
@@ -351,7 +351,7 @@ int pgt_cmd_march(int argc, char **argv) {
         goto done;
     }
     /* the steps run in chunks on the backend, each recording its states and event words */
-    const uint32_t chunk = steps < MARCH_PROGRESS_STEPS ? steps : MARCH_PROGRESS_STEPS;
+    const uint32_t chunk = steps < MARCH_CHUNK_STEPS ? steps : MARCH_CHUNK_STEPS;
     rec = malloc((size_t)chunk * sizeof(*rec));
     words = malloc((size_t)chunk * sizeof(*words));
     if (!rec || !words) {
@@ -387,7 +387,7 @@ int pgt_cmd_march(int argc, char **argv) {
             goto done;
         }
         for (uint32_t j = 0; j < n; ++j) {
-            const uint32_t k = k0 + j + 1, e = words[j] & 0xFFu;
+            const uint32_t k = k0 + j + 1, e = PGT_MARCH_EVENT_OF(words[j]);
             if (!pgt_backend_march_record_valid(&atlas, &rec[j], words[j])) {
                 pgt_cli_fail(verb,
                              "%s returned step %u as no step of the reference could end (event "
@@ -406,7 +406,7 @@ int pgt_cmd_march(int argc, char **argv) {
                     rec[j].chart, (double)p[0], (double)p[1], (double)p[2],
                     pgt_march_event_name((pgt_march_event)e));
             if (e == PGT_MARCH_STOP) {
-                why = (pgt_march_stop)(words[j] >> 8 & 0xFFu);
+                why = (pgt_march_stop)PGT_MARCH_STOP_OF(words[j]);
                 stopped = 1;
                 break;
             }

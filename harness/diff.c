@@ -298,7 +298,7 @@ pgt_result pgt_diff_march_compare(pgt_diff_march *d, const pgt_march_atlas *a,
             march_floats(g, fg + n * DIFF_MARCH_FLOATS);
             n++;
             d->crossings += info.jumps > 0;
-            if (e == PGT_MARCH_STOP || (ev[at] & 0xFFu) == PGT_MARCH_STOP) {
+            if (e == PGT_MARCH_STOP || PGT_MARCH_EVENT_OF(ev[at]) == PGT_MARCH_STOP) {
                 d->stops++;
                 break;
             }

@@ -256,7 +256,7 @@ static void march_compare_catches_each_output(void) {
     uint32_t jr = UINT32_MAX;
     for (uint32_t w = 0; w < MARCH_WALKERS && jr == UINT32_MAX; ++w) {
         const uint32_t r = w * MARCH_STEPS + MARCH_STEPS - 1u;
-        if (rec[r].from != 0u && (ev[r] & 0xFFu) != PGT_MARCH_STOP) jr = r;
+        if (rec[r].from != 0u && PGT_MARCH_EVENT_OF(ev[r]) != PGT_MARCH_STOP) jr = r;
     }
     REQUIRE(jr != UINT32_MAX);
     const uint32_t jw = jr / MARCH_STEPS, js = jr % MARCH_STEPS, mid = MARCH_STEPS / 2u;

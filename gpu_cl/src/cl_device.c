@@ -3,7 +3,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <CL/cl_ext.h>
 
@@ -20,12 +19,6 @@ const char *const pgt_cl_kernel_names[PGT_CL_KERNEL_COUNT] = {
     "s3_classify",        "s3_scan",         "s3_scan_add", "s3_vertices", "s3_faces",
     "s3_vertices_closed", "s3_faces_closed", "march_walk",
 };
-
-double pgt_cl_now_ms(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
 
 static const char *cl_error_name(cl_int code) {
     switch (code) {

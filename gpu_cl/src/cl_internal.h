@@ -55,7 +55,4 @@ pgt_result pgt_cl_fail(pgt_error *err, const char *file, int line, const char *c
  * CL_DEVICE_MAX_MEM_ALLOC_SIZE is PGT_ERROR_OUT_OF_MEMORY naming it. */
 pgt_result pgt_cl_buffer(pgt_cl *cl, cl_mem *out, uint64_t bytes, pgt_error *err);
 
-/* Milliseconds of a monotonic clock (for the host-measured copy times). */
-double pgt_cl_now_ms(void);
-
 #endif

@@ -47,7 +47,7 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
     cl_mem codes = NULL, tex = NULL, jumps = NULL, rings = NULL, rotcs = NULL, mask = NULL;
     cl_mem st = NULL, rst = NULL, rev = NULL, taken = NULL;
     cl_event ev = NULL;
-    double t0 = pgt_cl_now_ms();
+    double t0 = pgt_gpu_now_ms();
     if ((r = cl_march_buffer(cl, &codes, texels * 4, a->codes, err)) ||
         (r = cl_march_buffer(cl, &tex, texels * sizeof(pgt_march_texel), a->texels, err)) ||
         (r = cl_march_buffer(cl, &jumps, texels * sizeof(pgt_march_jump), a->jumps, err)) ||
@@ -60,7 +60,7 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
         (r = cl_march_buffer(cl, &taken, (uint64_t)count * 4, NULL, err)))
         goto cleanup;
     PGT_CL_CHECK(clFinish(cl->queue));
-    if (times) times->upload_ms = pgt_cl_now_ms() - t0;
+    if (times) times->upload_ms = pgt_gpu_now_ms() - t0;
 
     cl_kernel k = cl->kernels[PGT_CL_K_MARCH_WALK];
     cl_mem *bufs[] = {&codes, &tex, &jumps, &rings, &rotcs, &mask};
@@ -88,7 +88,7 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
         }
     }
 
-    t0 = pgt_cl_now_ms();
+    t0 = pgt_gpu_now_ms();
     PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, st, CL_TRUE, 0, count * sizeof(pgt_march_state),
                                      states, 0, NULL, NULL));
     if (out_taken)
@@ -101,7 +101,7 @@ pgt_result pgt_cl_march(pgt_cl *cl, const pgt_march_atlas *a, const pgt_march_op
         PGT_CL_CHECK(clEnqueueReadBuffer(cl->queue, rev, CL_TRUE, 0, (size_t)records * 4,
                                          rec_events, 0, NULL, NULL));
     }
-    if (times) times->download_ms = pgt_cl_now_ms() - t0;
+    if (times) times->download_ms = pgt_gpu_now_ms() - t0;
 cleanup:
     clFinish(cl->queue); /* no copy from cs or into the caller's arrays still pending */
     if (ev) clReleaseEvent(ev);

@@ -228,7 +228,7 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     cur.V = V0, cur.F = F0;
 
     /* ---- upload level 0 ---- */
-    t0 = pgt_cl_now_ms();
+    t0 = pgt_gpu_now_ms();
     if ((r = pgt_cl_buffer(cl, &cur.pos, (uint64_t)V0 * 12, err)) != PGT_OK ||
         (r = pgt_cl_buffer(cl, &cur.idx, (uint64_t)F0 * 12, err)) != PGT_OK ||
         (r = pgt_cl_buffer(cl, &cur.opp, (uint64_t)F0 * 12, err)) != PGT_OK ||
@@ -258,7 +258,7 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     PGT_CL_CHECK(clEnqueueWriteBuffer(cl->queue, alpha_buf, CL_FALSE, 0, (size_t)alpha_count * 4,
                                       alpha, 0, NULL, NULL));
     PGT_CL_CHECK(clFinish(cl->queue));
-    if (times) times->upload_ms = pgt_cl_now_ms() - t0;
+    if (times) times->upload_ms = pgt_gpu_now_ms() - t0;
 
     /* ---- the iterations ---- */
     uint32_t border = adj.border_half_edges; /* of the current level */
@@ -349,7 +349,7 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     }
 
     /* ---- download the last level ---- */
-    t0 = pgt_cl_now_ms();
+    t0 = pgt_gpu_now_ms();
     if ((r = pgt_mesh_create(out, cur.V, cur.F, 0, in->labels != NULL, err)) != PGT_OK)
         goto cleanup;
     const size_t F = cur.F;
@@ -393,7 +393,7 @@ pgt_result pgt_cl_sqrt3(pgt_cl *cl, pgt_mesh *out, const pgt_mesh *in,
     }
     if (in->labels)
         for (size_t t = 0; t < F; ++t) out->labels[t] = in->labels[parents[t]];
-    if (times) times->download_ms = pgt_cl_now_ms() - t0;
+    if (times) times->download_ms = pgt_gpu_now_ms() - t0;
 
 cleanup:
     /* Nothing may still read or write host memory freed below. */

@@ -254,8 +254,7 @@ void score_pointer(uint t, vec3 pc, vec3 r, inout uint best, inout float best_sc
 
 uint pointer_candidates(uint chart, uint p0, uint nx0, uint ny0, out uint cand[9]) {
     const uint w = p.width, near = ny0 * w + nx0;
-    uint n = 0u;
-    for (int i = 0; i < 9; ++i) cand[i] = 0u;
+    uint n = 0u; /* cand[n] and above are never read */
     cand[n] = p0;
     n += codes[p0] == MC_CODE(MC_KIND_INDIRECTION, chart) ? 1u : 0u;
     const uint ox = p0 % w + 1u - nx0, oy = p0 / w + 1u - ny0, b = oy * 3u + ox;
@@ -314,7 +313,6 @@ uint unbounced_pointer(uint chart, float x, float y, uint cur, uint p0, uint p0x
     const uint w = p.width;
     uint nx0 = 0u, ny0 = 0u, cand[9], n = 1u;
     const uint near = nearest_inner(x, y, p0x, p0y, nx0, ny0);
-    for (int i = 0; i < 9; ++i) cand[i] = 0u;
     cand[0] = p0;
     if (near != MC_NONE) n = pointer_candidates(chart, p0, nx0, ny0, cand);
     const bool has_r = near != MC_NONE && near != cur;

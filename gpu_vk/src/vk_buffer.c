@@ -263,6 +263,26 @@ cleanup:
     return r;
 }
 
+pgt_vk_binding pgt_vk_whole(const pgt_vk *ctx, const pgt_vk_buf *b) {
+    pgt_vk_binding w = {NULL, 0, 0};
+    if (!b->buf) return w;
+    w.buf = b;
+    w.range = b->size < ctx->max_binding ? b->size : ctx->max_binding;
+    return w;
+}
+
+pgt_result pgt_vk_fits(const pgt_vk *ctx, uint64_t bytes, const char *what, const char *reads,
+                       pgt_error *err) {
+    if (bytes <= ctx->max_binding) return PGT_OK;
+    return pgt_error_set(
+        err, PGT_ERROR_LIMIT,
+        "%s is %llu bytes, but %s through one storage-buffer binding and %s allows %llu bytes "
+        "(maxStorageBufferRange %llu%s)",
+        what, (unsigned long long)bytes, reads, ctx->name, (unsigned long long)ctx->max_binding,
+        (unsigned long long)ctx->device_binding,
+        ctx->max_binding < ctx->device_binding ? ", lowered by PGT_VK_MAX_BINDING_BYTES" : "");
+}
+
 /* ---- copies ------------------------------------------------------------------------------- */
 
 pgt_result pgt_vk_upload(pgt_vk *ctx, pgt_vk_buf *b, const void *src, size_t bytes,

@@ -213,6 +213,11 @@ void pgt_vk_buf_destroy(pgt_vk *ctx, pgt_vk_buf *b);
 /* Destroys b once the batch in flight has run (b is zeroed now). */
 pgt_result pgt_vk_buf_release(pgt_vk *ctx, pgt_vk_buf *b, pgt_error *err);
 
+/* PGT_OK when `bytes` fit one storage-buffer binding; else PGT_ERROR_LIMIT: "<what> is N bytes,
+ * but <reads> through one storage-buffer binding and <device> allows M bytes (...)". */
+pgt_result pgt_vk_fits(const pgt_vk *ctx, uint64_t bytes, const char *what, const char *reads,
+                       pgt_error *err);
+
 /* Host -> device: written now when mapped, else staged and copied in the open batch. */
 pgt_result pgt_vk_upload(pgt_vk *ctx, pgt_vk_buf *b, const void *src, size_t bytes, pgt_error *err);
 /* Zero-fills the first `bytes` in the open batch. */
@@ -228,6 +233,10 @@ typedef struct pgt_vk_binding {
     const pgt_vk_buf *buf; /* NULL: the dummy buffer */
     VkDeviceSize offset, range;
 } pgt_vk_binding;
+
+/* A whole buffer in one binding (its range capped at the binding limit); a buffer that does not
+ * exist gives the dummy's binding. */
+pgt_vk_binding pgt_vk_whole(const pgt_vk *ctx, const pgt_vk_buf *b);
 
 /* The push-constant range of the pipeline layout, which every pipeline shares (the largest
  * block: pgt_vk_s3_push). */

@@ -17,7 +17,7 @@
  * index goes to the shader in the push constants (s3_pass). */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
+#include <stdio.h>
 
 #include "pgt/adjacency.h"
 #include "vk_internal.h"
@@ -42,33 +42,12 @@ static pgt_result s3_level_release(pgt_vk *ctx, s3_level *l, pgt_error *err) {
     return r;
 }
 
-static double s3_now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
-/* A whole array in one binding. */
-static pgt_vk_binding s3_whole(const pgt_vk *ctx, const pgt_vk_buf *b) {
-    pgt_vk_binding w = {NULL, 0, 0};
-    if (!b->buf) return w;
-    w.buf = b;
-    w.range = b->size < ctx->max_binding ? b->size : ctx->max_binding;
-    return w;
-}
-
 /* An array that a step reads at random (or the next step will) must fit one binding. */
 static pgt_result s3_fits(const pgt_vk *ctx, const char *array, uint32_t level, uint64_t bytes,
                           pgt_error *err) {
-    if (bytes <= ctx->max_binding) return PGT_OK;
-    return pgt_error_set(
-        err, PGT_ERROR_LIMIT,
-        "sqrt3 on vulkan: the %s array of level %u is %llu bytes, but a step reads it at random "
-        "through one storage-buffer binding and %s allows %llu bytes (maxStorageBufferRange "
-        "%llu%s)",
-        array, level, (unsigned long long)bytes, ctx->name, (unsigned long long)ctx->max_binding,
-        (unsigned long long)ctx->device_binding,
-        ctx->max_binding < ctx->device_binding ? ", lowered by PGT_VK_MAX_BINDING_BYTES" : "");
+    char what[128];
+    snprintf(what, sizeof what, "sqrt3 on vulkan: the %s array of level %u", array, level);
+    return pgt_vk_fits(ctx, bytes, what, "a step reads it at random", err);
 }
 
 /* ---- dispatch in ranges --------------------------------------------------------------------- */
@@ -111,7 +90,7 @@ static pgt_result s3_pass(pgt_vk *ctx, pgt_vk_pipe pipe, pgt_vk_binding *bind, p
     for (uint32_t j = 0; j < n_outs; ++j) {
         split[j] = outs[j].buf->buf && s3_out_bytes(&outs[j], n, n) > ctx->max_binding;
         *outs[j].base = 0;
-        bind[outs[j].binding] = s3_whole(ctx, outs[j].buf);
+        bind[outs[j].binding] = pgt_vk_whole(ctx, outs[j].buf);
     }
     for (uint32_t e0 = 0; e0 < n;) {
         for (uint32_t j = 0; j < n_outs; ++j)
@@ -237,7 +216,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     c->host = malloc(host_n * sizeof(uint32_t));
     if (!c->host) return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "sqrt3: out of memory");
 
-    const double t_up = s3_now_ms();
+    const double t_up = pgt_gpu_now_ms();
     c->cur.V = V0, c->cur.F = F0;
     PGT_VK_TRY(s3_fits(ctx, "positions", 0, 12 * (uint64_t)V0, err));
     PGT_VK_TRY(s3_fits(ctx, "triangles", 0, 12 * (uint64_t)F0, err));
@@ -256,7 +235,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(
         pgt_vk_upload(ctx, &c->alpha, prep->alpha, (size_t)alpha_count * sizeof(float), err));
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
-    if (times) times->upload_ms += s3_now_ms() - t_up;
+    if (times) times->upload_ms += pgt_gpu_now_ms() - t_up;
 
     for (uint32_t it = 0; it < k; ++it) {
         s3_level *cur = &c->cur, *nx = &c->nx;
@@ -277,13 +256,13 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
 
         pgt_vk_binding bind[PGT_VK_S3_BINDINGS];
         memset(bind, 0, sizeof(bind));
-        bind[PGT_VK_B_POS_IN] = s3_whole(ctx, &cur->pos);
-        bind[PGT_VK_B_IDX_IN] = s3_whole(ctx, &cur->idx);
-        bind[PGT_VK_B_OPP_IN] = s3_whole(ctx, &cur->opp);
-        bind[PGT_VK_B_VH_IN] = s3_whole(ctx, &cur->vh);
-        bind[PGT_VK_B_PROT_IN] = s3_whole(ctx, &cur->prot);
-        bind[PGT_VK_B_PARENT_IN] = s3_whole(ctx, &cur->parent);
-        bind[PGT_VK_B_ALPHA] = s3_whole(ctx, &c->alpha);
+        bind[PGT_VK_B_POS_IN] = pgt_vk_whole(ctx, &cur->pos);
+        bind[PGT_VK_B_IDX_IN] = pgt_vk_whole(ctx, &cur->idx);
+        bind[PGT_VK_B_OPP_IN] = pgt_vk_whole(ctx, &cur->opp);
+        bind[PGT_VK_B_VH_IN] = pgt_vk_whole(ctx, &cur->vh);
+        bind[PGT_VK_B_PROT_IN] = pgt_vk_whole(ctx, &cur->prot);
+        bind[PGT_VK_B_PARENT_IN] = pgt_vk_whole(ctx, &cur->parent);
+        bind[PGT_VK_B_ALPHA] = pgt_vk_whole(ctx, &c->alpha);
 
         /* ---- passes 1 and 2: classify and scan, then the output's size ---- */
         uint32_t np = cur->F, nf = 3 * cur->F; /* uniform: one point, three triangles a face */
@@ -300,11 +279,11 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
                 PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->pt_off, per_face, "point offsets", err));
                 PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->face_off, per_face, "face offsets", err));
                 PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->sums, sums, "scan sums", err));
-                bind[PGT_VK_B_KIND] = s3_whole(ctx, &c->kind);
-                bind[PGT_VK_B_BSLOT] = s3_whole(ctx, &c->bslot);
-                bind[PGT_VK_B_PT_OFF] = s3_whole(ctx, &c->pt_off);
-                bind[PGT_VK_B_FACE_OFF] = s3_whole(ctx, &c->face_off);
-                bind[PGT_VK_B_SUMS] = s3_whole(ctx, &c->sums);
+                bind[PGT_VK_B_KIND] = pgt_vk_whole(ctx, &c->kind);
+                bind[PGT_VK_B_BSLOT] = pgt_vk_whole(ctx, &c->bslot);
+                bind[PGT_VK_B_PT_OFF] = pgt_vk_whole(ctx, &c->pt_off);
+                bind[PGT_VK_B_FACE_OFF] = pgt_vk_whole(ctx, &c->face_off);
+                bind[PGT_VK_B_SUMS] = pgt_vk_whole(ctx, &c->sums);
                 PGT_VK_TRY(
                     s3_pass(ctx, PGT_VK_PIPE_S3_CLASSIFY, bind, &push, cur->F, NULL, 0, err));
                 PGT_VK_TRY(s3_scan_run(ctx, bind, &push, &scan, err));
@@ -382,7 +361,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
 
     /* ---- the last level down to the host ---- */
-    const double t_down = s3_now_ms();
+    const double t_down = pgt_gpu_now_ms();
     const s3_level *l = &c->cur;
     PGT_VK_TRY(pgt_mesh_create(out, l->V, l->F, 0, in->labels != NULL, err));
     PGT_VK_TRY(pgt_vk_download(ctx, &l->pos, 0, 12 * (size_t)l->V, out->positions, err));
@@ -407,7 +386,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
         if (in->labels)
             for (uint32_t f = 0; f < l->F; ++f) out->labels[f] = in->labels[parent[f]];
     }
-    if (times) times->download_ms += s3_now_ms() - t_down;
+    if (times) times->download_ms += pgt_gpu_now_ms() - t_down;
 cleanup:
     return r;
 }
