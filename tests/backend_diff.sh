@@ -40,6 +40,39 @@ done
 cmp "$work/cpu.csv" "$work/$api.csv" || { echo "FAIL: pgt march --backend $api differs from cpu"; rm -rf "$work" "$out"; exit 1; }
 echo "pgt march --backend $api: $(($(wc -l < "$work/cpu.csv") - 1)) steps, the reference's CSV byte for byte"
 rm -rf "$work"
+# Fans (sqrt3): vertex 0 the centre of a closed fan of $1 triangles, vertex 1 of an open fan of
+# $2; at k = 2 vertex 1's fan (level 1) has $2 + 1 half-edges to walk on the border. lavapipe
+# counts loop iterations for 8 invocations at once and stops them after 65535 in all, so the
+# Vulkan shaders stop a walk beyond 21000 (three walks in a row: the worst case, at the bound,
+# must come out right) and the call is refused, naming the vertex; before, such a fan came out
+# wrong (a closed fan of 66000 triangles, or this mix at 30000). PoCL has no such limit.
+fans() {
+  awk -v NA="$1" -v NB="$2" 'BEGIN { pi = 3.141592653589793; print "v 0 0 0.5"; print "v 3 0 0.5"
+    for (i = 0; i < NA; i++) printf "v %.6f %.6f 0\n", cos(2 * pi * i / NA), sin(2 * pi * i / NA)
+    for (i = 0; i < NB; i++) printf "v %.6f %.6f 0\n", 3 + cos(1.8 * pi * i / NB), sin(1.8 * pi * i / NB)
+    for (i = 0; i < NA; i++) printf "f 1 %d %d\n", i + 3, (i + 1) % NA + 3
+    for (i = 0; i < NB - 1; i++) printf "f 2 %d %d\n", NA + i + 3, NA + i + 4 }'
+}
+work=$(mktemp -d)
+fans 21000 21000 > "$work/fans_at.obj" && fans 21000 21001 > "$work/fans_over.obj"
+"$pgt" diff sqrt3 --backend "$api" "$work/fans_at.obj" --iters 2,3 --protected none > "$out" \
+  && [ "$(grep -c "^sqrt3 .*: ok$" "$out")" = 2 ] \
+  || { cat "$out"; echo "FAIL: fans at lavapipe's bound"; rm -rf "$work" "$out"; exit 1; }
+"$pgt" diff sqrt3 --backend "$api" "$work/fans_over.obj" --iters 2 --protected none > "$out" 2>&1
+st=$?
+if [ "$api" = vk ]; then
+  [ "$st" = 2 ] && grep -q "vertex 1 of level 1 (the input of iteration 2) walks a fan of more than 21000 half-edges, more than lavapipe" "$out" \
+    || { cat "$out"; echo "FAIL: a fan beyond lavapipe's bound not refused: exit $st"; rm -rf "$work" "$out"; exit 1; }
+  # the bound lowered: the first level's smallest vertex is named
+  PGT_VK_S3_WALK=20999 "$pgt" diff sqrt3 --backend vk "$work/fans_at.obj" --iters 2 --protected none > "$out" 2>&1
+  st=$?
+  [ "$st" = 2 ] && grep -q "vertex 0 of level 0 (the input of iteration 1) walks a fan of more than 20999 half-edges, the bound PGT_VK_S3_WALK sets" "$out" \
+    || { cat "$out"; echo "FAIL: PGT_VK_S3_WALK=20999: exit $st"; rm -rf "$work" "$out"; exit 1; }
+else
+  [ "$st" = 0 ] && grep -q "^sqrt3 .*: ok$" "$out" || { cat "$out"; echo "FAIL: fans beyond lavapipe's bound on $api"; rm -rf "$work" "$out"; exit 1; }
+fi
+rm -rf "$work"
+echo "sqrt3 fans: bit-equal at lavapipe's bound$([ "$api" = vk ] && echo ", refused beyond it" || echo " and beyond it")"
 # Vulkan's limits, lowered: dispatches cut in ranges of 2 and 3 work-groups (the march's `first`
 # push constant, sqrt(3)'s item ranges) give the same result; an array larger than a binding is
 # refused with its name (exit 2), not read past its end.

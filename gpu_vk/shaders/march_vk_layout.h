@@ -25,12 +25,13 @@
 
 /* Steps per walker in one dispatch. lavapipe (gallivm) ends every loop of a shader invocation
  * once the loops' iterations reach LP_MAX_TGSI_LOOP_ITERATIONS = 65535 in all (one counter per
- * invocation, shared by every loop), and a walker cut off so returns garbage: measured, a walker
- * of spot's atlas went wrong after 7213 steps (about 9 loop iterations a step inside a chart) and
- * after 1158 with a crossing nearly every step. A step iterates at most about 1430 times: up to
- * 17 passes of its jump loop, each with the binary search (24), 5.1's ring and candidates (25)
- * and the no-bounce search (25), the Jacobian's 3 and the rim position's 6, if none of those
- * loops is unrolled. 32 steps (about 45,800 iterations, with the STOP records' loop) stay
- * under. */
+ * call of the compiled shader, which runs 8 invocations in SIMD lanes, each loop counting the
+ * most iterations any lane needs: s3_vk_layout.h), and a walker cut off so returns garbage:
+ * measured, a walker of spot's atlas went wrong after 7213 steps (about 9 loop iterations a step
+ * inside a chart) and after 1158 with a crossing nearly every step. A step iterates at most about
+ * 1430 times: up to 17 passes of its jump loop, each with the binary search (24), 5.1's ring and
+ * candidates (25) and the no-bounce search (25), the Jacobian's 3 and the rim position's 6, if none
+ * of those loops is unrolled: a bound of each loop, so it holds for the lanes together as well. 32
+ * steps (about 45,800 iterations, with the STOP records' loop) stay under. */
 #define PGT_VK_MARCH_DISPATCH_STEPS 32u
 #endif

@@ -27,6 +27,7 @@ layout(std430, set = 0, binding = PGT_VK_B_VH_OUT) writeonly buffer VhOut { uint
 layout(std430, set = 0, binding = PGT_VK_B_PROT_OUT) writeonly buffer ProtOut { uint prot_out[]; };
 layout(std430, set = 0, binding = PGT_VK_B_PARENT_OUT) writeonly buffer ParentOut { uint parent_out[]; };
 layout(std430, set = 0, binding = PGT_VK_B_SUMS) buffer Sums { uvec2 sums[]; };
+layout(std430, set = 0, binding = PGT_VK_B_FAULT) buffer Fault { uint fault[]; };
 
 /* The element this invocation handles (a pass may be dispatched in ranges: first, count). */
 bool s3_item(out uint i) {
@@ -54,3 +55,12 @@ uint s3_point(uint f) { return pc.s3.V + (pc.s3.is_uniform != 0u ? f : pt_off[f]
 
 /* Output half-edge e of the triangle emitted in slot c of face f. */
 uint s3_out_he(uint f, uint c, uint e) { return 3u * (s3_tri_base(f) + c) + e; }
+
+/* A fan walk of `element` in pass `pass` (0 vertices, 1 faces) reached pc.walk_budget
+ * iterations and stopped (s3_vk_layout.h: lavapipe's loop limit): record it for the host, which
+ * then refuses the call. The first pass to stop keeps the code; its smallest element wins. */
+void s3_walk_stopped(uint pass, uint element) {
+    const uint code = 1u + 2u * pc.level + pass;
+    const uint was = atomicCompSwap(fault[PGT_VK_FAULT_CODE], 0u, code);
+    if (was == 0u || was == code) atomicMin(fault[PGT_VK_FAULT_ELEMENT], element);
+}

@@ -25,10 +25,18 @@ uint s3_Q(uint h) {
  * 22.3, LLVM 15) returned wrong half-edges for some invocations of the shorter form
  * `while (opp_in[x(h)] != NONE) h = y(opp_in[x(h)]);` (measured on grid_16x16, k = 2). */
 
+/* Both stop after pc.walk_budget iterations (lavapipe's loop limit, s3_vk_layout.h), recording
+ * face f; the host then refuses the call. The vertices pass before them walks every fan of this
+ * level whole, so it has recorded such a fan first: the stop here only bounds the loops. */
+
 /* Incoming border half-edge (x -> a) at the vertex a where the border half-edge hb starts. */
 uint s3_border_incoming(uint hb) {
-    uint h = hb, o = opp_in[he_prev(hb)];
+    uint h = hb, o = opp_in[he_prev(hb)], walked = 0u;
     while (o != PGT_GPU_NONE) {
+        if (++walked == pc.walk_budget) {
+            s3_walk_stopped(1u, hb / 3u);
+            break;
+        }
         h = o;
         o = opp_in[he_prev(h)];
     }
@@ -37,8 +45,12 @@ uint s3_border_incoming(uint hb) {
 
 /* Outgoing border half-edge (b -> y) at the vertex b where the border half-edge hb ends. */
 uint s3_border_outgoing_after(uint hb) {
-    uint h = he_next(hb), o = opp_in[h];
+    uint h = he_next(hb), o = opp_in[h], walked = 0u;
     while (o != PGT_GPU_NONE) {
+        if (++walked == pc.walk_budget) {
+            s3_walk_stopped(1u, hb / 3u);
+            break;
+        }
         h = he_next(o);
         o = opp_in[h];
     }

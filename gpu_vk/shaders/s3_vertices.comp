@@ -24,7 +24,7 @@ void main() {
      * border half-edge), so walk back to it and sum again from there unless h0 was it. */
     precise vec3 sum = vec3(0.0);
     uint n = 0u, last = h0, first = h0;
-    bool touch_prot = false, border = false;
+    bool touch_prot = false, border = false, stopped = false;
     while (true) {
         sum = vec3(0.0);
         n = 0u;
@@ -37,19 +37,29 @@ void main() {
             last = h;
             hn = opp_in[he_prev(h)];
             if (hn == PGT_GPU_NONE || hn == first) break;
+            if (n == pc.walk_budget) { /* lavapipe's loop limit (s3_vk_layout.h) */
+                stopped = true;
+                break;
+            }
             h = hn;
         }
-        if (hn != PGT_GPU_NONE || border) break;
+        if (stopped || hn != PGT_GPU_NONE || border) break;
         border = true;
         /* one load per step (see s3_border_incoming in s3_faces.comp) */
-        uint start = h0, o = opp_in[h0];
+        uint start = h0, o = opp_in[h0], walked = 0u;
         while (o != PGT_GPU_NONE) {
+            if (++walked == pc.walk_budget) {
+                stopped = true;
+                break;
+            }
             start = he_next(o);
             o = opp_in[start];
         }
-        if (start == first) break;
+        if (stopped || start == first) break;
         first = start;
     }
+    /* the results of a stopped walk are wrong; the host refuses the call */
+    if (stopped) s3_walk_stopped(0u, v);
     const uint hin = he_prev(last); /* on a border: the incoming border half-edge */
     if (border) {
         sum += load_pos(idx_in[hin]);

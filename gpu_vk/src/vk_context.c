@@ -38,7 +38,7 @@ const char *pgt_vk_pipe_name(pgt_vk_pipe p) { return vk_pipes[p].name; }
 
 /* GLSL lays the push-constant block out as 4-byte members in order (std430); every device offers
  * at least 128 bytes of push constants. */
-_Static_assert(sizeof(pgt_vk_s3_push) == 4 * (8 + 11),
+_Static_assert(sizeof(pgt_vk_s3_push) == 4 * (8 + 13),
                "pgt_vk_s3_push: 4-byte members, no padding");
 _Static_assert(sizeof(pgt_vk_s3_push) <= 128, "pgt_vk_s3_push: beyond the guaranteed 128 bytes");
 /* The pipeline layout's one push-constant range and one set layout serve every pipeline. */
@@ -356,8 +356,9 @@ static const char *vk_type_name(VkPhysicalDeviceType t) {
 /* Platform (the driver name when the device and instance speak 1.2, else "vulkan"), name,
  * version and type of one device. */
 static void vk_describe(const pgt_vk_fns *vk, VkPhysicalDevice p, uint32_t instance_api,
-                        pgt_gpu_device_info *info) {
+                        pgt_gpu_device_info *info, VkDriverId *driver) {
     VkPhysicalDeviceProperties props;
+    if (driver) *driver = (VkDriverId)0; /* unknown before Vulkan 1.2 */
     vk->vkGetPhysicalDeviceProperties(p, &props);
     snprintf(info->platform, sizeof(info->platform), "vulkan");
     const uint32_t api = props.apiVersion < instance_api ? props.apiVersion : instance_api;
@@ -367,6 +368,7 @@ static void vk_describe(const pgt_vk_fns *vk, VkPhysicalDevice p, uint32_t insta
         VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         p2.pNext = &drv;
         vk->vkGetPhysicalDeviceProperties2(p, &p2);
+        if (driver) *driver = drv.driverID;
         if (drv.driverName[0])
             snprintf(info->platform, sizeof(info->platform), "%.*s",
                      (int)sizeof(info->platform) - 1, drv.driverName);
@@ -397,7 +399,7 @@ pgt_result pgt_vk_list_devices(pgt_gpu_device_list *out, pgt_error *err) {
     PGT_VK_TRY(vk_compute_devices(&vk, instance, &devs, &n, err));
     for (uint32_t i = 0; i < n && i < PGT_GPU_MAX_DEVICES; ++i) {
         out->devices[i].index = i;
-        vk_describe(&vk, devs[i], api, &out->devices[i]);
+        vk_describe(&vk, devs[i], api, &out->devices[i], NULL);
         out->count++;
     }
 cleanup:
@@ -501,7 +503,8 @@ static pgt_result vk_open_device(pgt_vk *ctx, uint32_t device, uint32_t api, pgt
     }
     ctx->phys = devs[device];
     pgt_gpu_device_info info;
-    vk_describe(&ctx->vk, ctx->phys, api, &info);
+    VkDriverId driver;
+    vk_describe(&ctx->vk, ctx->phys, api, &info, &driver);
     snprintf(ctx->name, sizeof(ctx->name), "%s / %s", info.platform, info.name);
 
     VkPhysicalDeviceProperties props;
@@ -542,6 +545,10 @@ static pgt_result vk_open_device(pgt_vk *ctx, uint32_t device, uint32_t api, pgt
     /* PGT_VK_MAX_GROUPS: tests the dispatches cut in ranges on small inputs */
     ctx->max_groups =
         (uint32_t)vk_env_limit("PGT_VK_MAX_GROUPS", lim->maxComputeWorkGroupCount[0], 1);
+    /* lavapipe's loop limit (s3_vk_layout.h); PGT_VK_S3_WALK lowers the bound for tests */
+    ctx->s3_walk = (uint32_t)vk_env_limit(
+        "PGT_VK_S3_WALK",
+        driver == VK_DRIVER_ID_MESA_LLVMPIPE ? PGT_VK_S3_WALK_LAVAPIPE : PGT_VK_S3_WALK_NONE, 1);
     ctx->timestamp_ns = lim->timestampPeriod;
     ctx->vk.vkGetPhysicalDeviceMemoryProperties(ctx->phys, &ctx->memory);
     ctx->queue_family = vk_compute_family(&ctx->vk, ctx->phys, &ts_bits);

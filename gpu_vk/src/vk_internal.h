@@ -165,6 +165,7 @@ struct pgt_vk {
     VkDeviceSize binding_align;  /* minStorageBufferOffsetAlignment (at least 4) */
     VkDeviceSize max_allocation; /* maxMemoryAllocationSize */
     uint32_t max_groups;         /* maxComputeWorkGroupCount[0] */
+    uint32_t s3_walk;            /* sqrt(3) fan walks' iteration bound (s3_vk_layout.h) */
     double timestamp_ns;         /* timestampPeriod */
     uint64_t timestamp_mask;     /* timestampValidBits of the queue family, as a mask (0: none) */
     VkPhysicalDeviceMemoryProperties memory;

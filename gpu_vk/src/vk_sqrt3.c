@@ -186,18 +186,40 @@ cleanup:
 /* Everything a call holds, released in one place. */
 typedef struct s3_call {
     s3_level cur, nx;
-    pgt_vk_buf alpha, kind, bslot, pt_off, face_off, sums;
+    pgt_vk_buf alpha, kind, bslot, pt_off, face_off, sums, fault;
     uint32_t *host;              /* level-0 arrays on their way up, the last level's down */
     uint32_t *pt_tab, *face_tab; /* host copies of pt_off and face_off, for split outputs */
 } s3_call;
 
 static void s3_call_release(pgt_vk *ctx, s3_call *c) {
-    pgt_vk_buf *b[6] = {&c->alpha, &c->kind, &c->bslot, &c->pt_off, &c->face_off, &c->sums};
+    pgt_vk_buf *b[7] = {&c->alpha,    &c->kind, &c->bslot, &c->pt_off,
+                        &c->face_off, &c->sums, &c->fault};
     s3_level_release(ctx, &c->cur, NULL);
     s3_level_release(ctx, &c->nx, NULL);
-    for (int i = 0; i < 6; ++i) pgt_vk_buf_release(ctx, b[i], NULL);
+    for (int i = 0; i < 7; ++i) pgt_vk_buf_release(ctx, b[i], NULL);
     free(c->host), free(c->pt_tab), free(c->face_tab);
     c->host = c->pt_tab = c->face_tab = NULL;
+}
+
+/* The fault buffer after the last step: a fan walk that stopped at the bound (lavapipe's loop
+ * limit, s3_vk_layout.h) made the output wrong, so the call is refused, naming the first. Later
+ * steps still ran: a stopped walk leaves every index it produced in range, and the topology
+ * (triangles, opposites, the sizes of the levels) never depends on a walk. */
+static pgt_result s3_check_walks(pgt_vk *ctx, const pgt_vk_buf *fault, pgt_error *err) {
+    uint32_t f[PGT_VK_FAULT_WORDS];
+    const pgt_result r = pgt_vk_download(ctx, fault, 0, sizeof(f), f, err);
+    if (r != PGT_OK || f[PGT_VK_FAULT_CODE] == 0) return r;
+    const uint32_t level = (f[PGT_VK_FAULT_CODE] - 1) / 2;
+    const int faces = (f[PGT_VK_FAULT_CODE] - 1) % 2;
+    const int lavapipe = ctx->s3_walk == PGT_VK_S3_WALK_LAVAPIPE;
+    return pgt_error_set(err, PGT_ERROR_LIMIT,
+                         "sqrt3 on vulkan: %s %u of level %u (the input of iteration %u) walks a "
+                         "fan of more than %u half-edges, %s; use --backend cl or cpu",
+                         faces ? "border face" : "vertex", f[PGT_VK_FAULT_ELEMENT], level,
+                         level + 1, ctx->s3_walk,
+                         lavapipe ? "more than lavapipe runs correctly (its shader loops stop "
+                                    "after 65535 iterations in all)"
+                                  : "the bound PGT_VK_S3_WALK sets");
 }
 
 /* k >= 1 iterations of a validated input with its adjacency. */
@@ -227,6 +249,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->cur.vh, 4 * (uint64_t)V0, "vertex half-edges", err));
     PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->cur.prot, 4 * (uint64_t)F0, "protected flags", err));
     PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->alpha, 4 * (uint64_t)alpha_count, "alpha", err));
+    PGT_VK_TRY(pgt_vk_buf_create(ctx, &c->fault, 4 * PGT_VK_FAULT_WORDS, "fault", err));
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.pos, in->positions, 12 * (size_t)V0, err));
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.idx, in->indices, 12 * (size_t)F0, err));
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.opp, adj->opposite, 12 * (size_t)F0, err));
@@ -234,6 +257,8 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.prot, prep->prot, 4 * (size_t)F0, err));
     PGT_VK_TRY(
         pgt_vk_upload(ctx, &c->alpha, prep->alpha, (size_t)alpha_count * sizeof(float), err));
+    const uint32_t no_fault[PGT_VK_FAULT_WORDS] = {0, PGT_GPU_NONE, 0, 0};
+    PGT_VK_TRY(pgt_vk_upload(ctx, &c->fault, no_fault, sizeof(no_fault), err));
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
     if (times) times->upload_ms += pgt_gpu_now_ms() - t_up;
 
@@ -250,6 +275,8 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
         push.s3.is_uniform = n_protected == 0 && (!push.s3.even || border == 0);
         push.s3.with_adj = !last || opts->out_opposite != NULL;
         push.s3.alpha_count = alpha_count;
+        push.walk_budget = ctx->s3_walk;
+        push.level = it;
         push.parent_mode = !want_parent ? PGT_VK_PARENT_NONE
                            : it == 0    ? PGT_VK_PARENT_IDENTITY
                                         : PGT_VK_PARENT_READ;
@@ -263,6 +290,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
         bind[PGT_VK_B_PROT_IN] = pgt_vk_whole(ctx, &cur->prot);
         bind[PGT_VK_B_PARENT_IN] = pgt_vk_whole(ctx, &cur->parent);
         bind[PGT_VK_B_ALPHA] = pgt_vk_whole(ctx, &c->alpha);
+        bind[PGT_VK_B_FAULT] = pgt_vk_whole(ctx, &c->fault);
 
         /* ---- passes 1 and 2: classify and scan, then the output's size ---- */
         uint32_t np = cur->F, nf = 3 * cur->F; /* uniform: one point, three triangles a face */
@@ -359,6 +387,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
         memset(nx, 0, sizeof(*nx));
     }
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
+    PGT_VK_TRY(s3_check_walks(ctx, &c->fault, err));
 
     /* ---- the last level down to the host ---- */
     const double t_down = pgt_gpu_now_ms();
