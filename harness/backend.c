@@ -47,6 +47,39 @@ int pgt_backend_flags(const char *verb, int argc, char **argv, int *i, pgt_backe
     return 0;
 }
 
+int pgt_backend_parse_list(const char *verb, const char *text, int asked[2]) {
+    asked[0] = asked[1] = 0;
+    if (!strcmp(text, "both") || !strcmp(text, "cl,vk") || !strcmp(text, "vk,cl"))
+        asked[0] = asked[1] = 1;
+    else if (!strcmp(text, "cl"))
+        asked[0] = 1;
+    else if (!strcmp(text, "vk"))
+        asked[1] = 1;
+    else if (strcmp(text, "none") != 0)
+        return pgt_cli_fail(verb, "--backends: expected cl, vk, both or none, got '%s'", text);
+    return 0;
+}
+
+int pgt_backend_open_asked(const char *verb, pgt_backend gpu[2], const int asked[2],
+                           uint32_t device, int must) {
+    memset(gpu, 0, 2 * sizeof(*gpu)); /* kind CPU: not open */
+    for (int g = 0; g < 2; ++g) {
+        if (!asked[g]) continue;
+        const pgt_backend_kind kind = g ? PGT_BACKEND_VK : PGT_BACKEND_CL;
+        pgt_error err = {0};
+        if (pgt_backend_open(&gpu[g], kind, device, 1, &err) != PGT_OK) {
+            if (must) {
+                pgt_backend_close(&gpu[0]), pgt_backend_close(&gpu[1]);
+                return pgt_cli_fail(verb, "%s", err.message);
+            }
+            fprintf(stderr, "pgt %s: no %s timing (%s)\n", verb, pgt_backend_kind_name(kind),
+                    err.message);
+            pgt_backend_close(&gpu[g]);
+        }
+    }
+    return 0;
+}
+
 pgt_result pgt_backend_list(pgt_backend_kind kind, pgt_gpu_device_list *out, pgt_error *err) {
     memset(out, 0, sizeof(*out));
     (void)err, (void)kind;

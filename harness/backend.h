@@ -41,12 +41,23 @@ int pgt_backend_parse(const char *verb, const char *text, pgt_backend_kind *out)
 int pgt_backend_flags(const char *verb, int argc, char **argv, int *i, pgt_backend_kind *kind,
                       uint32_t *device);
 
+/* The bench verbs' `--backends LIST`: cl, vk, both (or cl,vk / vk,cl) or none, into asked[0]
+ * (cl) and asked[1] (vk). Anything else: a one-line error for `verb` and nonzero. */
+int pgt_backend_parse_list(const char *verb, const char *text, int asked[2]);
+
 /* Opens the backend on device `device` (GPU backends; ignored by cpu). Profiling records every
  * kernel launch (OpenCL events, Vulkan timestamps). Vulkan validation is on when the environment
  * sets PGT_VK_VALIDATION=1 (the tests do): any validation message fails the call. */
 pgt_result pgt_backend_open(pgt_backend *b, pgt_backend_kind kind, uint32_t device, int profiling,
                             pgt_error *err);
 void pgt_backend_close(pgt_backend *b);
+
+/* Opens, with profiling, the GPU backends asked for (gpu[0] cl, gpu[1] vk; both start closed) on
+ * device `device`, once, so that kernel builds and instance creation stay out of the timings. One
+ * that does not open is an error when `must` (printed for `verb`, both closed, nonzero returned);
+ * otherwise a note on stderr, and it stays closed (kind CPU), its columns or rows left out. */
+int pgt_backend_open_asked(const char *verb, pgt_backend gpu[2], const int asked[2],
+                           uint32_t device, int must);
 
 /* sqrt(3) subdivision: pgt_sqrt3_subdivide on the chosen backend. GPU backends do not carry
  * per-corner UVs (out->uvs is NULL). times may be NULL (cpu leaves it zeroed). */

@@ -395,16 +395,7 @@ int pgt_cmd_bench(int argc, char **argv) {
         } else if (!strcmp(a, "--backends")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i))) return PGT_EXIT_USAGE;
             cfg.gpu_explicit = 1;
-            cfg.gpu_asked[0] = cfg.gpu_asked[1] = 0;
-            if (!strcmp(v, "both") || !strcmp(v, "cl,vk") || !strcmp(v, "vk,cl"))
-                cfg.gpu_asked[0] = cfg.gpu_asked[1] = 1;
-            else if (!strcmp(v, "cl"))
-                cfg.gpu_asked[0] = 1;
-            else if (!strcmp(v, "vk"))
-                cfg.gpu_asked[1] = 1;
-            else if (strcmp(v, "none") != 0)
-                return pgt_cli_fail("bench", "--backends: expected cl, vk, both or none, got '%s'",
-                                    v);
+            if (pgt_backend_parse_list("bench", v, cfg.gpu_asked)) return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--device")) {
             if (!(v = pgt_cli_value("bench", argc, argv, &i)) ||
                 pgt_cli_uint("bench", a, v, 0, 1024, &cfg.device))
@@ -432,21 +423,9 @@ int pgt_cmd_bench(int argc, char **argv) {
                                     cfg.out_path) ||
         pgt_cli_quick_out("bench", cfg.quick, cfg.out_path, default_out))
         return PGT_EXIT_USAGE;
-    /* Open the GPU backends once: kernel builds and instance creation stay out of the timings. */
-    for (int g = 0; g < 2; ++g) {
-        if (!cfg.gpu_asked[g]) continue;
-        const pgt_backend_kind kind = g ? PGT_BACKEND_VK : PGT_BACKEND_CL;
-        pgt_error err = {0};
-        if (pgt_backend_open(&cfg.gpu[g], kind, cfg.device, 1, &err) != PGT_OK) {
-            if (cfg.gpu_explicit || cfg.device_explicit) {
-                pgt_backend_close(&cfg.gpu[0]), pgt_backend_close(&cfg.gpu[1]);
-                return pgt_cli_fail("bench", "%s", err.message);
-            }
-            fprintf(stderr, "pgt bench: no %s timing (%s)\n", pgt_backend_kind_name(kind),
-                    err.message);
-            pgt_backend_close(&cfg.gpu[g]); /* kind back to CPU: not open */
-        }
-    }
+    if (pgt_backend_open_asked("bench", cfg.gpu, cfg.gpu_asked, cfg.device,
+                               cfg.gpu_explicit || cfg.device_explicit))
+        return PGT_EXIT_USAGE;
     const int rc = bench_subdiv(&cfg);
     pgt_backend_close(&cfg.gpu[0]), pgt_backend_close(&cfg.gpu[1]);
     return rc;

@@ -445,7 +445,8 @@ done:
 static const char *bench_march_usage =
     "usage: pgt bench march [--out FILE] [--meshes LIST] [--add LIST] [--shared DIR]\n"
     "                       [--threads LIST] [--walkers W] [--steps N] [--step S] [--res R]\n"
-    "                       [--repeat R] [--position LIST] [--quick]\n"
+    "                       [--repeat R] [--position LIST] [--backends LIST] [--device N]\n"
+    "                       [--quick]\n"
     "\n"
     "Marching steps per second per core (the issue's target: >= 20 million) on the atlases of\n"
     "the given meshes, built in memory with pgt atlas's defaults. W walkers start at seeded\n"
@@ -453,7 +454,8 @@ static const char *bench_march_usage =
     "formula) and march N steps of S texels each (every step resolves the destination and\n"
     "jumps when needed; in the position rows it also fetches the 3D position); the walkers are\n"
     "split over the threads (each marches its own). One CSV row per mesh x thread count x\n"
-    "position setting, headed by machine, commit and date.\n"
+    "position setting, and one per mesh and GPU backend asked for, headed by machine, commit\n"
+    "and date.\n"
     "\n"
     "  --out FILE      CSV to write (default results/march.csv; temporary file + rename)\n"
     "  --meshes LIST   comma-separated: a generated default dataset (pgt_datasets --list) or a\n"
@@ -471,6 +473,13 @@ static const char *bench_march_usage =
     "  --repeat R      timed runs after one warm-up, 1 to 1000 (default 5)\n"
     "  --position LIST no, yes or no,yes (default): rows without and with pgt_march_position\n"
     "                  after each step (a profile of one of them needs only that one)\n"
+    "  --backends LIST GPU backends to time after ours: cl, vk, both (cl,vk) or none (default:\n"
+    "                  none; here PoCL and lavapipe run on the CPU cores, which says nothing\n"
+    "                  about a GPU). Their rows march the same walkers in one pgt_backend_march\n"
+    "                  call (atlas view and walkers up, the steps, states down; median_ms) with\n"
+    "                  the kernels' device time beside (device_median_ms), position no, and\n"
+    "                  must take the same steps as ours (exit 1 otherwise); the device must open\n"
+    "  --device N      device index of each GPU API (see pgt devices; default 0)\n"
     "  --quick         small and fast: 2048 walkers x 200 steps, R = 1\n";
 
 #define BENCH_MARCH_MAX_LIST 32
@@ -494,6 +503,8 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     char list_buf[4096], add_buf[4096];
     const char *add = NULL;
     int quick = 0, have_walkers = 0, have_steps = 0, have_repeat = 0, positions[2] = {1, 1};
+    int gpu_asked[2] = {0, 0};
+    uint32_t device = 0;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -548,6 +559,14 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                 positions[0] = positions[1] = 1;
             else
                 return pgt_cli_fail(verb, "--position: '%s' is not no, yes or no,yes", v);
+        } else if (!strcmp(a, "--backends")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_backend_parse_list(verb, v, gpu_asked))
+                return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--device")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
+                pgt_cli_uint(verb, a, v, 0, 1024, &device))
+                return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--quick")) {
             quick = 1;
         } else {
@@ -570,13 +589,18 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     if (pgt_cli_refuse_named_inputs(verb, meshes, n_meshes, shared_dir, "--out", out_path) ||
         pgt_cli_quick_out(verb, quick, out_path, default_out))
         return PGT_EXIT_USAGE;
+    pgt_backend gpu[2]; /* asked for: must open */
+    if (pgt_backend_open_asked(verb, gpu, gpu_asked, device, 1)) return PGT_EXIT_USAGE;
 
     char tmp[4200];
     FILE *csv = pgt_cli_table_open(out_path,
                                    "pgt bench march: marching steps per second per core (paper "
                                    "000, sec. 5; target >= 20 million steps/s per core)",
                                    tmp, sizeof tmp);
-    if (!csv) return pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
+    if (!csv) {
+        pgt_backend_close(&gpu[0]), pgt_backend_close(&gpu[1]);
+        return pgt_cli_fail(verb, "cannot write %s: %s", tmp, strerror(errno));
+    }
     fprintf(csv,
             "# runs: 1 warm-up + %u timed per measurement; ms are medians (best beside); a step "
             "is one pgt_march_step with the paper's defaults (best pointer, the atlas's rot); "
@@ -593,9 +617,17 @@ int pgt_cmd_bench_march(int argc, char **argv) {
     fprintf(csv, "# position: no = pgt_march_step only (the marching rule: destination, cases "
                  "1-4, jumps); yes = each step followed by pgt_march_position (the 3D point a "
                  "grammar would place geometry at)\n");
+    fprintf(csv, "# backend: cpu = ours (pgt_march_batch on `threads` threads); cl, vk = one "
+                 "pgt_backend_march call per run (the atlas view and walkers up, the steps, the "
+                 "states down: median_ms, best_ms, msteps_per_s; the kernels' device time: "
+                 "device_median_ms), position no, the same walkers and steps as ours\n");
+    for (int g = 0; g < 2; ++g)
+        if (gpu[g].kind != PGT_BACKEND_CPU)
+            fprintf(csv, "# %s: %s\n", g ? "vk" : "cl", gpu[g].name);
     fprintf(csv, "mesh,faces,charts,resolution,step_texels,walkers,steps_per_walker,threads,"
                  "position,steps,jumps_per_1000_steps,stopped_walkers,median_ms,best_ms,"
-                 "msteps_per_s,msteps_per_s_per_core,cpu_median_ms,msteps_per_cpu_s\n");
+                 "msteps_per_s,msteps_per_s_per_core,cpu_median_ms,msteps_per_cpu_s,backend,"
+                 "device_median_ms\n");
 
     const size_t n = walkers;
     float *x0 = malloc(n * 4 * sizeof(float)), *x = malloc(n * 4 * sizeof(float));
@@ -603,11 +635,15 @@ int pgt_cmd_bench_march(int argc, char **argv) {
              *taken = malloc(n * sizeof(uint32_t));
     double *times = malloc(repeat * sizeof(double)), *cpu = malloc(repeat * sizeof(double)),
            *sums = malloc(n * sizeof(double));
-    int failures = 0;
-    if (!x0 || !x || !c0 || !c || !taken || !times || !cpu || !sums) {
+    pgt_march_state *gs = malloc(n * sizeof(pgt_march_state));
+    uint32_t *gtaken = malloc(n * sizeof(uint32_t));
+    int failures = 0, disagree = 0;
+    if (!x0 || !x || !c0 || !c || !taken || !times || !cpu || !sums || !gs || !gtaken) {
         fclose(csv);
         remove(tmp);
         free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
+        free(gs), free(gtaken);
+        pgt_backend_close(&gpu[0]), pgt_backend_close(&gpu[1]);
         return pgt_cli_fail(verb, "out of memory");
     }
     for (uint32_t mi = 0; mi < n_meshes; ++mi) {
@@ -683,11 +719,12 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                 const double per_cpu = cpu_med > 0.0 ? (double)total / (cpu_med * 1e-3) / 1e6 : 0.0;
                 const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
                 pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
-                fprintf(csv,
-                        ",%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f\n",
-                        m.face_count, st.charts, res, (double)step, walkers, steps, threads[ti],
-                        with_pos ? "yes" : "no", (unsigned long long)total, jpk, stopped, med, best,
-                        msps, msps / threads[ti], cpu_med, per_cpu);
+                fprintf(
+                    csv,
+                    ",%u,%u,%u,%g,%u,%u,%u,%s,%llu,%.2f,%u,%.3f,%.3f,%.2f,%.2f,%.3f,%.2f,cpu,\n",
+                    m.face_count, st.charts, res, (double)step, walkers, steps, threads[ti],
+                    with_pos ? "yes" : "no", (unsigned long long)total, jpk, stopped, med, best,
+                    msps, msps / threads[ti], cpu_med, per_cpu);
                 fprintf(stderr,
                         "pgt bench march: %s (%u charts) %u thread%s%s: %.2f M steps/s (%.2f per "
                         "core; %.2f per CPU-second), %.1f jumps per 1000 steps\n",
@@ -695,13 +732,67 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                         threads[ti] > 1 ? "s" : "", with_pos ? " +position" : "", msps,
                         msps / threads[ti], per_cpu, jpk);
             }
+        /* The GPU backends march the same walkers; x, c and taken hold ours after the last run. */
+        for (int g = 0; g < 2; ++g) {
+            if (gpu[g].kind == PGT_BACKEND_CPU) continue;
+            const char *bn = pgt_backend_kind_name(gpu[g].kind);
+            pgt_error err = {0};
+            for (uint32_t r = 0; r <= repeat; ++r) {
+                for (uint32_t i = 0; i < walkers; ++i) {
+                    const pgt_march_state w = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i],
+                                               0u,       0.0f,     0.0f,     0u};
+                    gs[i] = w;
+                }
+                pgt_gpu_times gt;
+                const double t0 = pgt_cli_now_ms();
+                if (pgt_backend_march(&gpu[g], &a, NULL, step, steps, walkers, gs, NULL, NULL,
+                                      gtaken, &gt, &err) != PGT_OK) {
+                    pgt_cli_skip_mesh("bench march", meshes[mi], err.message);
+                    failures++;
+                    break;
+                }
+                if (r > 0) times[r - 1] = pgt_cli_now_ms() - t0, cpu[r - 1] = gt.device_ms;
+            }
+            if (err.message[0]) continue;
+            /* the same steps as ours, walker by walker, to the bit (pgt diff march checks each) */
+            uint64_t total = 0;
+            uint32_t stopped = 0, differ = 0;
+            for (uint32_t i = 0; i < walkers; ++i) {
+                total += gtaken[i], stopped += gtaken[i] < steps;
+                differ += gtaken[i] != taken[i] || gs[i].chart != c[i] ||
+                          memcmp(&gs[i].x, &s[0][i], sizeof(float)) ||
+                          memcmp(&gs[i].y, &s[1][i], sizeof(float));
+            }
+            if (differ) {
+                fprintf(stderr,
+                        "pgt bench march: %s: %u of %u walkers on %s end elsewhere or after other "
+                        "step counts than ours (see pgt diff march --backend %s)\n",
+                        pgt_cli_mesh_label(meshes[mi]), differ, walkers, gpu[g].name, bn);
+                disagree++;
+            }
+            const double med = pgt_cli_median(times, repeat), best = pgt_cli_min(times, repeat);
+            const double dev = pgt_cli_median(cpu, repeat);
+            const double msps = (double)total / (med * 1e-3) / 1e6;
+            const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
+            pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
+            fprintf(csv, ",%u,%u,%u,%g,%u,%u,,no,%llu,%.2f,%u,%.3f,%.3f,%.2f,,,,%s,%.3f\n",
+                    m.face_count, st.charts, res, (double)step, walkers, steps,
+                    (unsigned long long)total, jpk, stopped, med, best, msps, bn, dev);
+            fprintf(stderr,
+                    "pgt bench march: %s (%u charts) %s: %.2f M steps/s (call), device %.1f ms "
+                    "of %.1f\n",
+                    pgt_cli_mesh_label(meshes[mi]), st.charts, gpu[g].name, msps, dev, med);
+        }
     next:
         pgt_march_atlas_destroy(&a);
         pgt_image_destroy(&img);
         pgt_mesh_destroy(&m);
     }
     free(x0), free(x), free(c0), free(c), free(taken), free(times), free(cpu), free(sums);
+    free(gs), free(gtaken);
+    pgt_backend_close(&gpu[0]), pgt_backend_close(&gpu[1]);
     if (pgt_cli_bench_close(csv, tmp, out_path, verb, failures)) return PGT_EXIT_USAGE;
     if (!failures) fprintf(stderr, "pgt bench march: wrote %s\n", out_path);
-    return failures ? PGT_EXIT_USAGE : PGT_EXIT_OK; /* errors while working (cli.h) */
+    /* errors while working (cli.h); a backend that marched elsewhere: the work found a problem */
+    return failures ? PGT_EXIT_USAGE : disagree ? PGT_EXIT_FAIL : PGT_EXIT_OK;
 }

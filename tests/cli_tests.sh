@@ -362,6 +362,24 @@ one_line bench_march_position_bad_one_line "\-\-position: 'maybe' is not no, yes
 expect bench_march_position_no 0 "$pgt" bench march --meshes ./bin.obj --position no --out res/mp.csv --threads 1 --walkers 16 --steps 10 --res 64 --repeat 1
 [ "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')" = "position no " ] && ok bench_march_position_no_rows \
   || bad bench_march_position_no_rows "$(grep -v '^#' res/mp.csv | cut -d, -f9 | tr '\n' ' ')"
+# --backends: GPU rows after ours, marching the same walkers to the same steps (the bench checks
+# every walker's end and step count against ours); a device asked for must open
+expect bench_march_bad_backends 2 "$pgt" bench march --meshes ./bin.obj --backends cuda --out res/mg.csv
+one_line bench_march_bad_backends_one_line "\-\-backends: expected cl, vk, both or none, got 'cuda'"
+expect bench_march_no_device 2 "$pgt" bench march --meshes ./bin.obj --backends vk --device 999 --out res/mg.csv
+[ ! -e res/mg.csv ] && grep -q "device 999" err.txt && ok bench_march_no_device_named \
+  || bad bench_march_no_device_named "$(cat err.txt)"
+if "$pgt" devices | grep -q "^  cl 0:" && "$pgt" devices | grep -q "^  vk 0:"; then
+  expect bench_march_backends 0 "$pgt" bench march --meshes ./bin.obj --backends both --position no --out res/mg.csv --threads 1 --walkers 100 --steps 300 --res 128 --repeat 1
+  # backend (column 19) and steps (10) of each row: ours, then cl and vk with the same steps
+  rows=$(grep -v '^#' res/mg.csv | tail -n +2 | cut -d, -f10,19 | tr '\n' ' ')
+  steps=$(grep -v '^#' res/mg.csv | sed -n 2p | cut -d, -f10)
+  [ "$rows" = "$steps,cpu $steps,cl $steps,vk " ] && [ "$steps" -gt 1000 ] && ok bench_march_backend_rows \
+    || bad bench_march_backend_rows "$rows"
+  grep -v '^#' res/mg.csv | awk -F, 'NR > 1 && $19 != "cpu" && !($20 > 0 && $8 == "" && $16 == "") { bad = 1 }
+    END { exit bad }' && ok bench_march_backend_fields || bad bench_march_backend_fields "$(grep -v '^#' res/mg.csv)"
+  fields_match bench_march_backend_field_counts res/mg.csv
+fi
 # a '"' in a mesh's name is one CSV field (RFC 4180: quoted, the quote doubled), not a broken row
 cp "$work/data/cube_sphere_8.obj" 'q"x.obj'
 expect bench_subdiv_quoted_name 0 "$pgt" bench subdiv --quick --no-oracles --backends none --meshes './q"x.obj' --threads 1 --out res/sq.csv
