@@ -221,7 +221,24 @@ typedef struct symmetry {
     double local_share; /* within SYMMETRY_TEXELS local texel sizes in 3D */
     /* the same with the texel-space reading of "nearest" (see measure_symmetry) */
     double texel_share_tn, local_share_tn;
+    /* Why round trips miss (printed, not asserted: a diagnosis of the layout). ratio: the local
+     * texel size at the pointer's target over the source's (at the first 4-adjacent inner texel
+     * of the start), percentiles 5, 10, 50, 90, 95; coarser: share of starts whose ratio exceeds
+     * SYMMETRY_COARSER. Misses beyond 2 texels, as shares of all starts: at a chart corner (an
+     * indirection texel within 3 texels of the start points into another chart than its
+     * pointer does), else with a coarser destination, else elsewhere; and the share of all
+     * starts whose miss is one texel inward and two along (sqrt 5 or sqrt 8 texels). */
+    double ratio_pct[5], coarser, miss_corner, miss_coarser, miss_other, miss_grid;
 } symmetry;
+
+/* A destination side "coarser" than the source in the symmetry diagnosis: local texel sizes more
+ * than a third apart, where nearest-texel pointers between the two grids start to skip texels. */
+#define SYMMETRY_COARSER 1.33
+
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
 
 /* Largest 3D distance from texel (x, y) to its 4-adjacent inner texels of the same chart. */
 static double local_size(const view *v, int32_t x, int32_t y) {
@@ -245,20 +262,51 @@ static double local_size(const view *v, int32_t x, int32_t y) {
  * measured at 1024^2, spot / bob / nefertiti (MeshLab's Voronoi atlas): within 2 texels
  * 75.3 / 92.0 / 96.7 % in 3D against 69.2 / 84.0 / 91.2 % in texel space, within 2 local
  * texel sizes 99.85 / 99.82 / 99.71 % against 99.64 / 98.91 / 97.22 %. */
-static void round_trip(const view *v, size_t i, int32_t x, int32_t y, int32_t sx, int32_t sy,
-                       uint32_t *ok_tex, uint32_t *ok_loc) {
+static double round_trip(const view *v, size_t i, int32_t x, int32_t y, int32_t sx, int32_t sy,
+                         uint32_t *ok_tex, uint32_t *ok_loc) {
     const int32_t qx = (int32_t)v->pu[i], qy = (int32_t)v->pv[i];
     const size_t s2 = (size_t)sy * v->W + (size_t)sx;
     const int32_t rx = (int32_t)v->pu[s2], ry = (int32_t)v->pv[s2];
-    if (hypot(rx - x, ry - y) <= SYMMETRY_TEXELS) ++*ok_tex;
+    const double miss = hypot(rx - x, ry - y);
+    if (miss <= SYMMETRY_TEXELS) ++*ok_tex;
     const double loc = fmax(local_size(v, rx, ry), local_size(v, qx, qy));
     if (dist3(v, (size_t)ry * v->W + (size_t)rx, i) <= SYMMETRY_TEXELS * loc) ++*ok_loc;
+    return miss;
+}
+
+/* Whether an indirection texel of chart v->chart[i] within 3 texels of (x, y) points into another
+ * chart than texel i's pointer does: a chart corner, where three charts meet. */
+static int at_chart_corner(const view *v, size_t i, int32_t x, int32_t y) {
+    const float to = v->chart[(size_t)v->pv[i] * v->W + (size_t)v->pu[i]];
+    for (int32_t dy = -3; dy <= 3; ++dy)
+        for (int32_t dx = -3; dx <= 3; ++dx) {
+            const int32_t nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= (int32_t)v->W || ny >= (int32_t)v->H) continue;
+            const size_t j = (size_t)ny * v->W + (size_t)nx;
+            if (v->kind[j] != PGT_TEXEL_INDIRECTION || v->chart[j] != v->chart[i]) continue;
+            if (v->chart[(size_t)v->pv[j] * v->W + (size_t)v->pu[j]] != to) return 1;
+        }
+    return 0;
+}
+
+/* The local texel size on the source side of indirection texel (x, y): at its first 4-adjacent
+ * inner texel of its chart (0 when it has none). */
+static double source_size(const view *v, int32_t x, int32_t y) {
+    static const int32_t d4[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    const float A = v->chart[(size_t)y * v->W + (size_t)x];
+    for (int k = 0; k < 4; ++k)
+        if (inner_at(v, x + d4[k][0], y + d4[k][1], A))
+            return local_size(v, x + d4[k][0], y + d4[k][1]);
+    return 0.0;
 }
 
 static symmetry measure_symmetry(const pgt_image *img) {
     const view v = view_of(img);
-    symmetry r = {0, 0.0, 0.0, 0.0, 0.0};
+    symmetry r;
+    memset(&r, 0, sizeof(r));
     uint32_t ok_tex = 0, ok_loc = 0, ok_tex_tn = 0, ok_loc_tn = 0;
+    uint32_t n_ratio = 0, coarser = 0, m_corner = 0, m_coarser = 0, m_other = 0, m_grid = 0;
+    double *ratios = v.img ? malloc((size_t)v.W * v.H * sizeof(double)) : NULL;
     const int32_t R = 8; /* the outer ring is one texel from q; 8 is far beyond */
     for (int32_t y = 0; y < (int32_t)v.H; ++y)
         for (int32_t x = 0; x < (int32_t)v.W; ++x) {
@@ -282,10 +330,32 @@ static symmetry measure_symmetry(const pgt_image *img) {
                     if (d3 < best3) best3 = d3, sx = nx, sy = ny;
                 }
             if (sx < 0) continue;
-            round_trip(&v, i, x, y, sx, sy, &ok_tex, &ok_loc);
+            const double miss = round_trip(&v, i, x, y, sx, sy, &ok_tex, &ok_loc);
             round_trip(&v, i, x, y, tx, ty, &ok_tex_tn, &ok_loc_tn);
+            const double src = source_size(&v, x, y), dst = local_size(&v, qx, qy);
+            const int is_coarser = src > 0.0 && dst > SYMMETRY_COARSER * src;
+            if (src > 0.0 && dst > 0.0 && ratios) ratios[n_ratio++] = dst / src;
+            coarser += is_coarser;
+            if (miss > SYMMETRY_TEXELS) {
+                if (at_chart_corner(&v, i, x, y))
+                    m_corner++;
+                else if (is_coarser)
+                    m_coarser++;
+                else
+                    m_other++;
+                m_grid += fabs(miss - sqrt(5.0)) < 1e-9 || fabs(miss - sqrt(8.0)) < 1e-9;
+            }
         }
+    if (n_ratio) {
+        static const double pct[5] = {0.05, 0.10, 0.50, 0.90, 0.95};
+        qsort(ratios, n_ratio, sizeof(double), cmp_double);
+        for (int k = 0; k < 5; ++k) r.ratio_pct[k] = ratios[(size_t)(pct[k] * (n_ratio - 1))];
+    }
+    free(ratios);
     if (r.count) {
+        r.coarser = (double)coarser / r.count;
+        r.miss_corner = (double)m_corner / r.count, r.miss_coarser = (double)m_coarser / r.count;
+        r.miss_other = (double)m_other / r.count, r.miss_grid = (double)m_grid / r.count;
         r.texel_share = (double)ok_tex / r.count, r.local_share = (double)ok_loc / r.count;
         r.texel_share_tn = (double)ok_tex_tn / r.count;
         r.local_share_tn = (double)ok_loc_tn / r.count;
@@ -700,6 +770,11 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
            "%.4f); rotation %.4f of %u\n",
            label, st->charts, st->mirrored_charts, st->indirection_texels, st->dead_end_texels,
            s.texel_share, s.local_share, s.texel_share_tn, s.local_share_tn, *out_rs, rn);
+    printf("    %s seams: destination / source local texel size p5 %.2f p10 %.2f p50 %.2f p90 %.2f "
+           "p95 %.2f, %.4f above %.2f; misses beyond 2 texels: %.4f at chart corners, %.4f with "
+           "a coarser destination, %.4f elsewhere (%.4f of all at sqrt 5 or sqrt 8 texels)\n",
+           label, s.ratio_pct[0], s.ratio_pct[1], s.ratio_pct[2], s.ratio_pct[3], s.ratio_pct[4],
+           s.coarser, SYMMETRY_COARSER, s.miss_corner, s.miss_coarser, s.miss_other, s.miss_grid);
     return s;
 }
 
