@@ -484,6 +484,12 @@ static const char *bench_march_usage =
 
 #define BENCH_MARCH_MAX_LIST 32
 
+/* Walker i's start: position and heading from the SoA arrays x[0..3], chart c; the rest zero. */
+static pgt_march_state start_state(float *const x[4], const uint32_t *c, uint32_t i) {
+    const pgt_march_state w = {x[0][i], x[1][i], x[2][i], x[3][i], c[i], 0u, 0.0f, 0.0f, 0u};
+    return w;
+}
+
 /* Declared in cli.h by the lead's wiring of `pgt bench march` (cmd_bench.c dispatches to it). */
 /* CPU time of the whole process (every thread), in ms. */
 static double process_cpu_ms(void) {
@@ -688,14 +694,14 @@ int pgt_cmd_bench_march(int argc, char **argv) {
         /* jumps per 1000 steps, from an untimed pass over (up to) 1024 walkers */
         uint64_t jumps = 0, counted = 0;
         for (uint32_t i = 0; i < walkers && i < 1024u; ++i) {
-            pgt_march_state ws = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i],
-                                  0u,       0.0f,     0.0f,     0u};
+            pgt_march_state ws = start_state(s0, c0, i);
             for (uint32_t k = 0; k < steps; ++k) {
                 pgt_march_info info;
                 if (pgt_march_step(&a, NULL, &ws, step, 0.0f, &info) == PGT_MARCH_STOP) break;
                 jumps += info.jumps, counted++;
             }
         }
+        const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
         for (uint32_t ti = 0; ti < n_threads; ++ti)
             for (int with_pos = 0; with_pos < 2; ++with_pos) {
                 if (!positions[with_pos]) continue;
@@ -717,7 +723,6 @@ int pgt_cmd_bench_march(int argc, char **argv) {
                              cpu_med = pgt_cli_median(cpu, repeat);
                 const double msps = (double)total / (med * 1e-3) / 1e6;
                 const double per_cpu = cpu_med > 0.0 ? (double)total / (cpu_med * 1e-3) / 1e6 : 0.0;
-                const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
                 pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
                 fprintf(
                     csv,
@@ -738,11 +743,7 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             const char *bn = pgt_backend_kind_name(gpu[g].kind);
             pgt_error err = {0};
             for (uint32_t r = 0; r <= repeat; ++r) {
-                for (uint32_t i = 0; i < walkers; ++i) {
-                    const pgt_march_state w = {s0[0][i], s0[1][i], s0[2][i], s0[3][i], c0[i],
-                                               0u,       0.0f,     0.0f,     0u};
-                    gs[i] = w;
-                }
+                for (uint32_t i = 0; i < walkers; ++i) gs[i] = start_state(s0, c0, i);
                 pgt_gpu_times gt;
                 const double t0 = pgt_cli_now_ms();
                 if (pgt_backend_march(&gpu[g], &a, NULL, step, steps, walkers, gs, NULL, NULL,
@@ -773,7 +774,6 @@ int pgt_cmd_bench_march(int argc, char **argv) {
             const double med = pgt_cli_median(times, repeat), best = pgt_cli_min(times, repeat);
             const double dev = pgt_cli_median(cpu, repeat);
             const double msps = (double)total / (med * 1e-3) / 1e6;
-            const double jpk = counted ? 1000.0 * (double)jumps / (double)counted : 0.0;
             pgt_cli_csv_field(csv, pgt_cli_mesh_label(meshes[mi]));
             fprintf(csv, ",%u,%u,%u,%g,%u,%u,,no,%llu,%.2f,%u,%.3f,%.3f,%.2f,,,,%s,%.3f\n",
                     m.face_count, st.charts, res, (double)step, walkers, steps,

@@ -96,6 +96,9 @@ static uint32_t count_self_seam_pointers(const pgt_image *img) {
     return n;
 }
 
+/* The 4-neighbourhood of a texel, in the order every scan below takes it. */
+static const int32_t d4[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
 static int inner_at(const view *v, int32_t x, int32_t y, float chart) {
     if (x < 0 || y < 0 || x >= (int32_t)v->W || y >= (int32_t)v->H) return 0;
     const size_t i = (size_t)y * v->W + (size_t)x;
@@ -244,7 +247,6 @@ static int cmp_double(const void *a, const void *b) {
 static double local_size(const view *v, int32_t x, int32_t y) {
     const size_t i = (size_t)y * v->W + (size_t)x;
     double s = 0.0;
-    static const int32_t d4[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
     for (int k = 0; k < 4; ++k)
         if (inner_at(v, x + d4[k][0], y + d4[k][1], v->chart[i]))
             s = fmax(s, dist3(v, i, (size_t)(y + d4[k][1]) * v->W + (size_t)(x + d4[k][0])));
@@ -292,7 +294,6 @@ static int at_chart_corner(const view *v, size_t i, int32_t x, int32_t y) {
 /* The local texel size on the source side of indirection texel (x, y): at its first 4-adjacent
  * inner texel of its chart (0 when it has none). */
 static double source_size(const view *v, int32_t x, int32_t y) {
-    static const int32_t d4[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
     const float A = v->chart[(size_t)y * v->W + (size_t)x];
     for (int k = 0; k < 4; ++k)
         if (inner_at(v, x + d4[k][0], y + d4[k][1], A))
@@ -368,7 +369,6 @@ static symmetry measure_symmetry(const pgt_image *img) {
  * the rotated direction: cos >= ROTATION_COS. */
 static double measure_rotation(const pgt_image *img, uint32_t *out_count) {
     const view v = view_of(img);
-    static const int32_t d4[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
     uint32_t n = 0, ok = 0;
     for (int32_t y = 0; y < (int32_t)v.H; ++y)
         for (int32_t x = 0; x < (int32_t)v.W; ++x) {

@@ -34,7 +34,7 @@
 #define PGT_VK_B_PARENT_OUT 16u
 /* uvec2 (points, triangles) partial sums of the upper levels of the scan, level after level */
 #define PGT_VK_B_SUMS 17u
-/* uint[4] PGT_VK_FAULT_*: the first fan walk a step cut short (see PGT_VK_S3_WALK_LAVAPIPE) */
+/* uint[2] PGT_VK_FAULT_*: the first fan walk a step cut short (see PGT_VK_S3_WALK_LAVAPIPE) */
 #define PGT_VK_B_FAULT 18u
 #define PGT_VK_S3_BINDINGS 19u
 
@@ -59,7 +59,7 @@
  * or face of that pass whose walk stopped (the host starts it at PGT_GPU_NONE). */
 #define PGT_VK_FAULT_CODE 0u
 #define PGT_VK_FAULT_ELEMENT 1u
-#define PGT_VK_FAULT_WORDS 4u
+#define PGT_VK_FAULT_WORDS 2u
 
 /* parent_mode */
 #define PGT_VK_PARENT_NONE 0u     /* no parent array in this call */

@@ -257,7 +257,7 @@ static pgt_result s3_device(pgt_vk *ctx, s3_call *c, pgt_mesh *out, const pgt_me
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->cur.prot, prep->prot, 4 * (size_t)F0, err));
     PGT_VK_TRY(
         pgt_vk_upload(ctx, &c->alpha, prep->alpha, (size_t)alpha_count * sizeof(float), err));
-    const uint32_t no_fault[PGT_VK_FAULT_WORDS] = {0, PGT_GPU_NONE, 0, 0};
+    const uint32_t no_fault[PGT_VK_FAULT_WORDS] = {0, PGT_GPU_NONE};
     PGT_VK_TRY(pgt_vk_upload(ctx, &c->fault, no_fault, sizeof(no_fault), err));
     PGT_VK_TRY(pgt_vk_flush(ctx, err));
     if (times) times->upload_ms += pgt_gpu_now_ms() - t_up;
