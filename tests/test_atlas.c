@@ -232,15 +232,90 @@ typedef struct symmetry {
      * pointer does), else with a coarser destination, else elsewhere; and the share of all
      * starts whose miss is one texel inward and two along (sqrt 5 or sqrt 8 texels). */
     double ratio_pct[5], coarser, miss_corner, miss_coarser, miss_other, miss_grid;
+    /* The least share of starts with a coarser destination that any scale per chart could leave
+     * (coarser_by_pair): a layout that scales chart A by s_A multiplies the ratios of the starts
+     * from A to B by s_A / s_B and those from B to A by s_B / s_A, so each chart pair is given
+     * the factor that leaves it the fewest coarser starts (a lower bound: scales per chart must
+     * also agree across the pairs; a chart seamed to itself keeps its ratios). */
+    double coarser_by_pair;
+    /* Misses elsewhere (neither at a corner nor coarser) as shares of the starts whose rot lies
+     * within SYMMETRY_ALIGNED_DEG of a multiple of 90 degrees (the two grids aligned) and of
+     * those at least SYMMETRY_DIAGONAL_DEG from one (near the diagonal). */
+    double miss_other_aligned, miss_other_diagonal;
 } symmetry;
 
 /* A destination side "coarser" than the source in the symmetry diagnosis: local texel sizes more
  * than a third apart, where nearest-texel pointers between the two grids start to skip texels. */
 #define SYMMETRY_COARSER 1.33
+/* Grids "aligned" and "near the diagonal" in the symmetry diagnosis: rot within 9 degrees of a
+ * multiple of 90 (a tenth of the range), or 36 to 45 degrees from one. */
+#define SYMMETRY_ALIGNED_DEG 9.0
+#define SYMMETRY_DIAGONAL_DEG 36.0
 
 static int cmp_double(const void *a, const void *b) {
     const double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+/* A start of the symmetry diagnosis with both local texel sizes: its chart pair, lower id first,
+ * and where its count changes with the pair's log factor K = log(s_lo / s_hi): a start from lo
+ * to hi (log ratio l) is coarser when K > log(SYMMETRY_COARSER) - l, one from hi to lo when K <
+ * l - log(SYMMETRY_COARSER) (up: 1 for the first kind). */
+typedef struct seam_start {
+    uint32_t lo, hi, up;
+    double k;
+} seam_start;
+
+static int cmp_seam_start(const void *a, const void *b) {
+    const seam_start *x = a, *y = b;
+    if (x->lo != y->lo) return (x->lo > y->lo) - (x->lo < y->lo);
+    if (x->hi != y->hi) return (x->hi > y->hi) - (x->hi < y->hi);
+    if (x->up != y->up) return (x->up > y->up) - (x->up < y->up);
+    return (x->k > y->k) - (x->k < y->k);
+}
+
+/* Count of values of the sorted v[0..n) below (below = 1) or above (0) k. */
+static uint32_t count_beyond(const seam_start *v, uint32_t n, double k, int below) {
+    uint32_t lo = 0, hi = n; /* first index whose value is >= k (below) or > k (above) */
+    while (lo < hi) {
+        const uint32_t m = lo + (hi - lo) / 2;
+        if (below ? v[m].k < k : v[m].k <= k)
+            lo = m + 1;
+        else
+            hi = m;
+    }
+    return below ? lo : n - lo;
+}
+
+/* The fewest coarser starts any factor per chart pair leaves (symmetry.coarser_by_pair), over
+ * the n starts in s (sorted here). Within a pair, f(K) = #{up: k < K} + #{down: k > K} is
+ * constant between the k's and at each k no larger than on the open interval on either side,
+ * so its least value is at one of them. */
+static uint32_t coarser_by_pair(seam_start *s, uint32_t n) {
+    qsort(s, n, sizeof(*s), cmp_seam_start);
+    uint32_t total = 0;
+    for (uint32_t b = 0; b < n;) {
+        uint32_t e = b, m;
+        while (e < n && s[e].lo == s[b].lo && s[e].hi == s[b].hi) e++;
+        for (m = b; m < e && !s[m].up; ++m) {
+        }
+        const seam_start *down = s + b, *up = s + m;
+        const uint32_t nd = m - b, nu = e - m;
+        uint32_t best;
+        if (s[b].lo == s[b].hi) { /* a chart seamed to itself: K = 0 */
+            best = count_beyond(up, nu, 0.0, 1) + count_beyond(down, nd, 0.0, 0);
+        } else {
+            best = nd < nu ? nd : nu; /* K far below or above every k */
+            for (uint32_t i = b; i < e; ++i) {
+                const uint32_t f =
+                    count_beyond(up, nu, s[i].k, 1) + count_beyond(down, nd, s[i].k, 0);
+                if (f < best) best = f;
+            }
+        }
+        total += best;
+        b = e;
+    }
+    return total;
 }
 
 /* Largest 3D distance from texel (x, y) to its 4-adjacent inner texels of the same chart. */
@@ -307,7 +382,10 @@ static symmetry measure_symmetry(const pgt_image *img) {
     memset(&r, 0, sizeof(r));
     uint32_t ok_tex = 0, ok_loc = 0, ok_tex_tn = 0, ok_loc_tn = 0;
     uint32_t n_ratio = 0, coarser = 0, m_corner = 0, m_coarser = 0, m_other = 0, m_grid = 0;
+    uint32_t n_aligned = 0, n_diagonal = 0, m_aligned = 0, m_diagonal = 0;
     double *ratios = v.img ? malloc((size_t)v.W * v.H * sizeof(double)) : NULL;
+    seam_start *pairs = v.img ? malloc((size_t)v.W * v.H * sizeof(seam_start)) : NULL;
+    const double log_coarser = log(SYMMETRY_COARSER);
     const int32_t R = 8; /* the outer ring is one texel from q; 8 is far beyond */
     for (int32_t y = 0; y < (int32_t)v.H; ++y)
         for (int32_t x = 0; x < (int32_t)v.W; ++x) {
@@ -335,15 +413,30 @@ static symmetry measure_symmetry(const pgt_image *img) {
             round_trip(&v, i, x, y, tx, ty, &ok_tex_tn, &ok_loc_tn);
             const double src = source_size(&v, x, y), dst = local_size(&v, qx, qy);
             const int is_coarser = src > 0.0 && dst > SYMMETRY_COARSER * src;
-            if (src > 0.0 && dst > 0.0 && ratios) ratios[n_ratio++] = dst / src;
+            if (src > 0.0 && dst > 0.0 && ratios && pairs) {
+                const uint32_t A = (uint32_t)v.chart[i], Bc = (uint32_t)B;
+                const double l = log(dst / src);
+                seam_start *p = &pairs[n_ratio];
+                p->lo = A < Bc ? A : Bc, p->hi = A < Bc ? Bc : A, p->up = A <= Bc;
+                p->k = p->up ? log_coarser - l : l - log_coarser;
+                ratios[n_ratio++] = dst / src;
+            }
             coarser += is_coarser;
+            const double deg =
+                             fmod(fabs((double)v.rot[i]) * (180.0 / 3.14159265358979323846), 90.0),
+                         off90 = fmin(deg, 90.0 - deg);
+            const int aligned = off90 <= SYMMETRY_ALIGNED_DEG,
+                      diagonal = off90 >= SYMMETRY_DIAGONAL_DEG;
+            n_aligned += aligned, n_diagonal += diagonal;
             if (miss > SYMMETRY_TEXELS) {
-                if (at_chart_corner(&v, i, x, y))
+                if (at_chart_corner(&v, i, x, y)) {
                     m_corner++;
-                else if (is_coarser)
+                } else if (is_coarser) {
                     m_coarser++;
-                else
+                } else {
                     m_other++;
+                    m_aligned += aligned, m_diagonal += diagonal;
+                }
                 m_grid += fabs(miss - sqrt(5.0)) < 1e-9 || fabs(miss - sqrt(8.0)) < 1e-9;
             }
         }
@@ -353,8 +446,13 @@ static symmetry measure_symmetry(const pgt_image *img) {
         for (int k = 0; k < 5; ++k) r.ratio_pct[k] = ratios[(size_t)(pct[k] * (n_ratio - 1))];
     }
     free(ratios);
+    const uint32_t by_pair = pairs ? coarser_by_pair(pairs, n_ratio) : 0;
+    free(pairs);
     if (r.count) {
         r.coarser = (double)coarser / r.count;
+        r.coarser_by_pair = (double)by_pair / r.count;
+        r.miss_other_aligned = n_aligned ? (double)m_aligned / n_aligned : 0.0;
+        r.miss_other_diagonal = n_diagonal ? (double)m_diagonal / n_diagonal : 0.0;
         r.miss_corner = (double)m_corner / r.count, r.miss_coarser = (double)m_coarser / r.count;
         r.miss_other = (double)m_other / r.count, r.miss_grid = (double)m_grid / r.count;
         r.texel_share = (double)ok_tex / r.count, r.local_share = (double)ok_loc / r.count;
@@ -763,6 +861,7 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
     CHECK(check_contract(img, st->band) == 0);
     CHECK(orientation_disagreements(img) == 0);
     const symmetry s = measure_symmetry(img);
+    CHECK(s.coarser_by_pair <= s.coarser); /* a factor of 1 is one of the choices */
     uint32_t rn = 0;
     *out_rs = measure_rotation(img, &rn);
     printf("  %s 1024^2: %u charts (%u mirrored), %u indirection, %u dead ends; symmetry %.4f "
@@ -771,10 +870,14 @@ static symmetry check_real_atlas(const char *label, const pgt_image *img, const 
            label, st->charts, st->mirrored_charts, st->indirection_texels, st->dead_end_texels,
            s.texel_share, s.local_share, s.texel_share_tn, s.local_share_tn, *out_rs, rn);
     printf("    %s seams: destination / source local texel size p5 %.2f p10 %.2f p50 %.2f p90 %.2f "
-           "p95 %.2f, %.4f above %.2f; misses beyond 2 texels: %.4f at chart corners, %.4f with "
-           "a coarser destination, %.4f elsewhere (%.4f of all at sqrt 5 or sqrt 8 texels)\n",
+           "p95 %.2f, %.4f above %.2f (at least %.4f with any scale per chart); misses beyond "
+           "2 texels: %.4f at chart corners, %.4f with a coarser destination, %.4f elsewhere "
+           "(%.4f of all at sqrt 5 or sqrt 8 texels; elsewhere %.4f of the starts with rot "
+           "within %.0f degrees of a multiple of 90, %.4f of those %.0f or more from one)\n",
            label, s.ratio_pct[0], s.ratio_pct[1], s.ratio_pct[2], s.ratio_pct[3], s.ratio_pct[4],
-           s.coarser, SYMMETRY_COARSER, s.miss_corner, s.miss_coarser, s.miss_other, s.miss_grid);
+           s.coarser, SYMMETRY_COARSER, s.coarser_by_pair, s.miss_corner, s.miss_coarser,
+           s.miss_other, s.miss_grid, s.miss_other_aligned, SYMMETRY_ALIGNED_DEG,
+           s.miss_other_diagonal, SYMMETRY_DIAGONAL_DEG);
     return s;
 }
 
@@ -1764,7 +1867,54 @@ static void test_hostile_inputs(void) {
     pgt_mesh_destroy(&m);
 }
 
+/* The per-pair bound of the symmetry diagnosis (coarser_by_pair). Known answers: pair (0, 1) has
+ * three starts 2 times coarser one way and two 2 times finer the other, which a factor of 1/2
+ * for the pair leaves within SYMMETRY_COARSER both ways (0); pair (1, 2) one start 2 times
+ * coarser each way, which no factor helps (1); chart 3 seamed to itself one 2 times coarser (1).
+ * Then random pairs against a direct count at every k, just beside it and far out. */
+static void test_symmetry_pair_bound(void) {
+    const double c = log(SYMMETRY_COARSER), l2 = log(2.0);
+    seam_start s[] = {
+        {0, 1, 1, c - l2},  {0, 1, 1, c - l2},  {0, 1, 1, c - l2}, /* 0 -> 1, ratio 2 */
+        {0, 1, 0, -l2 - c}, {0, 1, 0, -l2 - c},                    /* 1 -> 0, ratio 1/2 */
+        {1, 2, 1, c - l2},  {1, 2, 0, l2 - c},                     /* both ways ratio 2 */
+        {3, 3, 1, c - l2},                                         /* 3 -> 3, ratio 2 */
+    };
+    CHECK(coarser_by_pair(s, sizeof(s) / sizeof(s[0])) == 2);
+
+    enum { N = 60 };
+    seam_start r[N], keep[N];
+    for (uint32_t trial = 0; trial < 200; ++trial) {
+        for (uint32_t i = 0; i < N; ++i) {
+            const uint64_t k = 4ull * (trial * N + i);
+            r[i].lo = (uint32_t)(pgt_rng_float(7, 0, k) * 3.0f);
+            r[i].hi = r[i].lo + (uint32_t)(pgt_rng_float(7, 0, k + 1) * 2.0f);
+            r[i].up = pgt_rng_float(7, 0, k + 2) < 0.5f;
+            r[i].k = 4.0 * pgt_rng_float(7, 0, k + 3) - 2.0;
+        }
+        memcpy(keep, r, sizeof(r));
+        uint32_t expect = 0;
+        for (uint32_t lo = 0; lo < 3; ++lo)
+            for (uint32_t hi = lo; hi < lo + 2; ++hi) {
+                uint32_t best = UINT32_MAX;
+                for (uint32_t j = 0; j < 3u * N + 2u; ++j) {
+                    double K = j < 3u * N ? keep[j / 3].k + (double)((int)(j % 3) - 1) * 1e-9
+                                          : (j == 3u * N ? -1e300 : 1e300);
+                    if (lo == hi) K = 0.0;
+                    uint32_t f = 0;
+                    for (uint32_t i = 0; i < N; ++i)
+                        if (keep[i].lo == lo && keep[i].hi == hi)
+                            f += keep[i].up ? keep[i].k < K : keep[i].k > K;
+                    if (f < best) best = f;
+                }
+                expect += best;
+            }
+        CHECK_MSG(coarser_by_pair(r, N) == expect, "trial %u: expected %u", trial, expect);
+    }
+}
+
 static const pgt_test_case cases[] = {
+    {"symmetry_pair_bound", test_symmetry_pair_bound},
     {"kdtree_brute_force", test_kdtree_brute_force},
     {"kdtree_degenerate", test_kdtree_degenerate},
     {"kdtree_reach", test_kdtree_reach},
