@@ -28,6 +28,7 @@
 #include "test_util.h"
 
 #define PI_F 3.14159265358979f
+#define PI_D 3.14159265358979323846
 #define NONE UINT32_MAX
 
 /* ---- synthetic atlases ----------------------------------------------------------------------
@@ -587,7 +588,7 @@ static double angle_deg(const double a[3], const double b[3]) {
     if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
     double c = d / (la * lb);
     c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
-    return acos(c) * 180.0 / 3.14159265358979323846;
+    return acos(c) * 180.0 / PI_D;
 }
 
 /* 5.2: through the 90-degree-turned chart the 3D course is kept (straight lines in the plane at
@@ -1649,7 +1650,8 @@ static int rot_turn_sheared(const char *name) {
 /* An atlas's planes as the angle bound reads them. */
 typedef struct angle_planes {
     uint32_t w, h;
-    const float *P[3], *N[3], *chart, *kind, *pu, *pv, *rot;
+    const float *P[3], *N[3], *chart, *kind, *pu, *pv;
+    float *rot; /* refit_rot writes it */
 } angle_planes;
 
 static int inner_of(const angle_planes *a, int x, int y, float chart) {
@@ -1701,12 +1703,14 @@ static int jacobian_solve(const double jx[3], const double jy[3], const double w
 /* Rotates v about the unit axis n by angle t (Rodrigues). */
 static void rotate_about(const double n[3], double t, const double v[3], double out[3]) {
     const double c = cos(t), s = sin(t), nv = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
-    const double x[3] = {n[1] * v[2] - n[2] * v[1], n[2] * v[0] - n[0] * v[2],
-                         n[0] * v[1] - n[1] * v[0]};
+    double x[3];
+    cross3d(n, v, x);
     for (int k = 0; k < 3; ++k) out[k] = c * v[k] + s * x[k] + (1.0 - c) * nv * n[k];
 }
 
-#define TWO_PI 6.28318530717958647692
+#define TWO_PI (2.0 * PI_D)
+/* JUMP_TURN_MEDIAN_DEG in radians: the turn the angle bound's arcs allow */
+#define JUMP_TURN_BOUND_RAD (JUMP_TURN_MEDIAN_DEG * PI_D / 180.0)
 
 static double wrap_2pi(double t) {
     t = fmod(t, TWO_PI);
@@ -1784,9 +1788,7 @@ static int angle_texel_of(const angle_planes *a, uint32_t i, angle_texel *q) {
     if (!(fabs(ls) > 0.0) || !(fabs(lr) > 0.0)) return 0;
     for (int c = 0; c < 3; ++c) ns[c] /= ls, q->n[c] /= lr, dd += ns[c] * q->n[c];
     if (!(dd > 0.0)) return 0;
-    q->axis[0] = ns[1] * q->n[2] - ns[2] * q->n[1];
-    q->axis[1] = ns[2] * q->n[0] - ns[0] * q->n[2];
-    q->axis[2] = ns[0] * q->n[1] - ns[1] * q->n[0];
+    cross3d(ns, q->n, q->axis);
     const double sn =
         sqrt(q->axis[0] * q->axis[0] + q->axis[1] * q->axis[1] + q->axis[2] * q->axis[2]);
     q->tilt = atan2(sn, dd);
@@ -1801,34 +1803,32 @@ static int angle_texel_of(const angle_planes *a, uint32_t i, angle_texel *q) {
  * the bound: J' maps the cone of 3D directions within the bound of u (under 180 degrees) to one
  * cone of texel directions, whose ends are J'^+ of u turned by -+ the bound. 0 when J' is
  * singular. */
-static int turn_arc(const angle_texel *q, const double d[2], double bound, double *lo,
-                    double *width) {
+static int turn_arc(const angle_texel *q, const double d[2], double *lo, double *width) {
     const double m[3] = {q->jx[0] * d[0] + q->jy[0] * d[1], q->jx[1] * d[0] + q->jy[1] * d[1],
                          q->jx[2] * d[0] + q->jy[2] * d[1]};
     double u[3], wm[3], wp[3], em[2], ep[2];
     rotate_about(q->axis, q->tilt, m, u);
     const double un = u[0] * q->n[0] + u[1] * q->n[1] + u[2] * q->n[2];
     for (int c = 0; c < 3; ++c) u[c] -= un * q->n[c];
-    rotate_about(q->n, -bound, u, wm);
-    rotate_about(q->n, bound, u, wp);
+    rotate_about(q->n, -JUMP_TURN_BOUND_RAD, u, wm);
+    rotate_about(q->n, JUMP_TURN_BOUND_RAD, u, wp);
     if (!jacobian_solve(q->rx, q->ry, wm, em) || !jacobian_solve(q->rx, q->ry, wp, ep)) return 0;
     const double am = atan2(em[1], em[0]), ap = atan2(ep[1], ep[0]);
     double start = am, w = wrap_2pi(ap - am);
-    if (w > 0.5 * TWO_PI) start = ap, w = TWO_PI - w;
+    if (w > PI_D) start = ap, w = TWO_PI - w;
     *lo = wrap_2pi(start - atan2(d[1], d[0])), *width = w;
     return 1;
 }
 
 /* The ANGLE_DIRECTIONS headings d of texel q and their arcs (turn_arc); returns how many have
  * one, packed first. */
-static uint32_t texel_arcs(const angle_texel *q, double bound, double d[][2], double lo[],
-                           double width[]) {
+static uint32_t texel_arcs(const angle_texel *q, double d[][2], double lo[], double width[]) {
     uint32_t arcs = 0;
     for (uint32_t k = 0; k < ANGLE_DIRECTIONS; ++k) {
         const double phi = asin(2.0 * (k + 0.5) / ANGLE_DIRECTIONS - 1.0);
         const double c = cos(phi), s = sin(phi);
         d[arcs][0] = c * q->out[0] - s * q->out[1], d[arcs][1] = s * q->out[0] + c * q->out[1];
-        arcs += turn_arc(q, d[arcs], bound, &lo[arcs], &width[arcs]);
+        arcs += turn_arc(q, d[arcs], &lo[arcs], &width[arcs]);
     }
     return arcs;
 }
@@ -1851,7 +1851,7 @@ static double best_angle(const double lo[], const double width[], uint32_t arcs,
 }
 
 /* The atlas's planes as the angle bound reads them. */
-static int angle_planes_of(const pgt_image *img, angle_planes *a, float **rot) {
+static int angle_planes_of(const pgt_image *img, angle_planes *a) {
     pgt_atlas_channels ch;
     if (pgt_atlas_channels_find(img, "atlas", &ch, NULL) != PGT_OK) return 0;
     memset(a, 0, sizeof(*a));
@@ -1861,7 +1861,7 @@ static int angle_planes_of(const pgt_image *img, angle_planes *a, float **rot) {
     a->N[1] = pgt_image_plane(img, ch.ny), a->N[2] = pgt_image_plane(img, ch.nz);
     a->chart = pgt_image_plane(img, ch.chart), a->kind = pgt_image_plane(img, ch.kind);
     a->pu = pgt_image_plane(img, ch.ptr_u), a->pv = pgt_image_plane(img, ch.ptr_v);
-    a->rot = *rot = pgt_image_plane(img, ch.rot);
+    a->rot = pgt_image_plane(img, ch.rot);
     return 1;
 }
 
@@ -1870,11 +1870,9 @@ static int angle_planes_of(const pgt_image *img, angle_planes *a, float **rot) {
  * fitted to the Jacobians instead of 5.2's boundary tangents, does in the marcher. */
 static uint32_t refit_rot(pgt_image *img, uint32_t *out_indirection) {
     angle_planes a;
-    float *rot;
     uint32_t n = 0;
     *out_indirection = 0;
-    if (!angle_planes_of(img, &a, &rot)) return 0;
-    const double bound = JUMP_TURN_MEDIAN_DEG * (3.14159265358979323846 / 180.0);
+    if (!angle_planes_of(img, &a)) return 0;
     for (uint32_t i = 0; i < a.w * a.h; ++i) {
         if (a.kind[i] != (float)PGT_TEXEL_INDIRECTION) continue;
         ++*out_indirection;
@@ -1882,10 +1880,10 @@ static uint32_t refit_rot(pgt_image *img, uint32_t *out_indirection) {
         double d[ANGLE_DIRECTIONS][2], lo[ANGLE_DIRECTIONS], width[ANGLE_DIRECTIONS];
         uint32_t on;
         if (!angle_texel_of(&a, i, &q)) continue;
-        const uint32_t arcs = texel_arcs(&q, bound, d, lo, width);
+        const uint32_t arcs = texel_arcs(&q, d, lo, width);
         if (!arcs) continue;
         const double t = wrap_2pi(best_angle(lo, width, arcs, &on));
-        rot[i] = (float)(t > 0.5 * TWO_PI ? t - TWO_PI : t);
+        a.rot[i] = (float)(t > PI_D ? t - TWO_PI : t);
         n++;
     }
     return n;
@@ -1926,9 +1924,7 @@ static int single_angle_bound(const pgt_march_atlas *v, const pgt_image *img,
                               const pgt_march_options *o, uint32_t seed, angle_bound *res) {
     memset(res, 0, sizeof(*res));
     angle_planes a;
-    float *rot;
-    if (!angle_planes_of(img, &a, &rot)) return 0;
-    const double bound = JUMP_TURN_MEDIAN_DEG * (3.14159265358979323846 / 180.0);
+    if (!angle_planes_of(img, &a)) return 0;
     const size_t cap = (size_t)RANDOM_MARCHES * RANDOM_STEPS;
     uint32_t *used = malloc(cap * sizeof(uint32_t));
     double *turns = malloc(cap * ANGLE_DIRECTIONS * sizeof(double));
@@ -1963,7 +1959,7 @@ static int single_angle_bound(const pgt_march_atlas *v, const pgt_image *img,
         angle_texel q;
         if (!angle_texel_of(&a, i, &q)) continue;
         double d[ANGLE_DIRECTIONS][2], lo[ANGLE_DIRECTIONS], width[ANGLE_DIRECTIONS];
-        const uint32_t arcs = texel_arcs(&q, bound, d, lo, width);
+        const uint32_t arcs = texel_arcs(&q, d, lo, width);
         if (!arcs) continue;
         uint32_t best;
         const double theta = best_angle(lo, width, arcs, &best);
@@ -1971,8 +1967,8 @@ static int single_angle_bound(const pgt_march_atlas *v, const pgt_image *img,
         res->jumps += mult;
         covered += (double)mult * best, weight += (double)mult * arcs;
         for (uint32_t k = 0; k < arcs; ++k) {
-            const double tr = model_turn(&q, d[k], rot[i]), tb = model_turn(&q, d[k], theta);
-            const int in_arc = wrap_2pi((double)rot[i] - lo[k]) <= width[k];
+            const double tr = model_turn(&q, d[k], a.rot[i]), tb = model_turn(&q, d[k], theta);
+            const int in_arc = wrap_2pi((double)a.rot[i] - lo[k]) <= width[k];
             if (fabs(tr - JUMP_TURN_MEDIAN_DEG) > ANGLE_AGREE_DEG &&
                 in_arc != (tr <= JUMP_TURN_MEDIAN_DEG))
                 res->disagree++;
