@@ -16,7 +16,8 @@
 
 static const char *atlas_usage =
     "usage: pgt atlas MESH -o ATLAS.exr [--res N] [--band B] [--k K] [--png PIC.png]\n"
-    "                 [--dead-end T] [--repack] [--threads N] [--json]\n"
+    "                 [--angles tangents|jacobian] [--dead-end T] [--repack] [--threads N]\n"
+    "                 [--json]\n"
     "\n"
     "Builds the indirection geometry image of paper 000 (sections 4 and 5.2): charts from the\n"
     "mesh's per-corner UVs, the layout (input UVs kept when they leave a free band around every\n"
@@ -35,6 +36,13 @@ static const char *atlas_usage =
     "                 are raised to 2)\n"
     "  --k K          boundary texels followed per tangent for the rotation angles, 1 to 64\n"
     "                 (default 4)\n"
+    "  --angles A     how the rotation angle rot of an indirection texel is found:\n"
+    "                 tangents (default): 5.2's boundary tangents from K texels;\n"
+    "                 jacobian: fitted to the local maps of the two charts (P's Jacobians),\n"
+    "                 the angle that turns the most of 8 headings leaving the chart by at most\n"
+    "                 10 degrees in 3D, 5.2's angle where a chart is too thin for a Jacobian\n"
+    "                 (lower turns at jumps where the two sides' UVs shear differently: spot,\n"
+    "                 pizza); same channels, same marcher\n"
     "  --dead-end T   an outer-boundary texel whose nearest candidate is farther than T texel\n"
     "                 sizes is a dead end (default 4, at most 64; texel size = the larger of\n"
     "                 the median 3D distance of 4-adjacent inner texels and the local one,\n"
@@ -101,6 +109,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     uint32_t threads = pgt_cli_cpu_count();
     float dead_end = PGT_ATLAS_DEFAULT_DEAD_END;
     int json = 0, repack = 0;
+    pgt_atlas_angles angles = PGT_ATLAS_ANGLES_TANGENTS;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -123,6 +132,14 @@ int pgt_cmd_atlas(int argc, char **argv) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i)) ||
                 pgt_cli_uint(verb, a, v, 1, PGT_ATLAS_MAX_K, &k))
                 return PGT_EXIT_USAGE;
+        } else if (!strcmp(a, "--angles")) {
+            if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
+            if (!strcmp(v, "tangents"))
+                angles = PGT_ATLAS_ANGLES_TANGENTS;
+            else if (!strcmp(v, "jacobian"))
+                angles = PGT_ATLAS_ANGLES_JACOBIAN;
+            else
+                return pgt_cli_fail(verb, "--angles: '%s' is not tangents or jacobian", v);
         } else if (!strcmp(a, "--dead-end")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             char *end = NULL;
@@ -185,6 +202,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
     opt.dead_end = dead_end;
     opt.threads = threads;
     opt.force_repack = repack;
+    opt.angles = angles;
     opt.what = in_path;
     opt.origin = &origin;
     opt.progress = prog.progress; /* the build names its steps */
@@ -223,7 +241,7 @@ int pgt_cmd_atlas(int argc, char **argv) {
                "\"input_overlap_texels\":%u,\"layout\":\"%s\",\"packing_efficiency\":%.4f,"
                "\"inner_texels\":%u,\"inner_boundary_texels\":%u,\"indirection_texels\":%u,"
                "\"dead_end_texels\":%u,\"self_seam_pointers\":%u,\"own_chart_pointers\":%u,"
-               "\"texel_size\":%.6g,"
+               "\"texel_size\":%.6g,\"angles\":\"%s\",\"fitted_angles\":%u,"
                "\"read_ms\":%.3f,\"charts_ms\":%.3f,\"layout_ms\":%.3f,\"raster_ms\":%.3f,"
                "\"pointers_ms\":%.3f,\"angles_ms\":%.3f,\"total_ms\":%.3f,\"write_ms\":%.3f}\n",
                st.faces, st.width, st.height, st.band, st.k, (double)dead_end, threads, st.charts,
@@ -231,8 +249,10 @@ int pgt_cmd_atlas(int argc, char **argv) {
                st.fold_over_texels, st.crack_texels, st.overlap_texels,
                st.repacked ? "repacked" : "kept", st.packing_efficiency, st.inner_texels,
                st.inner_boundary_texels, st.indirection_texels, st.dead_end_texels,
-               st.self_seam_pointers, st.own_chart_pointers, st.texel_size, t1 - t0, st.ms_charts,
-               st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total, t3 - t2);
+               st.self_seam_pointers, st.own_chart_pointers, st.texel_size,
+               angles == PGT_ATLAS_ANGLES_JACOBIAN ? "jacobian" : "tangents", st.fitted_angles,
+               t1 - t0, st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles,
+               st.ms_total, t3 - t2);
     } else {
         printf("atlas: %s (%u faces) -> %s (%ux%u, band %u, %u threads)\n", in_path, st.faces,
                out_path, st.width, st.height, st.band, threads);
@@ -253,6 +273,10 @@ int pgt_cmd_atlas(int argc, char **argv) {
         if (st.own_chart_pointers)
             printf(", %u of them with nothing across", st.own_chart_pointers);
         printf("), %u dead end; texel size %.4g\n", st.dead_end_texels, st.texel_size);
+        if (angles == PGT_ATLAS_ANGLES_JACOBIAN)
+            printf("  angles fitted to the Jacobians at %u of %u indirection texels (5.2's "
+                   "tangents at the others)\n",
+                   st.fitted_angles, st.indirection_texels);
         printf("  ms: charts %.2f, layout %.2f, raster %.2f, pointers %.2f, angles %.2f, total "
                "%.2f (read %.2f, write %.2f)\n",
                st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles, st.ms_total,

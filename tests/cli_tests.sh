@@ -126,7 +126,7 @@ grep -q "^march .*: skipped (no UVs" out.txt && grep -q "^sqrt3 .*: ok$" out.txt
 
 # pgt atlas, pgt march (their algorithms are test_atlas / test_march)
 expect atlas_help 0 "$pgt" atlas --help
-for flag in -o --res --band --k --png --dead-end --threads --json; do
+for flag in -o --res --band --k --png --angles --dead-end --threads --json; do
   grep -q -- "$flag" out.txt && ok "atlas_help_documents_$flag" || bad "atlas_help_documents_$flag" "missing"
 done
 expect march_help 0 "$pgt" march --help
@@ -140,6 +140,19 @@ one_line atlas_no_uvs_one_line "UV"
 expect atlas_dead_end_too_far 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --dead-end 65
 one_line atlas_dead_end_too_far_one_line "dead-end: '65' .*(0, 64]"
 expect atlas_dead_end_largest 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 64 --dead-end 64
+# --angles: 5.2's tangents (default) or fitted to the Jacobians (test_march checks the fit); the
+# count fitted is printed and in the JSON alike, and the tangents' atlas has no such line
+expect atlas_angles_bad 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --angles jacobians
+one_line atlas_angles_bad_one_line "\-\-angles: 'jacobians' is not tangents or jacobian"
+expect atlas_angles_tangents 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 128 --angles tangents
+grep -q "fitted" out.txt && bad atlas_angles_tangents_no_fit "$(cat out.txt)" || ok atlas_angles_tangents_no_fit
+expect atlas_angles_jacobian 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 128 --angles jacobian
+text_fit=$(sed -n 's/^  angles fitted to the Jacobians at \([0-9]*\) of \([0-9]*\) indirection texels.*/\1 \2/p' out.txt)
+expect atlas_angles_jacobian_json 0 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 128 --angles jacobian --json
+json_fit=$(/usr/bin/python3 -c 'import json; r=json.load(open("out.txt")); assert r["angles"]=="jacobian"; print(r["fitted_angles"], r["indirection_texels"])')
+if [ -n "$text_fit" ] && [ "$text_fit" = "$json_fit" ] && [ "${text_fit% *}" -gt 0 ] &&
+   [ "${text_fit% *}" -le "${text_fit#* }" ]; then ok atlas_angles_jacobian_reported
+else bad atlas_angles_jacobian_reported "text '$text_fit', json '$json_fit'"; fi
 expect atlas_bad_res 2 "$pgt" atlas "$work/data/cube_sphere_8.ply" -o a.exr --res 1
 one_line atlas_bad_res_one_line "\-\-res"
 # the range named is the one --help gives

@@ -1,4 +1,5 @@
-/* pgt: atlas step 6, rotation of marching directions (paper 000 section 5.2, Fig. 6-7).
+/* pgt: atlas step 6, rotation of marching directions (paper 000 section 5.2, Fig. 6-7), and,
+ * with --angles jacobian, the same angles fitted to the charts' Jacobians (the last section).
  *
  * The paper, for an indirection texel P0 of chart A pointing at texel Q of chart B:
  * - t1: "we start by scanning the one ring neighborhood of the current indirection pixel P0
@@ -201,6 +202,20 @@ static int enters(const angle_ctx *c, int32_t b, int32_t qx, int32_t qy, double 
     return c->chart[(size_t)ty * (size_t)c->W + (size_t)tx] == b;
 }
 
+/* The way out of chart A at its outer texel (x, y): the sum of the steps from the texel's inner
+ * 4-neighbours in A to it. 0 when it has none (it touches A only at a corner) or they cancel. */
+static int way_out(const angle_ctx *c, int32_t x, int32_t y, double *ox, double *oy) {
+    const int32_t a = (int32_t)c->outer_chart[(size_t)y * (size_t)c->W + (size_t)x];
+    *ox = 0.0, *oy = 0.0;
+    for (uint32_t k = 0; k < 8; k += 2) {
+        const int32_t nx = x - ring[k][0], ny = y - ring[k][1];
+        if (nx < 0 || ny < 0 || nx >= c->W || ny >= c->H) continue;
+        if (c->chart[(size_t)ny * (size_t)c->W + (size_t)nx] != a) continue;
+        *ox += ring[k][0], *oy += ring[k][1];
+    }
+    return *ox != 0.0 || *oy != 0.0;
+}
+
 static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     angle_ctx *c = vctx;
     (void)worker;
@@ -249,15 +264,8 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
              * from P0's inner 4-neighbours in A to P0; rotated by rot it must reach an inner
              * texel of B ATLAS_ENTER_TEXELS from Q. When only the opposite direction does, the
              * angle is turned by pi. */
-            double ox = 0.0, oy = 0.0;
-            for (uint32_t k = 0; k < 8; k += 2) {
-                const int32_t nx = x - ring[k][0], ny = y - ring[k][1];
-                if (nx < 0 || ny < 0 || nx >= c->W || ny >= c->H) continue;
-                if (c->chart[(size_t)ny * (size_t)c->W + (size_t)nx] != (int32_t)c->outer_chart[i])
-                    continue;
-                ox += ring[k][0], oy += ring[k][1];
-            }
-            if (ox != 0.0 || oy != 0.0) {
+            double ox, oy;
+            if (way_out(c, x, y, &ox, &oy)) {
                 /* cos r and sin r are dot and cross over |t1| |t2| */
                 const double len = sqrt(ox * ox + oy * oy) *
                                    sqrt((a1x * a1x + a1y * a1y) * (a2x * a2x + a2y * a2y));
@@ -269,17 +277,25 @@ static void angle_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
         }
 }
 
+/* The context of an atlas's angle passes, without outer_hits. */
+static angle_ctx angle_ctx_of(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
+                              const int32_t *dest_chart, uint32_t k) {
+    const angle_ctx c = {atlas,
+                         texel_chart,
+                         kind,
+                         pgt_image_plane(atlas, 6),
+                         (int32_t)atlas->width,
+                         (int32_t)atlas->height,
+                         k,
+                         NULL,
+                         dest_chart};
+    return c;
+}
+
 pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint8_t *kind,
                         const int32_t *dest_chart, uint32_t k, uint32_t threads, pgt_error *err) {
-    angle_ctx c = {atlas,
-                   texel_chart,
-                   kind,
-                   pgt_image_plane(atlas, 6),
-                   (int32_t)atlas->width,
-                   (int32_t)atlas->height,
-                   k,
-                   malloc(sizeof(uint16_t) * (size_t)atlas->width * atlas->height),
-                   dest_chart};
+    angle_ctx c = angle_ctx_of(atlas, texel_chart, kind, dest_chart, k);
+    c.outer_hits = malloc(sizeof(uint16_t) * (size_t)atlas->width * atlas->height);
     pgt_result r = PGT_OK;
     if (c.outer_hits) {
         atlas_parallel_rows(atlas->height, atlas->width, threads, step_rows, &c);
@@ -328,4 +344,256 @@ void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const floa
             const double t2x = (double)d1[0] - d0[0], t2y = (double)d1[1] - d0[1];
             rot[t] = (float)atan2(t1x * t2y - t1y * t2x, t1x * t2x + t1y * t2y);
         }
+}
+
+/* ---- angles fitted to the texel Jacobians (--angles jacobian) --------------------------------
+ *
+ * 5.2's tangents keep a heading's angle to the seam in texels. Where the two charts' UVs shear
+ * differently along a seam (spot, pizza), the same texel angle is another 3D angle on each side,
+ * and no rotation of the tangents can fix that. This fit keeps 5.2's form (one angle per
+ * indirection texel, in rot; the marcher and the GPU kernels are unchanged) and chooses the
+ * angle from the local maps of the two charts instead:
+ * - J = dP/d(x, y) at the source side (the first inner 8-neighbour of P0 in A that has one) and
+ *   J' at the destination (the pointer's texel Q, else its first inner 8-neighbour in B that has
+ *   one), as finite differences of the P planes (central where both 4-neighbours are inner
+ *   texels of the chart, else one-sided);
+ * - the headings d that leave A through P0: PGT_ATLAS_FIT_HEADINGS of them around the way out
+ *   (the mean of the directions from P0's inner 8-neighbours to it), spread as a uniform flux of
+ *   walkers crosses a seam (density cos(phi) at angle phi from the way out: the k-th at
+ *   phi = asin(2 (k + 1/2) / n - 1));
+ * - heading d moves by J d in 3D; carried into B's tangent plane by the smallest rotation
+ *   between the two planes' normals that is u. The angles theta with which J' R(theta) d turns
+ *   from u by at most PGT_ATLAS_FIT_TURN_DEG form one arc (J'^+ maps the 3D cone around u to one
+ *   cone of texel directions);
+ * - rot = the middle of the common part of the most arcs (the first such start in heading
+ *   order). Where no Jacobian exists (charts one texel thin), the planes face away from each
+ *   other, or the fitted angle's way out does not enter B at Q (the invariant of atlas_build.h),
+ *   5.2's angle stays.
+ * Measured in tests/test_march.c real_random_marches. Doubles throughout: it is not a kernel, and
+ * the test re-derives the same arcs in double. */
+
+/* J' whose columns are closer to parallel than this squared sine (about 1e-6 radians) has no
+ * usable inverse: a sliver texel. */
+#define ATLAS_FIT_MIN_SINE2 1e-12
+
+typedef struct fit_ctx {
+    const angle_ctx *c;
+    const float *P[3], *N[3];
+    float *rot;
+    double head_c[PGT_ATLAS_FIT_HEADINGS], head_s[PGT_ATLAS_FIT_HEADINGS];
+    double bound_c, bound_s; /* cos and sin of PGT_ATLAS_FIT_TURN_DEG */
+    uint32_t *row_fitted;    /* per row: texels whose rot was fitted */
+} fit_ctx;
+
+static int fit_inner(const angle_ctx *c, int32_t x, int32_t y, int32_t chart) {
+    return x >= 0 && y >= 0 && x < c->W && y < c->H &&
+           c->chart[(size_t)y * (size_t)c->W + (size_t)x] == chart;
+}
+
+/* dP/dx and dP/dy at the inner texel (x, y) of `chart`; 0 when an axis has no inner
+ * 4-neighbour in the chart. */
+static int fit_jacobian(const fit_ctx *f, int32_t chart, int32_t x, int32_t y, double jx[3],
+                        double jy[3]) {
+    const angle_ctx *c = f->c;
+    const int l = fit_inner(c, x - 1, y, chart), r = fit_inner(c, x + 1, y, chart);
+    const int u = fit_inner(c, x, y - 1, chart), d = fit_inner(c, x, y + 1, chart);
+    if (!(l || r) || !(u || d)) return 0;
+    const size_t W = (size_t)c->W;
+    const size_t x0 = (size_t)y * W + (size_t)(x - l), x1 = (size_t)y * W + (size_t)(x + r);
+    const size_t y0 = (size_t)(y - u) * W + (size_t)x, y1 = (size_t)(y + d) * W + (size_t)x;
+    for (int k = 0; k < 3; ++k) {
+        jx[k] = ((double)f->P[k][x1] - (double)f->P[k][x0]) / (double)(l + r);
+        jy[k] = ((double)f->P[k][y1] - (double)f->P[k][y0]) / (double)(u + d);
+    }
+    return 1;
+}
+
+/* The unit normal of the plane of (jx, jy), turned to the side of the atlas normal at texel t;
+ * 0 when it has no length. */
+static int fit_normal(const fit_ctx *f, const double jx[3], const double jy[3], size_t t,
+                      double n[3]) {
+    n[0] = jx[1] * jy[2] - jx[2] * jy[1];
+    n[1] = jx[2] * jy[0] - jx[0] * jy[2];
+    n[2] = jx[0] * jy[1] - jx[1] * jy[0];
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double side = n[0] * f->N[0][t] + n[1] * f->N[1][t] + n[2] * f->N[2][t];
+    if (!(len > 0.0)) return 0;
+    const double s = side < 0.0 ? -1.0 / len : 1.0 / len;
+    for (int k = 0; k < 3; ++k) n[k] *= s;
+    return 1;
+}
+
+/* A monotone stand-in for the angle of (x, y) != 0 in [0, 4) (the "diamond angle"): the arcs
+ * are compared by it, and only the chosen one's ends go through atan2. */
+static double diamond(double x, double y) {
+    if (y >= 0.0) return x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+    return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+}
+
+static double wrap4(double t) { return t < 0.0 ? t + 4.0 : t; }
+
+/* The fitted angle of indirection texel (x, y) into *theta; 0 when there is none. */
+static int fit_texel(const fit_ctx *f, int32_t x, int32_t y, double *theta) {
+    static const int32_t d8[8][2] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1},
+                                     {1, 1}, {-1, 1}, {1, -1}, {-1, -1}};
+    const angle_ctx *c = f->c;
+    const size_t W = (size_t)c->W, i = (size_t)y * W + (size_t)x;
+    const int32_t a = (int32_t)c->outer_chart[i], b = c->ptr_chart[i];
+    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
+    /* the way out: away from the inner 8-neighbours, each a unit direction */
+    double ox = 0.0, oy = 0.0;
+    for (int k = 0; k < 8; ++k)
+        if (fit_inner(c, x + d8[k][0], y + d8[k][1], a)) {
+            const double len = k < 4 ? 1.0 : sqrt(2.0);
+            ox -= d8[k][0] / len, oy -= d8[k][1] / len;
+        }
+    const double ol = sqrt(ox * ox + oy * oy);
+    if (!(ol > 0.0)) return 0;
+    ox /= ol, oy /= ol;
+    double jx[3], jy[3], rx[3], ry[3];
+    int32_t sx = -1, sy = -1, have = 0;
+    for (int k = 0; k < 8 && !have; ++k)
+        if (fit_inner(c, x + d8[k][0], y + d8[k][1], a))
+            sx = x + d8[k][0], sy = y + d8[k][1], have = fit_jacobian(f, a, sx, sy, jx, jy);
+    if (!have) return 0;
+    int32_t qx = (int32_t)pu[i], qy = (int32_t)pv[i];
+    int have_r = fit_jacobian(f, b, qx, qy, rx, ry);
+    for (int k = 0; k < 8 && !have_r; ++k)
+        if (fit_inner(c, qx + d8[k][0], qy + d8[k][1], b) &&
+            fit_jacobian(f, b, qx + d8[k][0], qy + d8[k][1], rx, ry))
+            qx += d8[k][0], qy += d8[k][1], have_r = 1;
+    if (!have_r) return 0;
+    double ns[3], n[3];
+    if (!fit_normal(f, jx, jy, (size_t)sy * W + (size_t)sx, ns) ||
+        !fit_normal(f, rx, ry, (size_t)qy * W + (size_t)qx, n))
+        return 0;
+    /* the smallest rotation from ns to n (cos ct, sin st about the unit axis), applied to J */
+    double axis[3] = {ns[1] * n[2] - ns[2] * n[1], ns[2] * n[0] - ns[0] * n[2],
+                      ns[0] * n[1] - ns[1] * n[0]};
+    const double ct = ns[0] * n[0] + ns[1] * n[1] + ns[2] * n[2];
+    if (!(ct > 0.0)) return 0;
+    const double st = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    double ax[3], ay[3];
+    for (int col = 0; col < 2; ++col) {
+        const double *v = col ? jy : jx;
+        double *o = col ? ay : ax;
+        if (!(st > 0.0)) {
+            for (int k = 0; k < 3; ++k) o[k] = v[k];
+            continue;
+        }
+        const double e[3] = {axis[0] / st, axis[1] / st, axis[2] / st};
+        const double ev = e[0] * v[0] + e[1] * v[1] + e[2] * v[2];
+        const double x3[3] = {e[1] * v[2] - e[2] * v[1], e[2] * v[0] - e[0] * v[2],
+                              e[0] * v[1] - e[1] * v[0]};
+        for (int k = 0; k < 3; ++k) o[k] = ct * v[k] + st * x3[k] + (1.0 - ct) * ev * e[k];
+    }
+    /* J'^+ = G^-1 J'^T with G = J'^T J' */
+    double g11 = 0.0, g12 = 0.0, g22 = 0.0;
+    for (int k = 0; k < 3; ++k) g11 += rx[k] * rx[k], g12 += rx[k] * ry[k], g22 += ry[k] * ry[k];
+    const double det = g11 * g22 - g12 * g12;
+    if (!(det > ATLAS_FIT_MIN_SINE2 * g11 * g22)) return 0;
+    /* per heading: the arc's start and end relative to the heading, as diamond angles, and as
+     * vectors for the two that end up chosen */
+    double lo[PGT_ATLAS_FIT_HEADINGS], hi[PGT_ATLAS_FIT_HEADINGS];
+    double lo_v[PGT_ATLAS_FIT_HEADINGS][2], hi_v[PGT_ATLAS_FIT_HEADINGS][2];
+    for (uint32_t h = 0; h < PGT_ATLAS_FIT_HEADINGS; ++h) {
+        const double d0 = f->head_c[h] * ox - f->head_s[h] * oy,
+                     d1 = f->head_s[h] * ox + f->head_c[h] * oy;
+        double u[3], nu[3];
+        for (int k = 0; k < 3; ++k) u[k] = ax[k] * d0 + ay[k] * d1;
+        const double un = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
+        for (int k = 0; k < 3; ++k) u[k] -= un * n[k];
+        nu[0] = n[1] * u[2] - n[2] * u[1];
+        nu[1] = n[2] * u[0] - n[0] * u[2];
+        nu[2] = n[0] * u[1] - n[1] * u[0];
+        /* J'^+ u and J'^+ (n x u): the ends of the cone are J'^+ (cos u -+ sin n x u) */
+        double bu1 = 0.0, bu2 = 0.0, bn1 = 0.0, bn2 = 0.0;
+        for (int k = 0; k < 3; ++k)
+            bu1 += rx[k] * u[k], bu2 += ry[k] * u[k], bn1 += rx[k] * nu[k], bn2 += ry[k] * nu[k];
+        const double eu0 = (g22 * bu1 - g12 * bu2) / det, eu1 = (g11 * bu2 - g12 * bu1) / det;
+        const double en0 = (g22 * bn1 - g12 * bn2) / det, en1 = (g11 * bn2 - g12 * bn1) / det;
+        const double m0 = f->bound_c * eu0 - f->bound_s * en0,
+                     m1 = f->bound_c * eu1 - f->bound_s * en1;
+        const double p0 = f->bound_c * eu0 + f->bound_s * en0,
+                     p1 = f->bound_c * eu1 + f->bound_s * en1;
+        /* relative to d: turned by -angle(d) */
+        const double rm0 = m0 * d0 + m1 * d1, rm1 = m1 * d0 - m0 * d1;
+        const double rp0 = p0 * d0 + p1 * d1, rp1 = p1 * d0 - p0 * d1;
+        if ((rm0 == 0.0 && rm1 == 0.0) || (rp0 == 0.0 && rp1 == 0.0)) return 0;
+        /* the shorter way round from one end to the other */
+        const int ccw = rm0 * rp1 - rm1 * rp0 >= 0.0;
+        lo_v[h][0] = ccw ? rm0 : rp0, lo_v[h][1] = ccw ? rm1 : rp1;
+        hi_v[h][0] = ccw ? rp0 : rm0, hi_v[h][1] = ccw ? rp1 : rm1;
+        lo[h] = diamond(lo_v[h][0], lo_v[h][1]), hi[h] = diamond(hi_v[h][0], hi_v[h][1]);
+    }
+    /* the most arcs meet at some arc's start */
+    uint32_t best = 0, best_s = 0, best_end = 0;
+    for (uint32_t s = 0; s < PGT_ATLAS_FIT_HEADINGS; ++s) {
+        uint32_t on = 0, end = s;
+        double room = 4.0;
+        for (uint32_t t = 0; t < PGT_ATLAS_FIT_HEADINGS; ++t) {
+            if (wrap4(lo[s] - lo[t]) > wrap4(hi[t] - lo[t])) continue;
+            on++;
+            const double r = wrap4(hi[t] - lo[s]);
+            if (r < room) room = r, end = t;
+        }
+        if (on > best) best = on, best_s = s, best_end = end;
+    }
+    const double t0 = atan2(lo_v[best_s][1], lo_v[best_s][0]);
+    double w = atan2(hi_v[best_end][1], hi_v[best_end][0]) - t0;
+    if (w < 0.0) w += 2.0 * PGT_ATLAS_PI;
+    double t = t0 + 0.5 * w;
+    if (t > PGT_ATLAS_PI) t -= 2.0 * PGT_ATLAS_PI;
+    *theta = t;
+    return 1;
+}
+
+static void fit_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
+    fit_ctx *f = vctx;
+    const angle_ctx *c = f->c;
+    const float *kind_plane = pgt_image_plane(c->atlas, 7);
+    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
+    (void)worker;
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
+        uint32_t fitted = 0;
+        for (int32_t x = 0; x < c->W; ++x) {
+            const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
+            if (kind_plane[i] != (float)PGT_TEXEL_INDIRECTION) continue;
+            double theta, ox, oy;
+            if (!fit_texel(f, x, y, &theta)) continue;
+            /* the invariant of atlas_build.h: the way out, turned by theta, enters B at Q */
+            if (way_out(c, x, y, &ox, &oy)) {
+                const double len = sqrt(ox * ox + oy * oy), ct = cos(theta), st = sin(theta);
+                if (!enters(c, c->ptr_chart[i], (int32_t)pu[i], (int32_t)pv[i],
+                            (ct * ox - st * oy) / len, (st * ox + ct * oy) / len))
+                    continue;
+            }
+            f->rot[i] = (float)theta;
+            fitted++;
+        }
+        f->row_fitted[y] = fitted;
+    }
+}
+
+pgt_result atlas_fit_angles(pgt_image *atlas, const int32_t *texel_chart, const int32_t *dest_chart,
+                            uint32_t threads, uint32_t *out_fitted, pgt_error *err) {
+    const angle_ctx c = angle_ctx_of(atlas, texel_chart, NULL, dest_chart, 0);
+    fit_ctx f = {&c, {0}, {0}, pgt_image_plane(atlas, 10), {0}, {0}, 0.0, 0.0, NULL};
+    for (int k = 0; k < 3; ++k)
+        f.P[k] = pgt_image_plane(atlas, (uint32_t)k), f.N[k] = pgt_image_plane(atlas, 3u + k);
+    for (uint32_t h = 0; h < PGT_ATLAS_FIT_HEADINGS; ++h) {
+        const double phi = asin(2.0 * (h + 0.5) / PGT_ATLAS_FIT_HEADINGS - 1.0);
+        f.head_c[h] = cos(phi), f.head_s[h] = sin(phi);
+    }
+    f.bound_c = cos(PGT_ATLAS_FIT_TURN_DEG * PGT_ATLAS_PI / 180.0);
+    f.bound_s = sin(PGT_ATLAS_FIT_TURN_DEG * PGT_ATLAS_PI / 180.0);
+    f.row_fitted = calloc(atlas->height ? atlas->height : 1u, sizeof(uint32_t));
+    if (!f.row_fitted)
+        return pgt_error_set(err, PGT_ERROR_OUT_OF_MEMORY, "atlas: out of memory (fitted angles)");
+    atlas_parallel_rows(atlas->height, atlas->width, threads, fit_rows, &f);
+    uint32_t n = 0;
+    for (uint32_t y = 0; y < atlas->height; ++y) n += f.row_fitted[y];
+    free(f.row_fitted);
+    *out_fitted = n;
+    return PGT_OK;
 }

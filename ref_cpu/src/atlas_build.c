@@ -74,6 +74,10 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     if (k > PGT_ATLAS_MAX_K)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT, "--k: %u is not in 1..%u", k,
                              PGT_ATLAS_MAX_K);
+    if (opt->angles != PGT_ATLAS_ANGLES_TANGENTS && opt->angles != PGT_ATLAS_ANGLES_JACOBIAN)
+        return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
+                             "--angles: %d is not one of tangents (0), jacobian (1)",
+                             (int)opt->angles);
     if (!isfinite(dead_end) || !(dead_end > 0.0f) || dead_end > PGT_ATLAS_MAX_DEAD_END)
         return pgt_error_set(err, PGT_ERROR_INVALID_ARGUMENT,
                              "--dead-end: %g is not a number of texel sizes in (0, %g]",
@@ -231,6 +235,11 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     r = atlas_angles(out, texel_chart, kind, dest_chart, k, threads, err);
     if (r != PGT_OK) goto done;
     if (st.crack_texels) atlas_crack_angles(out, &charts, layout.tex, crack, dest_chart);
+    st.angles = opt->angles;
+    if (opt->angles == PGT_ATLAS_ANGLES_JACOBIAN) {
+        r = atlas_fit_angles(out, texel_chart, dest_chart, threads, &st.fitted_angles, err);
+        if (r != PGT_OK) goto done;
+    }
     st.ms_angles = pgt_now_ms() - t;
 done:
     free(texel_chart);

@@ -171,6 +171,12 @@ pgt_result atlas_angles(pgt_image *atlas, const int32_t *texel_chart, const uint
 void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const float *tex,
                         const uint32_t *crack, const int32_t *dest_chart);
 
+/* Step 6c (atlas_angles.c, --angles jacobian): replaces rot by the angle fitted to P's
+ * Jacobians (pgt_atlas_angles) wherever the fit exists and keeps the invariant; *out_fitted gets
+ * how many texels that was. Reads the P, N, chart, kind and pointer planes. */
+pgt_result atlas_fit_angles(pgt_image *atlas, const int32_t *texel_chart, const int32_t *dest_chart,
+                            uint32_t threads, uint32_t *out_fitted, pgt_error *err);
+
 /* Runs fn over the rows [0, rows) of a width-wide grid in parallel (pgt_parallel_for_items
  * with a row weighing `width` texels); callers pass other items with their weight too (raster
  * tiles, charts). */

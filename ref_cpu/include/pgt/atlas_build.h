@@ -15,6 +15,7 @@
  *   pointers (atlas_pointers.c) outer-boundary texels -> nearest inner-boundary texel of another
  *                               chart in 3D (kd-tree, kdtree.h), or dead end
  *   angles   (atlas_angles.c)   the rotation `rot` of each indirection texel from boundary walks
+ *                                (5.2), or fitted to the Jacobians (--angles jacobian)
  *
  * Decisions (the issue leaves them open):
  * - Mirrored charts (negative total UV area) are flipped in u inside their own UV bounding box
@@ -74,6 +75,25 @@ extern "C" {
 #define PGT_ATLAS_DEFAULT_K 4u
 #define PGT_ATLAS_MAX_K 64u
 
+/* How rot is computed (pgt_atlas_options.angles, flag --angles):
+ * - PGT_ATLAS_ANGLES_TANGENTS: 5.2's boundary tangents (above; the paper's rule, the default);
+ * - PGT_ATLAS_ANGLES_JACOBIAN: fitted per indirection texel to P's Jacobians on the two sides
+ *   (atlas_angles.c): the angle that turns the most of PGT_ATLAS_FIT_HEADINGS headings leaving
+ *   the chart by at most PGT_ATLAS_FIT_TURN_DEG in 3D; 5.2's angle where no Jacobian exists.
+ *   Same form (one angle per texel in rot), same marcher. */
+typedef enum pgt_atlas_angles {
+    PGT_ATLAS_ANGLES_TANGENTS = 0,
+    PGT_ATLAS_ANGLES_JACOBIAN = 1
+} pgt_atlas_angles;
+
+/* Headings per texel of the Jacobian fit, spread around the way out as a uniform flux of walkers
+ * crosses a seam. 8, 16 and 32 give the same median turn at jumps within 0.4 degrees on the
+ * shared meshes (tests/test_march.c, measured before the fit moved here); 8 costs a quarter. */
+#define PGT_ATLAS_FIT_HEADINGS 8u
+/* The turn the fit's arcs allow, in degrees: issue 4's bound on the median turn at jumps. A
+ * heading turned by less counts, whatever by. */
+#define PGT_ATLAS_FIT_TURN_DEG 10.0
+
 /* Dead-end threshold in texel sizes: an outer-boundary texel whose nearest candidate is farther
  * than this is a dead end. Across a seam the candidate lies within about 1.5 texel sizes (half
  * a texel on each side plus the diagonal), so 4 leaves room for parametric distortion while a
@@ -130,6 +150,7 @@ typedef struct pgt_atlas_options {
     float dead_end;         /* texel sizes; 0: PGT_ATLAS_DEFAULT_DEAD_END (--dead-end) */
     uint32_t threads;       /* worker threads; 0: 1 (--threads) */
     int force_repack;       /* nonzero: repack even when the input UVs would do */
+    pgt_atlas_angles angles; /* how rot is computed; 0: 5.2's tangents (--angles) */
     const char *what;       /* names the input in messages (a file name); NULL: "mesh" */
     pgt_progress *progress; /* optional: names each step as a stage (pgt/progress.h) */
     const struct pgt_mesh_origin *origin; /* optional (pgt/mesh_io.h): a vertex error names the
@@ -159,6 +180,9 @@ typedef struct pgt_atlas_stats {
      * gap and point into their own chart instead of being dead ends (a slit's closed end, where
      * its two sides are joined: not the paper's rule, which would stop there) */
     uint32_t own_chart_pointers;
+    pgt_atlas_angles angles;
+    uint32_t fitted_angles;      /* --angles jacobian: indirection texels whose rot was fitted
+                                    (the others keep 5.2's) */
     double texel_size;           /* median 3D distance of 4-adjacent inner texels (one chart) */
     double ms_charts, ms_layout, ms_raster, ms_pointers, ms_angles, ms_total;
 } pgt_atlas_stats;
@@ -172,7 +196,8 @@ typedef struct pgt_atlas_stats {
  *   PGT_ATLAS_MAX_BAND, k outside 1..PGT_ATLAS_MAX_K, a dead-end threshold not finite, <= 0
  *   or above PGT_ATLAS_MAX_DEAD_END
  *   (each message names the flag: --res, --band, --k, --dead-end), non-finite positions/UVs,
- *   a coordinate beyond +-PGT_ATLAS_MAX_COORD;
+ *   a coordinate beyond +-PGT_ATLAS_MAX_COORD, an angles value not in pgt_atlas_angles
+ *   (--angles);
  * - PGT_ERROR_LIMIT: a size above PGT_ATLAS_MAX_RES (--res), charts that cannot be packed with
  *   the band at this resolution (message says which --res would be needed, if any), or no
  *   chart covering a texel centre (an atlas without inner texels, which pgt march refuses);
