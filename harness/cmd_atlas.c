@@ -65,6 +65,9 @@ static const char *atlas_usage =
     "(a mesh without UVs, a resolution too small for the charts, ...). A progress line on\n"
     "stderr every 5 s of work (PGT_PROGRESS_SECONDS: the period, 0: none).\n";
 
+/* --angles values, indexed by pgt_atlas_angles */
+static const char *const angles_names[] = {"tangents", "jacobian"};
+
 /* A bright colour per chart id (counter-based hash, so the picture is stable). */
 static void chart_colour(uint32_t chart, float rgb[3]) {
     const uint64_t h = pgt_rng_u64(0x61746C73u, 0x636F6C72u, chart);
@@ -134,12 +137,10 @@ int pgt_cmd_atlas(int argc, char **argv) {
                 return PGT_EXIT_USAGE;
         } else if (!strcmp(a, "--angles")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
-            if (!strcmp(v, "tangents"))
-                angles = PGT_ATLAS_ANGLES_TANGENTS;
-            else if (!strcmp(v, "jacobian"))
-                angles = PGT_ATLAS_ANGLES_JACOBIAN;
-            else
-                return pgt_cli_fail(verb, "--angles: '%s' is not tangents or jacobian", v);
+            uint32_t n = 0;
+            while (n < 2u && strcmp(v, angles_names[n])) n++;
+            if (n == 2u) return pgt_cli_fail(verb, "--angles: '%s' is not tangents or jacobian", v);
+            angles = (pgt_atlas_angles)n;
         } else if (!strcmp(a, "--dead-end")) {
             if (!(v = pgt_cli_value(verb, argc, argv, &i))) return PGT_EXIT_USAGE;
             char *end = NULL;
@@ -249,10 +250,9 @@ int pgt_cmd_atlas(int argc, char **argv) {
                st.fold_over_texels, st.crack_texels, st.overlap_texels,
                st.repacked ? "repacked" : "kept", st.packing_efficiency, st.inner_texels,
                st.inner_boundary_texels, st.indirection_texels, st.dead_end_texels,
-               st.self_seam_pointers, st.own_chart_pointers, st.texel_size,
-               angles == PGT_ATLAS_ANGLES_JACOBIAN ? "jacobian" : "tangents", st.fitted_angles,
-               t1 - t0, st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers, st.ms_angles,
-               st.ms_total, t3 - t2);
+               st.self_seam_pointers, st.own_chart_pointers, st.texel_size, angles_names[angles],
+               st.fitted_angles, t1 - t0, st.ms_charts, st.ms_layout, st.ms_raster, st.ms_pointers,
+               st.ms_angles, st.ms_total, t3 - t2);
     } else {
         printf("atlas: %s (%u faces) -> %s (%ux%u, band %u, %u threads)\n", in_path, st.faces,
                out_path, st.width, st.height, st.band, threads);

@@ -2040,6 +2040,26 @@ static int single_angle_bound(const pgt_march_atlas *v, const pgt_image *img,
     return 1;
 }
 
+/* Long marches with the paper's defaults and the benchmark's step (LONG_MARCHES of LONG_STEPS
+ * steps of LONG_STEP_TEXELS): a trap is an absorbing state, which short marches rarely reach. No
+ * step off an inner texel of its chart; at most STUCK_MAX_SHARE of the steps stuck, except on
+ * SUBTEXEL_TRAPS (printed). what names the atlas in the output ("" or "fitted   "). */
+static void long_marches(const pgt_march_atlas *v, const pgt_image *img, const char *name,
+                         const char *what, uint32_t seed) {
+    walk_result lw;
+    const pgt_march_options defaults = {0};
+    REQUIRE(random_walks_sized(v, img, &defaults, seed, LONG_MARCHES, LONG_STEPS, LONG_STEP_TEXELS,
+                               &lw));
+    printf("  %-17s %s%u long marches: %u steps, %u stops, %u steps stuck%s\n", name, what,
+           lw.marches, lw.steps, lw.stops, lw.stuck,
+           subtexel_traps(name) ? " (SUBTEXEL_TRAPS: not bounded)" : "");
+    CHECK_MSG(subtexel_traps(name) || lw.stuck <= STUCK_MAX_SHARE * lw.steps,
+              "%s: %u of %u steps of %slong marches stuck bouncing between pointers", name,
+              lw.stuck, lw.steps, what);
+    CHECK_MSG(lw.bad == 0, "%s: %u steps of %slong marches off an inner texel of their chart", name,
+              lw.bad, what);
+}
+
 /* Every UV mesh of the shared folder, thousands of seeded random marches: no step leaves the
  * image or stands off an inner texel of its chart; jump steps keep their 3D length (see
  * JUMP_LENGTH_MIN_FRACTION); with the Jacobian rotation the median turn at jumps is under 10
@@ -2271,20 +2291,7 @@ static void test_real_random_marches(void) {
                       r[1].median_pair_best, r[1].median_pair_without);
         }
         batch_matches_steps(&v, name, 31u + k);
-        /* long marches with the paper's defaults and the benchmark's step: a trap is an
-         * absorbing state, which short marches rarely reach */
-        walk_result lw;
-        const pgt_march_options defaults = {0};
-        REQUIRE(random_walks_sized(&v, &img, &defaults, 29u + k, LONG_MARCHES, LONG_STEPS,
-                                   LONG_STEP_TEXELS, &lw));
-        printf("  %-17s %u long marches: %u steps, %u stops, %u steps stuck%s\n", name, lw.marches,
-               lw.steps, lw.stops, lw.stuck,
-               subtexel_traps(name) ? " (SUBTEXEL_TRAPS: not bounded)" : "");
-        CHECK_MSG(subtexel_traps(name) || lw.stuck <= STUCK_MAX_SHARE * lw.steps,
-                  "%s: %u of %u steps of long marches stuck bouncing between pointers", name,
-                  lw.stuck, lw.steps);
-        CHECK_MSG(lw.bad == 0, "%s: %u steps of long marches off an inner texel of their chart",
-                  name, lw.bad);
+        long_marches(&v, &img, name, "", 29u + k);
         /* the atlas with angles fitted to the Jacobians (--angles jacobian): the issue's bound
          * on every mesh, the fit re-derived here (check_fitted), no traps, no walker off an inner
          * texel */
@@ -2324,16 +2331,7 @@ static void test_real_random_marches(void) {
             CHECK_MSG(fw[1].median_turn_jump < JUMP_TURN_MEDIAN_DEG,
                       "%s: median turn %.2f deg at jumps with fitted angles (5.2's: %.2f)", name,
                       fw[1].median_turn_jump, rot_median);
-        REQUIRE(random_walks_sized(&fv, &fimg, &defaults, 29u + k, LONG_MARCHES, LONG_STEPS,
-                                   LONG_STEP_TEXELS, &lw));
-        printf("  %-17s fitted   %u long marches: %u steps, %u stops, %u steps stuck%s\n", name,
-               lw.marches, lw.steps, lw.stops, lw.stuck,
-               subtexel_traps(name) ? " (SUBTEXEL_TRAPS: not bounded)" : "");
-        CHECK_MSG(subtexel_traps(name) || lw.stuck <= STUCK_MAX_SHARE * lw.steps,
-                  "%s: %u of %u steps of long marches stuck with fitted angles", name, lw.stuck,
-                  lw.steps);
-        CHECK_MSG(lw.bad == 0, "%s: %u long-march steps off an inner texel with fitted angles",
-                  name, lw.bad);
+        long_marches(&fv, &fimg, name, "fitted   ", 29u + k);
         pgt_march_atlas_destroy(&fv);
         pgt_image_destroy(&fimg);
         pgt_mesh_destroy(&m);

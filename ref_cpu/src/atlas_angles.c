@@ -378,7 +378,7 @@ void atlas_crack_angles(pgt_image *atlas, const atlas_charts *charts, const floa
 
 typedef struct fit_ctx {
     const angle_ctx *c;
-    const float *P[3], *N[3];
+    const float *P[3], *N[3], *pu, *pv, *kind; /* planes of the atlas */
     float *rot;
     double head_c[PGT_ATLAS_FIT_HEADINGS], head_s[PGT_ATLAS_FIT_HEADINGS];
     double bound_c, bound_s; /* cos and sin of PGT_ATLAS_FIT_TURN_DEG */
@@ -439,7 +439,6 @@ static int fit_texel(const fit_ctx *f, int32_t x, int32_t y, double *theta) {
     const angle_ctx *c = f->c;
     const size_t W = (size_t)c->W, i = (size_t)y * W + (size_t)x;
     const int32_t a = (int32_t)c->outer_chart[i], b = c->ptr_chart[i];
-    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
     /* the way out: away from the inner 8-neighbours, each a unit direction */
     double ox = 0.0, oy = 0.0;
     for (int k = 0; k < 8; ++k)
@@ -456,7 +455,7 @@ static int fit_texel(const fit_ctx *f, int32_t x, int32_t y, double *theta) {
         if (fit_inner(c, x + d8[k][0], y + d8[k][1], a))
             sx = x + d8[k][0], sy = y + d8[k][1], have = fit_jacobian(f, a, sx, sy, jx, jy);
     if (!have) return 0;
-    int32_t qx = (int32_t)pu[i], qy = (int32_t)pv[i];
+    int32_t qx = (int32_t)f->pu[i], qy = (int32_t)f->pv[i];
     int have_r = fit_jacobian(f, b, qx, qy, rx, ry);
     for (int k = 0; k < 8 && !have_r; ++k)
         if (fit_inner(c, qx + d8[k][0], qy + d8[k][1], b) &&
@@ -551,20 +550,18 @@ static int fit_texel(const fit_ctx *f, int32_t x, int32_t y, double *theta) {
 static void fit_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
     fit_ctx *f = vctx;
     const angle_ctx *c = f->c;
-    const float *kind_plane = pgt_image_plane(c->atlas, 7);
-    const float *pu = pgt_image_plane(c->atlas, 8), *pv = pgt_image_plane(c->atlas, 9);
     (void)worker;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; ++y) {
         uint32_t fitted = 0;
         for (int32_t x = 0; x < c->W; ++x) {
             const size_t i = (size_t)y * (size_t)c->W + (size_t)x;
-            if (kind_plane[i] != (float)PGT_TEXEL_INDIRECTION) continue;
+            if (f->kind[i] != (float)PGT_TEXEL_INDIRECTION) continue;
             double theta, ox, oy;
             if (!fit_texel(f, x, y, &theta)) continue;
             /* the invariant of atlas_build.h: the way out, turned by theta, enters B at Q */
             if (way_out(c, x, y, &ox, &oy)) {
                 const double len = sqrt(ox * ox + oy * oy), ct = cos(theta), st = sin(theta);
-                if (!enters(c, c->ptr_chart[i], (int32_t)pu[i], (int32_t)pv[i],
+                if (!enters(c, c->ptr_chart[i], (int32_t)f->pu[i], (int32_t)f->pv[i],
                             (ct * ox - st * oy) / len, (st * ox + ct * oy) / len))
                     continue;
             }
@@ -578,7 +575,18 @@ static void fit_rows(void *vctx, uint32_t y0, uint32_t y1, uint32_t worker) {
 pgt_result atlas_fit_angles(pgt_image *atlas, const int32_t *texel_chart, const int32_t *dest_chart,
                             uint32_t threads, uint32_t *out_fitted, pgt_error *err) {
     const angle_ctx c = angle_ctx_of(atlas, texel_chart, NULL, dest_chart, 0);
-    fit_ctx f = {&c, {0}, {0}, pgt_image_plane(atlas, 10), {0}, {0}, 0.0, 0.0, NULL};
+    fit_ctx f = {&c,
+                 {0},
+                 {0},
+                 pgt_image_plane(atlas, 8),
+                 pgt_image_plane(atlas, 9),
+                 pgt_image_plane(atlas, 7),
+                 pgt_image_plane(atlas, 10),
+                 {0},
+                 {0},
+                 0.0,
+                 0.0,
+                 NULL};
     for (int k = 0; k < 3; ++k)
         f.P[k] = pgt_image_plane(atlas, (uint32_t)k), f.N[k] = pgt_image_plane(atlas, 3u + k);
     for (uint32_t h = 0; h < PGT_ATLAS_FIT_HEADINGS; ++h) {

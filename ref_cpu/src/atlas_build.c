@@ -235,7 +235,6 @@ pgt_result pgt_atlas_build(pgt_image *out, const pgt_mesh *mesh, const pgt_atlas
     r = atlas_angles(out, texel_chart, kind, dest_chart, k, threads, err);
     if (r != PGT_OK) goto done;
     if (st.crack_texels) atlas_crack_angles(out, &charts, layout.tex, crack, dest_chart);
-    st.angles = opt->angles;
     if (opt->angles == PGT_ATLAS_ANGLES_JACOBIAN) {
         r = atlas_fit_angles(out, texel_chart, dest_chart, threads, &st.fitted_angles, err);
         if (r != PGT_OK) goto done;

@@ -180,7 +180,6 @@ typedef struct pgt_atlas_stats {
      * gap and point into their own chart instead of being dead ends (a slit's closed end, where
      * its two sides are joined: not the paper's rule, which would stop there) */
     uint32_t own_chart_pointers;
-    pgt_atlas_angles angles;
     uint32_t fitted_angles;      /* --angles jacobian: indirection texels whose rot was fitted
                                     (the others keep 5.2's) */
     double texel_size;           /* median 3D distance of 4-adjacent inner texels (one chart) */
